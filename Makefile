@@ -1,0 +1,57 @@
+# skillwright — every task a developer or CI runs. `make help` lists them.
+SHELL := /bin/bash
+.DEFAULT_GOAL := help
+
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.skillwright-installed
+RUST_SOURCES := $(shell find rust -name '*.rs' -o -name Cargo.toml) Cargo.toml $(wildcard Cargo.lock)
+
+.PHONY: help setup dev lint fmt test test-python test-rust bench demo lock clean
+
+help: ## Show this help
+	@awk 'BEGIN {FS = ":.*## "} /^[a-zA-Z_-]+:.*## / {printf "  \033[1m%-12s\033[0m %s\n", $$1, $$2}' $(MAKEFILE_LIST)
+
+$(STAMP): pyproject.toml constraints.txt $(RUST_SOURCES)
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev]'
+	touch $@
+
+setup: $(STAMP) ## Create .venv and install skillwright in development mode (builds the Rust core)
+
+dev: setup ## Rebuild the Rust extension into .venv after changing Rust code
+	VIRTUAL_ENV=$(abspath $(VENV)) $(BIN)/maturin develop --release --quiet
+
+lint: setup ## ruff, mypy --strict, stub check, cargo fmt --check, clippy -D warnings
+	$(BIN)/ruff check python tests bench
+	$(BIN)/ruff format --check python tests bench
+	$(BIN)/mypy
+	$(BIN)/python -m mypy.stubtest skillwright._core --mypy-config-file pyproject.toml
+	cargo fmt --all --check
+	cargo clippy --workspace --all-targets --quiet -- -D warnings
+
+fmt: setup ## Format Python and Rust code in place
+	$(BIN)/ruff format python tests bench
+	$(BIN)/ruff check --fix python tests bench
+	cargo fmt --all
+
+test-rust: ## Run the Rust core's own tests
+	cargo test --workspace --quiet
+
+test-python: setup ## Run the Python test suite
+	$(BIN)/python -m pytest
+
+test: setup test-rust test-python ## Set up, then run every test (Rust and Python)
+
+bench: setup ## Run the benchmarks in bench/ (prints timings and ratios)
+	@for script in bench/bench_*.py; do echo "== $$script"; $(BIN)/python $$script || exit 1; done
+
+demo: setup ## Set up, then run skillwright on the shipped capabilities
+	@for model in capabilities/*.ttl; do $(BIN)/skillwright capability show "$$model" || exit 1; echo; done
+
+lock: setup ## Re-pin constraints.txt from the current .venv
+	$(BIN)/python -m pip freeze --exclude-editable --disable-pip-version-check | grep -v '^skillwright' > constraints.txt
+
+clean: ## Remove .venv and build products
+	rm -rf $(VENV) target .pytest_cache .mypy_cache .ruff_cache

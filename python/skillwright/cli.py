@@ -1,0 +1,79 @@
+"""The headless command line: ``skillwright COMMAND ...``.
+
+Start-up must stay fast (``skillwright --help`` well under a second), so this module
+imports only click. Each command lives in the module of its pipeline stage and is
+loaded when it is used; heavy libraries load inside the command's body.
+
+Errors the user can cause (:class:`~skillwright.errors.SkillwrightError`) are printed
+as one plain message on stderr with exit status 2 (or the error's own status); no
+traceback reaches the user for them.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from typing import Any
+
+import click
+
+__all__ = ["main"]
+
+# name -> "module:attribute" of a click command or group; loaded on first use.
+COMMANDS: dict[str, str] = {}
+
+
+class LazyGroup(click.Group):
+    """A click group whose subcommands are imported only when needed."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted([*super().list_commands(ctx), *COMMANDS])
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        if cmd_name in COMMANDS:
+            module_name, attribute = COMMANDS[cmd_name].split(":")
+            command = getattr(importlib.import_module(module_name), attribute)
+            assert isinstance(command, click.Command)
+            return command
+        return super().get_command(ctx, cmd_name)
+
+    def invoke(self, ctx: click.Context) -> Any:
+        from skillwright.errors import SkillwrightError
+
+        try:
+            return super().invoke(ctx)
+        except SkillwrightError as error:
+            click.echo(f"error: {error}", err=True)
+            ctx.exit(error.exit_code)
+
+
+def _print_version(ctx: click.Context, _param: click.Parameter, value: bool) -> None:
+    if not value or ctx.resilient_parsing:
+        return
+    from skillwright import __version__
+    from skillwright.core import core_version
+
+    click.echo(f"skillwright {__version__} (core {core_version()})")
+    ctx.exit()
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.option(
+    "--version",
+    is_flag=True,
+    expose_value=False,
+    is_eager=True,
+    callback=_print_version,
+    help="Show the version of skillwright and its Rust core, then exit.",
+)
+def main() -> None:
+    """skillwright: write and check ROS 2 robot skills from capability models, offline.
+
+    Give it a capability (OWL/Turtle, CaSk ontology family), a skill specification
+    (behaviour per PackML state) and the robot's interfaces; it finds the interfaces
+    the capability needs, generates a pySkillUp skill with a local model and checks it.
+    """
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

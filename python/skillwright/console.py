@@ -1,0 +1,35 @@
+"""Terminal output shared by the commands: rich consoles, created on first use."""
+
+from __future__ import annotations
+
+from functools import cache
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from pydantic import BaseModel
+    from rich.console import Console
+
+__all__ = ["err_console", "out_console", "print_model_json"]
+
+
+@cache
+def out_console() -> Console:
+    """The console for results (stdout)."""
+    from rich.console import Console
+
+    return Console(highlight=False, soft_wrap=False)
+
+
+@cache
+def err_console() -> Console:
+    """The console for progress and warnings (stderr)."""
+    from rich.console import Console
+
+    return Console(stderr=True, highlight=False)
+
+
+def print_model_json(model: BaseModel) -> None:
+    """Writes a document as indented JSON on stdout, unstyled so it can be piped."""
+    import sys
+
+    sys.stdout.write(model.model_dump_json(indent=2) + "\n")
