@@ -20,7 +20,10 @@ import click
 __all__ = ["main"]
 
 # name -> "module:attribute" of a click command or group; loaded on first use.
-COMMANDS: dict[str, str] = {}
+COMMANDS: dict[str, str] = {
+    "capability": "skillwright.capability.commands:capability",
+    "spec": "skillwright.spec.commands:spec",
+}
 
 
 class LazyGroup(click.Group):

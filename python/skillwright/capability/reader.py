@@ -1,0 +1,460 @@
+"""Reading a capability model into a :class:`~skillwright.capability.model.Capability`.
+
+The reader follows the ontology design patterns of the CaSk family as the models use
+them; where a model leaves something out it records a warning rather than failing,
+so later stages can still work with what is there.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Sequence
+from decimal import Decimal
+from pathlib import Path
+from typing import TYPE_CHECKING, Literal
+
+from skillwright.capability.model import (
+    Capability,
+    CapabilityLoad,
+    Constraint,
+    DataElement,
+    Expression,
+    Parameter,
+    Resource,
+    ResourceProperty,
+    Scalar,
+)
+from skillwright.capability.rdf import parse_graph
+from skillwright.errors import CapabilityError
+
+if TYPE_CHECKING:
+    from rdflib import Graph
+    from rdflib.term import Node
+
+__all__ = ["load_capability", "local_name", "readable_label"]
+
+CSS = "http://www.w3id.org/hsu-aut/css#"
+CASK = "http://www.w3id.org/hsu-aut/cask#"
+VDI3682 = "http://www.w3id.org/hsu-aut/VDI3682#"
+DIN = "http://www.w3id.org/hsu-aut/DINEN61360#"
+OM = "http://openmath.org/vocab/math#"
+
+CAPABILITY_CLASSES = (f"{CASK}ProvidedCapability", f"{CASK}RequiredCapability", f"{CSS}Capability")
+_PREFIXES = {CSS: "CSS:", CASK: "CaSk:", VDI3682: "VDI3682:", DIN: "DINEN61360:", OM: "openmath:"}
+_DIN_STRUCTURE = {"Instance_Description", "Type_Description", "Data_Element"}
+
+# OpenMath symbols (content dictionary#name) -> (written form, infix?)
+OPERATORS: dict[str, tuple[str, bool]] = {
+    "relation1#eq": ("=", True),
+    "relation1#neq": ("!=", True),
+    "relation1#lt": ("<", True),
+    "relation1#gt": (">", True),
+    "relation1#leq": ("<=", True),
+    "relation1#geq": (">=", True),
+    "relation1#approx": ("~", True),
+    "arith1#plus": ("+", True),
+    "arith1#minus": ("-", True),
+    "arith1#times": ("*", True),
+    "arith1#divide": ("/", True),
+    "arith1#power": ("^", True),
+    "arith1#mod": ("mod", True),
+    "integer1#remainder": ("mod", True),
+    "arith1#abs": ("abs", False),
+    "arith1#unary_minus": ("-", False),
+    "logic1#and": ("and", True),
+    "logic1#or": ("or", True),
+    "logic1#not": ("not", False),
+}
+
+
+def local_name(iri: str) -> str:
+    """The part of an IRI after its last ``#`` or ``/``."""
+    return re.split(r"[#/]", iri.rstrip("/#"))[-1]
+
+
+def readable_label(name: str) -> str:
+    """``getDistanceToNearestObject`` -> ``Get distance to nearest object``."""
+    words = re.sub(r"(?<=[a-z0-9])(?=[A-Z])|[_\-]+", " ", name).split()
+    if not words:
+        return name
+    text = " ".join(w if w.isupper() and len(w) > 1 else w.lower() for w in words)
+    return text[0].upper() + text[1:]
+
+
+def _short(iri: str) -> str:
+    for namespace, prefix in _PREFIXES.items():
+        if iri.startswith(namespace):
+            return prefix + iri[len(namespace) :]
+    return iri
+
+
+def _operator(iri: str) -> tuple[str, bool]:
+    for key, value in OPERATORS.items():
+        if iri.endswith(key):
+            return value
+    return local_name(iri), False
+
+
+class _Reader:
+    """Walks one graph; holds the namespaces and the warnings collected on the way."""
+
+    def __init__(self, graph: Graph, source: Path) -> None:
+        from rdflib import URIRef
+
+        self.graph = graph
+        self.source = source
+        self.warnings: list[str] = []
+        self.uri = URIRef
+
+    # --- small graph helpers -------------------------------------------------
+    def objects(self, subject: Node, predicate: str) -> list[Node]:
+        return sorted(self.graph.objects(subject, self.uri(predicate)), key=str)
+
+    def first(self, subject: Node, predicate: str) -> Node | None:
+        found = self.objects(subject, predicate)
+        return found[0] if found else None
+
+    def text(self, subject: Node, predicate: str) -> str | None:
+        node = self.first(subject, predicate)
+        return None if node is None else str(node)
+
+    def types(self, subject: Node) -> set[str]:
+        from rdflib import RDF
+
+        return {str(t) for t in self.graph.objects(subject, RDF.type)}
+
+    def described(self, node: Node) -> bool:
+        return next(iter(self.graph.predicate_objects(node)), None) is not None
+
+    def scalar(self, node: Node | None) -> Scalar | None:
+        from rdflib import Literal
+
+        if node is None:
+            return None
+        if isinstance(node, Literal):
+            value = node.toPython()
+            if isinstance(value, Decimal):
+                return float(value)
+            if isinstance(value, bool | int | float | str):
+                return value
+        return str(node)
+
+    # --- data elements -------------------------------------------------------
+    def data_type(self, instance: Node | None) -> str | None:
+        if instance is None:
+            return None
+        names = sorted(
+            t[len(DIN) :]
+            for t in self.types(instance)
+            if t.startswith(DIN) and t[len(DIN) :] not in _DIN_STRUCTURE
+        )
+        return names[0] if names else None
+
+    def type_description_of(self, instance: Node) -> Node | None:
+        """The type description of the data element(s) an instance description belongs to."""
+        from rdflib import URIRef
+
+        for element in sorted(
+            self.graph.subjects(URIRef(f"{DIN}has_Instance_Description"), instance), key=str
+        ):
+            found = self.first(element, f"{DIN}has_Type_Description")
+            if found is not None:
+                return found
+        return None
+
+    def element(
+        self, instance: Node | None, type_description: Node | None, fallback_name: str
+    ) -> DataElement:
+        if instance is not None and type_description is None:
+            type_description = self.type_description_of(instance)
+        unit = definition = None
+        if type_description is not None:
+            unit = self.text(type_description, f"{DIN}Unit_of_Measure")
+            definition = self.text(type_description, f"{DIN}Definition")
+        if instance is None:
+            return DataElement(name=fallback_name, unit=unit, definition=definition)
+        return DataElement(
+            iri=str(instance),
+            name=_strip_suffix(local_name(str(instance)), "ID") or fallback_name,
+            data_type=self.data_type(instance),
+            unit=unit,
+            definition=definition,
+            value=self.scalar(self.first(instance, f"{DIN}Value")),
+            expression_goal=self.text(instance, f"{DIN}Expression_Goal"),
+            logic_interpretation=self.text(instance, f"{DIN}Logic_Interpretation"),
+        )
+
+    # --- inputs and outputs --------------------------------------------------
+    def parameter(self, node: Node, direction: Literal["input", "output"]) -> Parameter:
+        iri = str(node)
+        if not self.described(node):
+            self.warnings.append(
+                f"{direction} <{iri}> is referenced but not described in {self.source}; "
+                "its unit and data type are unknown"
+            )
+        kinds = sorted(t[len(VDI3682) :] for t in self.types(node) if t.startswith(VDI3682))
+        name = local_name(iri)
+        data_element = self.first(node, f"{DIN}has_Data_Element")
+        instances = self.objects(node, f"{VDI3682}isCharacterizedBy")
+        type_description = None
+        if data_element is not None:
+            instances = instances or self.objects(data_element, f"{DIN}has_Instance_Description")
+            type_description = self.first(data_element, f"{DIN}has_Type_Description")
+        components = [self.element(i, type_description, name) for i in instances]
+        return Parameter(
+            iri=iri,
+            name=name,
+            direction=direction,
+            kind=kinds[0] if kinds else "Information",
+            components=components or [self.element(None, type_description, name)],
+        )
+
+    # --- the resource --------------------------------------------------------
+    def resource(self, capability: Node, taken: set[str]) -> Resource | None:
+        from rdflib import URIRef
+
+        providers = sorted(
+            self.graph.subjects(URIRef(f"{CSS}providesCapability"), capability), key=str
+        )
+        if not providers:
+            return None
+        if len(providers) > 1:
+            self.warnings.append(
+                f"several resources provide <{capability}>; using <{providers[0]}>"
+            )
+        node = providers[0]
+        properties: list[ResourceProperty] = []
+        covered: set[str] = set(taken)
+        for data_element in self.objects(node, f"{DIN}has_Data_Element"):
+            type_description = self.first(data_element, f"{DIN}has_Type_Description")
+            instances = [
+                i
+                for i in self.objects(data_element, f"{DIN}has_Instance_Description")
+                if str(i) not in taken
+            ]
+            covered.update(str(i) for i in instances)
+            name = _strip_suffix(local_name(str(data_element)), "DE")
+            properties.append(
+                ResourceProperty(
+                    iri=str(data_element),
+                    name=name,
+                    instances=[self.element(i, type_description, name) for i in instances],
+                )
+            )
+        for instance in self.objects(node, f"{VDI3682}isCharacterizedBy"):
+            if str(instance) in covered:
+                continue
+            name = _strip_suffix(local_name(str(instance)), "ID")
+            properties.append(
+                ResourceProperty(
+                    iri=str(instance), name=name, instances=[self.element(instance, None, name)]
+                )
+            )
+        return Resource(iri=str(node), name=local_name(str(node)), properties=properties)
+
+    # --- constraints ---------------------------------------------------------
+    def term(
+        self, node: Node, names: dict[str, str], constraint: str, depth: int = 0
+    ) -> Expression:
+        from rdflib import BNode, Literal
+        from rdflib.collection import Collection
+
+        if depth > 32:
+            raise CapabilityError(
+                f"{self.source}: constraint <{constraint}> nests deeper than 32 levels "
+                "(a cyclic openmath:arguments list?)"
+            )
+        if isinstance(node, Literal):
+            return Expression(kind="literal", text=str(self.scalar(node)))
+        types = self.types(node)
+        if f"{OM}Literal" in types:
+            return Expression(kind="literal", text=str(self.scalar(self.first(node, f"{OM}value"))))
+        operator = self.first(node, f"{OM}operator")
+        if operator is not None or f"{OM}Application" in types:
+            arguments_node = self.first(node, f"{OM}arguments")
+            arguments = []
+            if arguments_node is not None:
+                arguments = [
+                    self.term(a, names, constraint, depth + 1)
+                    for a in Collection(self.graph, arguments_node)
+                ]
+            symbol, infix = _operator(str(operator)) if operator is not None else ("?", False)
+            if infix and len(arguments) >= 2:
+                # A relation binds loosest, so its sides need no parentheses; inside
+                # arithmetic, nested infix terms keep theirs.
+                relation = operator is not None and "relation1#" in str(operator)
+                parts = [
+                    f"({a.text})" if a.kind == "application" and not relation else a.text
+                    for a in arguments
+                ]
+                text = f" {symbol} ".join(parts)
+            else:
+                text = f"{symbol}({', '.join(a.text for a in arguments)})"
+            return Expression(
+                kind="application",
+                text=text,
+                operator=None if operator is None else str(operator),
+                arguments=arguments,
+            )
+        iri = str(node)
+        if isinstance(node, BNode):
+            return Expression(kind="variable", text="_")
+        if iri in names:
+            return Expression(kind="variable", text=names[iri], refers_to=iri)
+        if not self.described(node):
+            self.warnings.append(
+                f"constraint <{constraint}> refers to <{iri}>, "
+                f"which {self.source} does not describe"
+            )
+        return Expression(kind="variable", text=_strip_suffix(local_name(iri), "ID"))
+
+    def constraint(self, node: Node, names: dict[str, str]) -> Constraint:
+        iri = str(node)
+        expression = self.term(node, names, iri)
+        if expression.kind != "application":
+            self.warnings.append(f"constraint <{iri}> has no openmath:operator; kept as written")
+        operator = expression.operator
+        relation = _operator(operator)[0] if operator else "?"
+        return Constraint(iri=iri, name=local_name(iri), relation=relation, expression=expression)
+
+
+def _strip_suffix(name: str, suffix: str) -> str:
+    """``inDistance_ID`` -> ``inDistance`` (the name itself when nothing is left)."""
+    stripped = re.sub(rf"_?{suffix}$", "", name)
+    return stripped or name
+
+
+def _capability_classes(graph: Graph, extra: Graph | None) -> set[str]:
+    """The capability classes plus every class declared a subclass of one of them."""
+    from rdflib import RDFS, URIRef
+
+    classes = set(CAPABILITY_CLASSES)
+    graphs = [graph] if extra is None else [graph, extra]
+    changed = True
+    while changed:
+        changed = False
+        for g in graphs:
+            for sub, sup in g.subject_objects(RDFS.subClassOf):
+                if isinstance(sub, URIRef) and str(sup) in classes and str(sub) not in classes:
+                    classes.add(str(sub))
+                    changed = True
+    return classes
+
+
+def _find_capabilities(graph: Graph, classes: set[str]) -> list[tuple[str, list[str]]]:
+    from rdflib import RDF, URIRef
+
+    found: dict[str, list[str]] = {}
+    for cls in classes:
+        for subject in graph.subjects(RDF.type, URIRef(cls)):
+            if isinstance(subject, URIRef):
+                found.setdefault(str(subject), []).append(_short(cls))
+    return sorted((iri, sorted(kinds)) for iri, kinds in found.items())
+
+
+def _select(found: Sequence[tuple[str, list[str]]], wanted: str | None, source: Path) -> int:
+    listing = "\n".join(f"  {iri}" for iri, _ in found)
+    if wanted is None:
+        if len(found) == 1:
+            return 0
+        raise CapabilityError(
+            f"{source} holds {len(found)} capabilities; choose one with --capability IRI:\n"
+            + listing
+        )
+    matches = [i for i, (iri, _) in enumerate(found) if wanted in (iri, local_name(iri))]
+    if len(matches) == 1:
+        return matches[0]
+    reason = "matches several" if matches else "is not one of the capabilities"
+    raise CapabilityError(f"--capability {wanted} {reason} in {source}:\n{listing}")
+
+
+def load_capability(
+    path: str | Path,
+    *,
+    capability_iri: str | None = None,
+    ontologies: Iterable[str | Path] = (),
+) -> CapabilityLoad:
+    """Reads the capability model at ``path``.
+
+    ``capability_iri`` selects one capability when the file holds several (its full IRI
+    or its local name). ``ontologies`` are local copies of imported ontologies; their
+    class hierarchy lets domain-specific capability classes be recognised.
+    """
+    from rdflib import RDFS, URIRef
+
+    from skillwright.capability.vocabulary import load_vocabulary
+
+    source = Path(path)
+    graph = parse_graph(source)
+    ontology_paths = [Path(p) for p in ontologies]
+    vocabulary = load_vocabulary(ontology_paths) if ontology_paths else None
+    reader = _Reader(graph, source)
+
+    imports = sorted(
+        str(o) for o in graph.objects(None, URIRef("http://www.w3.org/2002/07/owl#imports"))
+    )
+    provided = vocabulary.ontology_iris if vocabulary else set()
+    missing = [i for i in imports if i not in provided]
+    if missing:
+        reader.warnings.append(
+            "owl:imports "
+            + ", ".join(f"<{i}>" for i in missing)
+            + " not fetched (skillwright works offline); --ontology FILE reads a local copy"
+        )
+
+    found = _find_capabilities(
+        graph, _capability_classes(graph, vocabulary.graph if vocabulary else None)
+    )
+    if not found:
+        raise CapabilityError(
+            f"{source}: no capability found; expected an individual typed "
+            + ", ".join(_short(c) for c in CAPABILITY_CLASSES)
+            + " (or a subclass declared in the file or an --ontology)"
+        )
+    index = _select(found, capability_iri, source)
+    iri, kinds = found[index]
+    node = URIRef(iri)
+
+    comment = reader.text(node, str(RDFS.comment))
+    if not comment:
+        reader.warnings.append(
+            f"capability <{iri}> has no rdfs:comment; add one sentence saying what it does "
+            "(retrieval and generation use it)"
+        )
+    inputs = [reader.parameter(n, "input") for n in reader.objects(node, f"{VDI3682}hasInput")]
+    outputs = [reader.parameter(n, "output") for n in reader.objects(node, f"{VDI3682}hasOutput")]
+
+    names: dict[str, str] = {}
+    for parameter in (*inputs, *outputs):
+        names[parameter.iri] = parameter.name
+        for component in parameter.components:
+            if component.iri:
+                names[component.iri] = component.name
+    resource = reader.resource(node, set(names))
+    if resource is not None:
+        for prop in resource.properties:
+            for instance in prop.instances:
+                if instance.iri:
+                    names.setdefault(instance.iri, prop.name)
+    constraints = [
+        reader.constraint(n, names) for n in reader.objects(node, f"{CSS}isRestrictedBy")
+    ]
+    label = reader.text(node, str(RDFS.label)) or readable_label(local_name(iri))
+
+    capability = Capability(
+        iri=iri,
+        name=local_name(iri),
+        label=label,
+        kinds=kinds,
+        comment=comment,
+        inputs=inputs,
+        outputs=outputs,
+        constraints=constraints,
+        resource=resource,
+    )
+    return CapabilityLoad(
+        source=str(source),
+        capability=capability,
+        others=[other for other, _ in found if other != iri],
+        warnings=reader.warnings,
+    )
