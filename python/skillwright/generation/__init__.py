@@ -1,0 +1,1 @@
+"""Stage 5: write the skill — a deterministic skeleton, then behaviour from a local model."""

@@ -1,0 +1,342 @@
+"""The skill skeleton: everything about a skill that follows from its inputs alone.
+
+From the capability (IRIs, inputs, outputs, resource limits), the skill specification
+(name, interface type, states) and the chosen interfaces, this writes a pySkillUp skill
+class whose structure and annotations are right by construction. Behaviour that needs
+judgement is left as ``raise NotImplementedError(...)`` in the state that needs it, and
+listed in :attr:`Skeleton.unimplemented`, so neither a person nor a checker can mistake
+the skeleton for a finished skill.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import re
+from collections.abc import Sequence
+
+from skillwright.capability.model import Capability, Parameter
+from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParameter
+from skillwright.generation.names import attribute_name, class_name, python_import, snake_case
+from skillwright.spec.model import SkillSpec
+
+__all__ = ["build_skeleton", "mint_skill_iri", "topic_role"]
+
+PYTHON_TYPES = {"Real": "float", "Integer": "int", "Boolean": "bool", "String": "str"}
+DEFAULTS = {"float": "0.0", "int": "0", "bool": "False", "str": '""'}
+
+# Message types that command a robot rather than report on it.
+_COMMAND_TYPES = re.compile(
+    r"/(Twist|TwistStamped|JointTrajectory|JointJog|Float64MultiArray|PoseStamped|"
+    r"AckermannDrive|AckermannDriveStamped|GripperCommand)$"
+)
+_COMMAND_NAMES = re.compile(r"(cmd|command|goal|setpoint|target)", re.IGNORECASE)
+
+
+def topic_role(name: str, type_name: str) -> str:
+    """Whether a skill publishes to a topic (a command) or subscribes to it (a reading).
+
+    Sources that know the graph (publisher and subscriber counts) decide better; this is
+    the convention-based fallback: command-like types or names are published to.
+    """
+    if _COMMAND_TYPES.search(type_name) or _COMMAND_NAMES.search(name.rsplit("/", 1)[-1]):
+        return "publish"
+    return "subscribe"
+
+
+def mint_skill_iri(capability: Capability, skill_name: str) -> str:
+    """A skill IRI next to the resource (``.../skills/<name>``) or next to the capability."""
+    anchor = capability.resource.iri if capability.resource else capability.iri
+    base = re.sub(r"[^/#]*$", "", anchor)
+    return f"{base}skills/{skill_name}"
+
+
+def _q(text: str) -> str:
+    """A double-quoted Python string literal (JSON string syntax is valid Python)."""
+    return json.dumps(text, ensure_ascii=False)
+
+
+def _literal(text: str) -> str:
+    return _q(" ".join(text.split()))
+
+
+def _docstring(text: str, indent: str) -> list[str]:
+    """A docstring holding ``text`` verbatim apart from wrapping; quotes made safe."""
+    safe = " ".join(text.split()).replace("\\", "\\\\").replace('"""', '\\"\\"\\"')
+    words = safe.split(" ")
+    lines: list[str] = []
+    current = ""
+    for word in words:
+        if current and len(indent) + len(current) + len(word) + 1 > 92:
+            lines.append(current)
+            current = word
+        else:
+            current = f"{current} {word}" if current else word
+    lines.append(current)
+    if len(lines) == 1:
+        return [f'{indent}"""{lines[0]}"""']
+    return [f'{indent}"""{lines[0]}', *(f"{indent}{line}" for line in lines[1:]), f'{indent}"""']
+
+
+def _parameters(parameters: Sequence[Parameter]) -> list[SkeletonParameter]:
+    out = []
+    for parameter in parameters:
+        for component in parameter.components:
+            python_type = PYTHON_TYPES.get(component.data_type or "", "str")
+            pieces = [component.definition or parameter.name]
+            if component.unit and component.unit != "-":
+                pieces.append(f"Unit: {component.unit}.")
+            if component.expression_goal:
+                pieces.append(f"Expression goal: {component.expression_goal}.")
+            out.append(
+                SkeletonParameter(
+                    name=component.name,
+                    attribute=snake_case(component.name),
+                    python_type=python_type,
+                    direction=parameter.direction,
+                    description=" ".join(pieces),
+                )
+            )
+    return out
+
+
+def _limits(capability: Capability) -> list[tuple[str, str, str]]:
+    """Class constants for the resource's requirements: (NAME, value, comment)."""
+    out: list[tuple[str, str, str]] = []
+    if capability.resource is None:
+        return out
+    for prop in capability.resource.properties:
+        for instance in prop.instances:
+            if instance.expression_goal != "Requirement" or instance.value is None:
+                continue
+            relation = instance.logic_interpretation or "="
+            suffix = {"<=": "MAX", "<": "MAX", ">=": "MIN", ">": "MIN"}.get(relation, "VALUE")
+            name = f"{snake_case(prop.name).upper()}_{suffix}"
+            unit = f" {instance.unit}" if instance.unit else ""
+            comment = f"resource requirement: {prop.name} {relation} {instance.value}{unit}"
+            out.append((name, repr(instance.value), comment))
+    return out
+
+
+class _Writer:
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+
+    def add(self, *lines: str) -> None:
+        self.lines.extend(lines)
+
+    def text(self) -> str:
+        return "\n".join(self.lines) + "\n"
+
+
+def _handle_attribute(interface: InterfaceRef) -> str:
+    suffix = {"publish": "publisher", "subscribe": "subscription"}.get(interface.role, "client")
+    return attribute_name(interface.name, suffix)
+
+
+def _type_class(interface: InterfaceRef) -> str:
+    return python_import(interface.type_name, interface.kind)[1]
+
+
+def _create_lines(interface: InterfaceRef, indent: str) -> list[str]:
+    type_class = _type_class(interface)
+    handle = f"self.{_handle_attribute(interface)}"
+    name = _q(interface.name)
+    if interface.kind == "action":
+        return [f"{indent}{handle} = ActionClient(self.node, {type_class}, {name})"]
+    if interface.kind == "service":
+        return [f"{indent}{handle} = self.node.create_client({type_class}, {name})"]
+    if interface.role == "publish":
+        return [f"{indent}{handle} = self.node.create_publisher({type_class}, {name}, 10)"]
+    callback = f"self._on_{snake_case(interface.name)}"
+    return [
+        f"{indent}{handle} = self.node.create_subscription(",
+        f"{indent}    {type_class}, {name}, {callback}, 10",
+        f"{indent})",
+    ]
+
+
+def _release_lines(interface: InterfaceRef, indent: str) -> list[str]:
+    handle = f"self.{_handle_attribute(interface)}"
+    if interface.kind == "action":
+        release = f"{handle}.destroy()"
+    elif interface.kind == "service":
+        release = f"self.node.destroy_client({handle})"
+    elif interface.role == "publish":
+        release = f"self.node.destroy_publisher({handle})"
+    else:
+        release = f"self.node.destroy_subscription({handle})"
+    return [
+        f"{indent}if {handle} is not None:",
+        f"{indent}    {release}",
+        f"{indent}    {handle} = None",
+    ]
+
+
+def _module_head(
+    out: _Writer,
+    capability: Capability,
+    interfaces: Sequence[InterfaceRef],
+    source_note: str,
+) -> None:
+    imports: dict[str, set[str]] = {}
+    for interface in interfaces:
+        module, name = python_import(interface.type_name, interface.kind)
+        imports.setdefault(module, set()).add(name)
+    header = f"skill for the capability {capability.name}"
+    if capability.resource:
+        header += f" of {capability.resource.name}"
+    out.add(f'"""{header[0].upper()}{header[1:]}.', "")
+    if source_note:
+        out.add(source_note, "")
+    out.add(
+        "Skeleton written by skillwright: structure, annotations and interface handles.",
+        "States that raise NotImplementedError still need their behaviour.",
+        '"""',
+        "",
+        "import rclpy",
+    )
+    if any(i.kind == "action" for i in interfaces):
+        out.add("from rclpy.action import ActionClient")
+    out.add(
+        "",
+        "from pyskillup.decorators.decorators import *  # noqa: F403",
+        "from pyskillup.decorator_check.decorator_check import ROS2Skill",
+        "from pyskillup.decorators.skill_interface import SkillInterface",
+    )
+    if imports:
+        out.add("")
+        for module in sorted(imports):
+            out.add(f"from {module} import {', '.join(sorted(imports[module]))}")
+
+
+def _class_head(
+    out: _Writer, capability: Capability, spec: SkillSpec, cls: str, skill_iri: str
+) -> None:
+    module_iri = capability.resource.iri if capability.resource else capability.iri
+    out.add(
+        "",
+        "",
+        "@skill(",
+        f"    skill_interface=SkillInterface.{spec.skill_interface},",
+        f"    skill_iri={_q(skill_iri)},",
+        f"    module_iri={_q(module_iri)},",
+        f"    capability_iri={_q(capability.iri)},",
+        f"    description={_literal(spec.description or capability.comment or spec.name)},",
+        ")",
+        f"class {cls}(ROS2Skill):",
+    )
+    out.add(*_docstring(spec.description or capability.label, "    "), "")
+    limits = _limits(capability)
+    for name, value, comment in limits:
+        out.add(f"    {name} = {value}  # {comment}")
+    if limits:
+        out.add("")
+
+
+def _init(
+    out: _Writer,
+    spec: SkillSpec,
+    parameters: Sequence[SkeletonParameter],
+    interfaces: Sequence[InterfaceRef],
+    notes: list[str],
+) -> None:
+    out.add("    def __init__(self) -> None:", f"        super().__init__({_q(spec.name)})")
+    for parameter in parameters:
+        default = DEFAULTS[parameter.python_type]
+        out.add(f"        self.{parameter.attribute}: {parameter.python_type} = {default}")
+    for interface in interfaces:
+        out.add(f"        self.{_handle_attribute(interface)} = None")
+        if interface.role == "subscribe":
+            type_class = _type_class(interface)
+            out.add(f"        self.{snake_case(interface.name)}_msg: {type_class} | None = None")
+    if "starting" not in spec.states and interfaces:
+        notes.append("the spec has no 'starting' state, so interface handles are made in __init__")
+        for interface in interfaces:
+            out.add(*_create_lines(interface, "        "))
+    if interfaces and "resetting" not in spec.states:
+        notes.append("the spec has no 'resetting' state, so interface handles are never released")
+
+
+def _accessors(out: _Writer, parameters: Sequence[SkeletonParameter]) -> None:
+    for parameter in parameters:
+        decorator = "skill_parameter" if parameter.direction == "input" else "skill_output"
+        out.add(
+            "",
+            f"    @{decorator}(",
+            "        is_required=True,",
+            f"        name={_q(parameter.name)},",
+            f"        description={_literal(parameter.description)},",
+            "    )",
+            f"    def get_{parameter.attribute}(self) -> {parameter.python_type}:",
+            f"        return self.{parameter.attribute}",
+        )
+
+
+def _callbacks(out: _Writer, interfaces: Sequence[InterfaceRef]) -> None:
+    for interface in interfaces:
+        if interface.role != "subscribe":
+            continue
+        attribute = snake_case(interface.name)
+        out.add(
+            "",
+            f"    def _on_{attribute}(self, msg: {_type_class(interface)}) -> None:",
+            f'        """Keeps the latest message of {interface.name} ({interface.type_name})."""',
+            f"        self.{attribute}_msg = msg",
+        )
+
+
+def _states(out: _Writer, spec: SkillSpec, interfaces: Sequence[InterfaceRef]) -> list[str]:
+    unimplemented: list[str] = []
+    for state, text in spec.states.items():
+        out.add("", f"    @{state}", f"    def {state}(self) -> None:")
+        out.add(*_docstring(text, "        "))
+        if state == "starting":
+            for interface in interfaces:
+                out.add(*_create_lines(interface, "        "))
+        if state == "resetting":
+            for interface in interfaces:
+                out.add(*_release_lines(interface, "        "))
+        message = f"{state}: behaviour from the specification still to be written"
+        out.add(f"        raise NotImplementedError({_q(message)})")
+        unimplemented.append(state)
+    return unimplemented
+
+
+def build_skeleton(
+    capability: Capability,
+    spec: SkillSpec,
+    interfaces: Sequence[InterfaceRef],
+    *,
+    source_note: str = "",
+) -> Skeleton:
+    """Writes the skeleton of the skill ``spec`` describes for ``capability``.
+
+    ``source_note`` is a line for the module docstring, e.g. which files it came from.
+    """
+    notes: list[str] = []
+    if capability.resource is None:
+        notes.append("the capability names no providing resource; module_iri is the capability's")
+    cls = class_name(spec.name)
+    skill_iri = mint_skill_iri(capability, spec.name)
+    parameters = _parameters(capability.inputs) + _parameters(capability.outputs)
+
+    out = _Writer()
+    _module_head(out, capability, interfaces, source_note)
+    _class_head(out, capability, spec, cls, skill_iri)
+    _init(out, spec, parameters, interfaces, notes)
+    _accessors(out, parameters)
+    _callbacks(out, interfaces)
+    unimplemented = _states(out, spec, interfaces)
+
+    code = out.text()
+    ast.parse(code)  # the skeleton is generated, so a syntax error here is our bug
+    return Skeleton(
+        code=code,
+        class_name=cls,
+        skill_iri=skill_iri,
+        parameters=parameters,
+        interfaces=list(interfaces),
+        unimplemented=unimplemented,
+        notes=notes,
+    )

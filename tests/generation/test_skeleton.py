@@ -1,0 +1,181 @@
+"""The skeleton follows from capability, spec and interfaces, and compiles."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+from skillwright.capability import Capability, load_capability
+from skillwright.generation.model import InterfaceRef
+from skillwright.generation.names import class_name, python_import, snake_case
+from skillwright.generation.skeleton import build_skeleton, mint_skill_iri, topic_role
+from skillwright.spec import SkillSpec, load_spec, parse_spec
+from tests.conftest import SHIPPED_CAPABILITIES
+
+CMD_VEL = InterfaceRef(
+    name="/cmd_vel", kind="topic", type_name="geometry_msgs/msg/Twist", role="publish"
+)
+ODOM = InterfaceRef(name="/odom", kind="topic", type_name="nav_msgs/msg/Odometry", role="subscribe")
+NAVIGATE = InterfaceRef(
+    name="/navigate_to_pose",
+    kind="action",
+    type_name="nav2_msgs/action/NavigateToPose",
+    role="call",
+)
+SAVE_MAP = InterfaceRef(
+    name="/map_saver/save_map", kind="service", type_name="nav2_msgs/srv/SaveMap", role="call"
+)
+
+
+def shipped(stem: str) -> tuple[Capability, SkillSpec]:
+    capability = load_capability(SHIPPED_CAPABILITIES / f"{stem}.ttl").capability
+    return capability, load_spec(SHIPPED_CAPABILITIES / f"{stem}.spec.yaml")
+
+
+def decorators(tree: ast.Module) -> dict[str, list[ast.Call | ast.Name]]:
+    cls = next(n for n in tree.body if isinstance(n, ast.ClassDef))
+    out: dict[str, list[ast.Call | ast.Name]] = {}
+    for node in cls.body:
+        if isinstance(node, ast.FunctionDef):
+            out[node.name] = [d for d in node.decorator_list if isinstance(d, ast.Call | ast.Name)]
+    return out
+
+
+def keyword(call: ast.Call, name: str) -> object:
+    value = next(k.value for k in call.keywords if k.arg == name)
+    assert isinstance(value, ast.Constant | ast.Attribute)
+    return value.value if isinstance(value, ast.Constant) else ast.unparse(value)
+
+
+@pytest.mark.parametrize(
+    ("name", "expected"),
+    [
+        ("inDistance", "in_distance"),
+        ("/cmd_vel", "cmd_vel"),
+        ("outMapURL", "out_map_url"),
+        ("class", "class_"),
+        ("2d/scan", "_2d_scan"),
+    ],
+)
+def test_snake_case(name: str, expected: str) -> None:
+    assert snake_case(name) == expected
+
+
+def test_class_and_import_names() -> None:
+    assert class_name("move_forward") == "MoveForwardSkill"
+    assert python_import("geometry_msgs/msg/Twist", "topic") == ("geometry_msgs.msg", "Twist")
+    assert python_import("nav2_msgs/NavigateToPose", "action") == (
+        "nav2_msgs.action",
+        "NavigateToPose",
+    )
+    with pytest.raises(ValueError, match="not a ROS 2 type name"):
+        python_import("Twist", "topic")
+
+
+@pytest.mark.parametrize(
+    ("name", "type_name", "role"),
+    [
+        ("/cmd_vel", "geometry_msgs/msg/Twist", "publish"),
+        ("/odom", "nav_msgs/msg/Odometry", "subscribe"),
+        ("/scan", "sensor_msgs/msg/LaserScan", "subscribe"),
+        ("/arm/joint_command", "std_msgs/msg/Float64", "publish"),
+    ],
+)
+def test_topic_role_by_convention(name: str, type_name: str, role: str) -> None:
+    assert topic_role(name, type_name) == role
+
+
+@pytest.mark.parametrize(
+    "stem", sorted(p.name[: -len(".ttl")] for p in SHIPPED_CAPABILITIES.glob("*.ttl"))
+)
+def test_every_shipped_capability_gets_a_compiling_complete_skeleton(stem: str) -> None:
+    capability, spec = shipped(stem)
+    skeleton = build_skeleton(capability, spec, [CMD_VEL, ODOM, NAVIGATE, SAVE_MAP])
+    tree = ast.parse(skeleton.code)
+    compile(tree, f"{stem}.py", "exec")
+    methods = decorators(tree)
+    for state in spec.states:
+        assert [ast.unparse(d) for d in methods[state]] == [state]
+    names = {
+        keyword(d, "name")
+        for decorated in methods.values()
+        for d in decorated
+        if isinstance(d, ast.Call) and ast.unparse(d.func) in {"skill_parameter", "skill_output"}
+    }
+    expected = {c.name for p in (*capability.inputs, *capability.outputs) for c in p.components}
+    assert names == expected
+    assert skeleton.unimplemented == list(spec.states)
+
+
+def test_move_forward_skeleton_carries_iris_types_limits_and_handles() -> None:
+    capability, spec = shipped("move-forward")
+    skeleton = build_skeleton(capability, spec, [CMD_VEL, ODOM])
+    tree = ast.parse(skeleton.code)
+    cls = next(n for n in tree.body if isinstance(n, ast.ClassDef))
+    assert cls.name == "MoveForwardSkill"
+    assert [ast.unparse(b) for b in cls.bases] == ["ROS2Skill"]
+    (skill,) = cls.decorator_list
+    assert isinstance(skill, ast.Call)
+    assert keyword(skill, "capability_iri") == capability.iri
+    assert keyword(skill, "module_iri") == "http://skillwright.dev/robots/mr1/mr1"
+    assert keyword(skill, "skill_iri") == "http://skillwright.dev/robots/mr1/skills/move_forward"
+    assert keyword(skill, "skill_interface") == "SkillInterface.REST"
+    assert "LINEAR_VELOCITY_MAX = 0.8" in skeleton.code
+    assert "def get_in_distance(self) -> float:" in skeleton.code
+    assert "from geometry_msgs.msg import Twist" in skeleton.code
+    assert 'self.node.create_publisher(Twist, "/cmd_vel", 10)' in skeleton.code
+    assert (
+        'self.node.create_subscription(\n            Odometry, "/odom", self._on_odom, 10'
+        in skeleton.code
+    )
+    assert "self.node.destroy_subscription(self.odom_subscription)" in skeleton.code
+    assert spec.states["completing"] in skeleton.code
+
+
+def test_services_and_actions_get_clients_and_are_released() -> None:
+    capability, spec = shipped("navigate-to-point")
+    code = build_skeleton(capability, spec, [NAVIGATE, SAVE_MAP]).code
+    assert "from rclpy.action import ActionClient" in code
+    assert 'ActionClient(self.node, NavigateToPose, "/navigate_to_pose")' in code
+    assert 'self.node.create_client(SaveMap, "/map_saver/save_map")' in code
+    assert "self.navigate_to_pose_client.destroy()" in code
+    assert "self.node.destroy_client(self.map_saver_save_map_client)" in code
+
+
+def test_without_starting_state_handles_are_made_in_init_and_said() -> None:
+    capability, _ = shipped("get-position")
+    spec = parse_spec({"name": "where", "skill_interface": "REST", "states": {"execute": "Read."}})
+    skeleton = build_skeleton(capability, spec, [ODOM])
+    init = skeleton.code.split("def __init__")[1].split("@skill_output")[0]
+    assert "create_subscription" in init
+    assert any("no 'starting' state" in n for n in skeleton.notes)
+    assert any("never released" in n for n in skeleton.notes)
+
+
+def test_spec_text_with_quotes_and_backslashes_stays_valid_python(tmp_path: Path) -> None:
+    capability, _ = shipped("rotate")
+    spec = parse_spec(
+        {
+            "name": "turn",
+            "description": 'say "hi" \\ there',
+            "skill_interface": "MQTT",
+            "states": {"execute": 'Print """ and \\n literally.'},
+        }
+    )
+    code = build_skeleton(capability, spec, []).code
+    tree = ast.parse(code)
+    assert "SkillInterface.MQTT" in code
+    cls = next(n for n in tree.body if isinstance(n, ast.ClassDef))
+    execute = next(n for n in cls.body if isinstance(n, ast.FunctionDef) and n.name == "execute")
+    assert ast.get_docstring(execute) == 'Print """ and \\n literally.'
+
+
+def test_skill_iri_without_resource_sits_next_to_the_capability() -> None:
+    capability, _ = shipped("rotate")
+    bare = capability.model_copy(update={"resource": None})
+    assert (
+        mint_skill_iri(bare, "turn")
+        == "http://skillwright.dev/robots/mr1/capabilities/rotate/skills/turn"
+    )
