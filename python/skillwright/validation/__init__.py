@@ -1,0 +1,1 @@
+"""Stage 6: checking a generated skill — static checks first."""

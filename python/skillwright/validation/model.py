@@ -1,0 +1,66 @@
+"""Findings of the checks and what a check needs to know about the robot's interfaces."""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+__all__ = ["Catalog", "CatalogEntry", "CheckReport", "FieldTree", "Finding"]
+
+FieldTree = dict[str, Any]
+"""Field name -> the field tree of its type, or ``None`` for a primitive; an array maps to
+the tree of its element. (Recursive; typed loosely because pydantic and mypy disagree on
+recursive aliases under Python 3.11.)"""
+
+
+class CatalogEntry(BaseModel):
+    """One interface of the robot: enough to check code that uses it."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    name: str = Field(description="Full ROS 2 name, e.g. /cmd_vel.")
+    kind: Literal["topic", "service", "action"] = Field(description="topic, service or action.")
+    type_name: str = Field(description="ROS 2 type, e.g. geometry_msgs/msg/Twist.")
+
+
+class Catalog(BaseModel):
+    """The interfaces a skill may use and the field trees of their types.
+
+    ``fields`` is keyed by message type; services add ``<type>.Request`` and
+    ``<type>.Response``, actions ``<type>.Goal``, ``<type>.Result`` and ``<type>.Feedback``.
+    """
+
+    model_config = ConfigDict(extra="forbid")
+
+    entries: dict[str, CatalogEntry] = Field(default_factory=dict, description="By name.")
+    fields: dict[str, FieldTree] = Field(default_factory=dict, description="By type name.")
+
+
+class Finding(BaseModel):
+    """One problem found in a skill, with where it is and why it matters."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    check: str = Field(description="Which check found it, e.g. 'annotations'.")
+    severity: Literal["error", "warning"] = Field(description="Errors fail the check.")
+    line: int = Field(description="1-based line (0 when it concerns the whole file).")
+    column: int = Field(default=0, description="1-based column, 0 when unknown.")
+    message: str = Field(description="What is wrong, in plain words, and what to do.")
+
+
+class CheckReport(BaseModel):
+    """All findings for one skill file."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    path: str = Field(description="The checked file.")
+    findings: list[Finding] = Field(default_factory=list, description="Sorted by line.")
+    used_interfaces: list[str] = Field(
+        default_factory=list, description="Interface names the code creates handles for."
+    )
+
+    @property
+    def passed(self) -> bool:
+        """True when no finding is an error."""
+        return not any(f.severity == "error" for f in self.findings)

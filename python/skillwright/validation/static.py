@@ -1,0 +1,637 @@
+"""Static checks of a skill: what can be known without running it.
+
+The checks follow the paper's evaluation criteria and the failure modes seen when LLMs
+wrote these skills (see the project's SKILL-FRAMEWORK notes): syntax; annotation
+completeness against the capability and the specification; grounding of every topic,
+service, action and message field in the robot's inventory; placeholders; constants
+that stand in for a capability input; interfaces retrieved but unused, or used but not
+retrieved.
+"""
+
+from __future__ import annotations
+
+import ast
+import io
+import re
+import tokenize
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+from skillwright.capability.model import Capability, Parameter
+from skillwright.spec.model import PACKML_STATES, SkillSpec
+from skillwright.validation.model import Catalog, CheckReport, FieldTree, Finding
+
+__all__ = ["check_skill"]
+
+_HANDLE_CALLS = {
+    "create_publisher": "topic",
+    "create_subscription": "topic",
+    "create_client": "service",
+    "ActionClient": "action",
+}
+_NESTED_TYPES = {"Request", "Response", "Goal", "Result", "Feedback"}
+_GENERIC_TOKENS = {"in", "out", "value", "the", "of", "id", "x", "y", "z"}
+
+
+@dataclass
+class _Use:
+    """A handle the code creates for an interface."""
+
+    name: str
+    kind: str
+    type_name: str | None
+    line: int
+    column: int
+    callback: str | None = None
+
+
+@dataclass
+class _Context:
+    findings: list[Finding] = field(default_factory=list)
+
+    def add(self, check: str, severity: str, node: ast.AST | None, message: str) -> None:
+        line = getattr(node, "lineno", 0) if node is not None else 0
+        column = getattr(node, "col_offset", -1) + 1 if node is not None else 0
+        self.findings.append(
+            Finding(check=check, severity=severity, line=line, column=column, message=message)  # type: ignore[arg-type]
+        )
+
+
+def _imports(tree: ast.Module) -> dict[str, str]:
+    """Local name -> ``pkg/sub/Type`` for ``from pkg.sub import Type [as Alias]``."""
+    out: dict[str, str] = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module:
+            parts = node.module.split(".")
+            if len(parts) == 2 and parts[1] in {"msg", "srv", "action"}:
+                for alias in node.names:
+                    out[alias.asname or alias.name] = f"{parts[0]}/{parts[1]}/{alias.name}"
+    return out
+
+
+def _call_name(call: ast.Call) -> str:
+    func = call.func
+    if isinstance(func, ast.Attribute):
+        return func.attr
+    if isinstance(func, ast.Name):
+        return func.id
+    return ""
+
+
+def _decorator_name(node: ast.expr) -> str:
+    target = node.func if isinstance(node, ast.Call) else node
+    if isinstance(target, ast.Name):
+        return target.id
+    if isinstance(target, ast.Attribute):
+        return target.attr
+    return ""
+
+
+def _keyword(call: ast.Call, name: str) -> ast.expr | None:
+    return next((k.value for k in call.keywords if k.arg == name), None)
+
+
+def _constant_text(node: ast.expr | None) -> str | None:
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return node.value
+    return None
+
+
+def _normalise(name: str) -> str:
+    return name if name.startswith("/") else f"/{name}"
+
+
+def _skill_class(tree: ast.Module) -> tuple[ast.ClassDef, ast.Call] | None:
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef):
+            for decorator in node.decorator_list:
+                if isinstance(decorator, ast.Call) and _decorator_name(decorator) == "skill":
+                    return node, decorator
+    return None
+
+
+# --- annotations -----------------------------------------------------------------
+
+
+def _check_skill_decorator(
+    ctx: _Context, cls: ast.ClassDef, call: ast.Call, capability: Capability, spec: SkillSpec
+) -> None:
+    expected = {"capability_iri": capability.iri}
+    if capability.resource is not None:
+        expected["module_iri"] = capability.resource.iri
+    for key, value in expected.items():
+        given = _keyword(call, key)
+        text = _constant_text(given)
+        if given is None:
+            ctx.add("annotations", "error", call, f"@skill has no {key}; it must be {value!r}")
+        elif text is not None and text != value:
+            ctx.add("annotations", "error", given, f"@skill {key} is {text!r}, expected {value!r}")
+    if not _constant_text(_keyword(call, "skill_iri")):
+        ctx.add("annotations", "error", call, "@skill needs a skill_iri (a string IRI)")
+    interface = _keyword(call, "skill_interface")
+    wanted = f"SkillInterface.{spec.skill_interface}"
+    if interface is None or ast.unparse(interface) != wanted:
+        ctx.add(
+            "annotations",
+            "error",
+            interface or call,
+            f"@skill skill_interface should be {wanted}, as the specification says",
+        )
+    if not any(ast.unparse(base).endswith("ROS2Skill") for base in cls.bases):
+        ctx.add("annotations", "error", cls, f"class {cls.name} must derive from ROS2Skill")
+
+
+def _annotated_names(cls: ast.ClassDef, decorator: str) -> dict[str, ast.AST]:
+    out: dict[str, ast.AST] = {}
+    for node in cls.body:
+        if isinstance(node, ast.FunctionDef):
+            for dec in node.decorator_list:
+                if isinstance(dec, ast.Call) and _decorator_name(dec) == decorator:
+                    name = _constant_text(_keyword(dec, "name"))
+                    out[name or node.name] = dec
+    return out
+
+
+def _check_parameters(
+    ctx: _Context,
+    cls: ast.ClassDef,
+    parameters: Sequence[Parameter],
+    decorator: str,
+    what: str,
+) -> None:
+    found = _annotated_names(cls, decorator)
+    known: set[str] = set()
+    for parameter in parameters:
+        components = {c.name for c in parameter.components}
+        known |= components | {parameter.name}
+        if parameter.name in found or components <= set(found):
+            continue
+        missing = sorted(components - set(found))
+        ctx.add(
+            "annotations",
+            "error",
+            cls,
+            f"no @{decorator} for the capability's {what} {parameter.name}"
+            + (f" (missing: {', '.join(missing)})" if len(components) > 1 else ""),
+        )
+    for name, node in found.items():
+        if name not in known:
+            ctx.add(
+                "annotations",
+                "warning",
+                node,
+                f"@{decorator} {name!r} matches no {what} of the capability",
+            )
+
+
+def _state_methods(cls: ast.ClassDef) -> dict[str, ast.FunctionDef]:
+    out: dict[str, ast.FunctionDef] = {}
+    for node in cls.body:
+        if isinstance(node, ast.FunctionDef):
+            for dec in node.decorator_list:
+                if isinstance(dec, ast.Name) and dec.id in PACKML_STATES:
+                    out[dec.id] = node
+    return out
+
+
+def _check_states(ctx: _Context, cls: ast.ClassDef, spec: SkillSpec) -> dict[str, ast.FunctionDef]:
+    methods = _state_methods(cls)
+    for state in spec.states:
+        if state not in methods:
+            ctx.add(
+                "annotations", "error", cls, f"no method decorated @{state}: the spec asks for it"
+            )
+    for state, method in methods.items():
+        if state not in spec.states:
+            ctx.add(
+                "annotations",
+                "warning",
+                method,
+                f"@{state} is not in the specification; remove it or add it to the spec",
+            )
+    return methods
+
+
+# --- placeholders ------------------------------------------------------------------
+
+
+def _body_without_docstring(function: ast.FunctionDef) -> list[ast.stmt]:
+    body = list(function.body)
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
+        body = body[1:]
+    return body
+
+
+def _check_placeholders(
+    ctx: _Context, tree: ast.Module, source: str, methods: dict[str, ast.FunctionDef]
+) -> None:
+    for state, method in methods.items():
+        body = _body_without_docstring(method)
+        trivial = all(
+            isinstance(s, ast.Pass)
+            or (
+                isinstance(s, ast.Expr)
+                and isinstance(s.value, ast.Constant)
+                and s.value.value is ...
+            )
+            for s in body
+        )
+        if trivial:
+            ctx.add("placeholders", "error", method, f"@{state} has no behaviour (only pass / ...)")
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Raise) and node.exc is not None:
+            exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
+            if isinstance(exc, ast.Name) and exc.id == "NotImplementedError":
+                ctx.add(
+                    "placeholders",
+                    "error",
+                    node,
+                    "raises NotImplementedError: this behaviour is still to be written",
+                )
+    try:
+        tokens = list(tokenize.generate_tokens(io.StringIO(source).readline))
+    except (tokenize.TokenError, SyntaxError):
+        return
+    for token in tokens:
+        if token.type == tokenize.COMMENT and re.search(r"\b(TODO|FIXME|XXX)\b", token.string):
+            ctx.findings.append(
+                Finding(
+                    check="placeholders",
+                    severity="warning",
+                    line=token.start[0],
+                    column=token.start[1] + 1,
+                    message=f"left-over marker in a comment: {token.string.strip()}",
+                )
+            )
+
+
+# --- constants standing in for inputs ------------------------------------------------
+
+
+def _tokens(name: str) -> set[str]:
+    words = re.sub(r"(?<=[a-z0-9])(?=[A-Z])", " ", name).replace("_", " ").lower().split()
+    return {w for w in words if w not in _GENERIC_TOKENS and len(w) > 1}
+
+
+def _target_name(node: ast.expr) -> str | None:
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        return node.attr
+    return None
+
+
+def _is_number(node: ast.expr | None) -> bool:
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
+        node = node.operand
+    return (
+        isinstance(node, ast.Constant)
+        and isinstance(node.value, int | float)
+        and not isinstance(node.value, bool)
+    )
+
+
+def _resource_limits(capability: Capability) -> list[tuple[set[str], float]]:
+    """(name tokens, value) of each numeric requirement of the resource."""
+    out: list[tuple[set[str], float]] = []
+    if capability.resource is None:
+        return out
+    for prop in capability.resource.properties:
+        for instance in prop.instances:
+            if isinstance(instance.value, int | float) and not isinstance(instance.value, bool):
+                out.append((_tokens(prop.name), float(instance.value)))
+    return out
+
+
+def _number(node: ast.expr) -> float:
+    value = ast.literal_eval(node)
+    return float(value)
+
+
+def _assignments(tree: ast.AST) -> Iterable[tuple[ast.AST, ast.expr, ast.expr, bool]]:
+    """(statement, target, value, inside __init__) for assignments and comparisons."""
+    init_nodes: set[int] = set()
+    for function in ast.walk(tree):
+        if isinstance(function, ast.FunctionDef) and function.name == "__init__":
+            init_nodes.update(id(n) for n in ast.walk(function))
+    for node in ast.walk(tree):
+        in_init = id(node) in init_nodes
+        if isinstance(node, ast.Assign):
+            for target in node.targets:
+                yield node, target, node.value, in_init
+        elif isinstance(node, ast.AnnAssign) and node.value is not None:
+            yield node, node.target, node.value, in_init
+        elif isinstance(node, ast.Compare):
+            operands = [node.left, *node.comparators]
+            names = [o for o in operands if _target_name(o)]
+            numbers = [o for o in operands if _is_number(o)]
+            if names and numbers:
+                yield node, names[0], numbers[0], in_init
+
+
+def _check_input_constants(ctx: _Context, tree: ast.Module, capability: Capability) -> None:
+    inputs = [
+        (component.name, _tokens(component.name))
+        for parameter in capability.inputs
+        for component in parameter.components
+    ]
+    if not inputs:
+        return
+    own_attributes = {re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", n).lower() for n, _ in inputs}
+    outputs = {
+        re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", c.name).lower()
+        for parameter in capability.outputs
+        for c in parameter.components
+    }
+    limits = _resource_limits(capability)
+    qualifiers = {"min", "max", "minimum", "maximum", "limit", "desired", "target", "requested"}
+
+    def matching(name: str) -> str | None:
+        words = _tokens(name)
+        for input_name, input_words in inputs:
+            if input_words and input_words <= words | qualifiers and input_words & words:
+                return input_name
+        return None
+
+    for statement, target, value, in_init in _assignments(tree):
+        name = _target_name(target)
+        if name is None or not _is_number(value):
+            continue
+        if (in_init and name in own_attributes) or name in outputs:
+            continue  # a parameter's storage initialised before it is set, or an output
+        words = _tokens(name)
+        number = _number(value)
+        if any(tokens and tokens <= words and number == limit for tokens, limit in limits):
+            continue  # the resource's own limit, taken from the capability model
+        input_name = matching(name)
+        if input_name is not None:
+            ctx.add(
+                "constants",
+                "error",
+                statement,
+                f"the number {ast.unparse(value)} stands in for the capability input "
+                f"{input_name} (via {name!r}); use the value of its @skill_parameter",
+            )
+
+
+# --- interface grounding ----------------------------------------------------------------
+
+
+def _uses(tree: ast.Module, imports: dict[str, str], ctx: _Context) -> list[_Use]:
+    uses: list[_Use] = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        call_name = _call_name(node)
+        if call_name not in _HANDLE_CALLS:
+            continue
+        args = list(node.args)
+        if call_name == "ActionClient":
+            args = args[1:]  # (node, ActionType, name)
+        type_arg = args[0] if args else _keyword(node, "msg_type") or _keyword(node, "srv_type")
+        name_arg = (
+            args[1] if len(args) > 1 else _keyword(node, "topic") or _keyword(node, "srv_name")
+        )
+        name = _constant_text(name_arg)
+        if name is None:
+            ctx.add(
+                "grounding",
+                "warning",
+                node,
+                f"{call_name}: the interface name is not a string literal, so it cannot be checked",
+            )
+            continue
+        type_name = imports.get(ast.unparse(type_arg)) if type_arg is not None else None
+        callback = None
+        if call_name == "create_subscription" and len(args) > 2:
+            callback = _target_name(args[2])
+        uses.append(
+            _Use(
+                name=_normalise(name),
+                kind=_HANDLE_CALLS[call_name],
+                type_name=type_name,
+                line=node.lineno,
+                column=node.col_offset + 1,
+                callback=callback,
+            )
+        )
+    return uses
+
+
+def _check_uses(ctx: _Context, uses: Iterable[_Use], catalog: Catalog) -> None:
+    for use in uses:
+        entry = catalog.entries.get(use.name)
+        where = ast.Constant(value=None, lineno=use.line, col_offset=use.column - 1)
+        if entry is None:
+            ctx.add(
+                "grounding",
+                "error",
+                where,
+                f"{use.kind} {use.name} does not exist on this robot (not in the inventory); "
+                "use one of its real interfaces",
+            )
+            continue
+        if entry.kind != use.kind:
+            ctx.add(
+                "grounding",
+                "error",
+                where,
+                f"{use.name} is a {entry.kind} on this robot, but the code uses it as a {use.kind}",
+            )
+        elif use.type_name is not None and use.type_name != entry.type_name:
+            ctx.add(
+                "grounding",
+                "error",
+                where,
+                f"{use.name} carries {entry.type_name}, but the code uses {use.type_name}",
+            )
+
+
+def _chain(node: ast.expr) -> tuple[ast.expr, list[str]]:
+    """``a.b[0].c`` -> (``a``, ["b", "c"])."""
+    parts: list[str] = []
+    while True:
+        if isinstance(node, ast.Attribute):
+            parts.append(node.attr)
+            node = node.value
+        elif isinstance(node, ast.Subscript):
+            node = node.value
+        else:
+            return node, list(reversed(parts))
+
+
+def _walk_fields(
+    ctx: _Context, node: ast.AST, tree: FieldTree, path: Sequence[str], type_name: str
+) -> None:
+    current: FieldTree | None = tree
+    for index, part in enumerate(path):
+        if current is None:
+            return  # attribute of a primitive or a list (e.g. .append): not a message field
+        if part not in current:
+            known = ", ".join(sorted(current)) or "none"
+            where = ".".join(path[:index]) or "the message"
+            ctx.add(
+                "grounding",
+                "error",
+                node,
+                f"{type_name} has no field {part!r} in {where} (fields: {known})",
+            )
+            return
+        current = current[part]
+
+
+class _FieldVisitor(ast.NodeVisitor):
+    """Checks attribute chains on names and self-attributes whose message type is known."""
+
+    def __init__(self, ctx: _Context, catalog: Catalog, bound: dict[str, str]) -> None:
+        self.ctx = ctx
+        self.catalog = catalog
+        self.bound = bound  # "name" or "self.attr" -> field-tree key
+
+    def visit_Attribute(self, node: ast.Attribute) -> None:
+        root, path = _chain(node)
+        key = None
+        if isinstance(root, ast.Name) and root.id in self.bound:
+            key = self.bound[root.id]
+        elif (
+            isinstance(root, ast.Name)
+            and root.id == "self"
+            and path
+            and f"self.{path[0]}" in self.bound
+        ):
+            key = self.bound[f"self.{path[0]}"]
+            path = path[1:]
+        if key is not None and path and key in self.catalog.fields:
+            _walk_fields(self.ctx, node, self.catalog.fields[key], path, key)
+            return
+        self.generic_visit(node)
+
+
+def _message_bindings(
+    cls: ast.ClassDef, uses: Sequence[_Use], catalog: Catalog, imports: dict[str, str]
+) -> dict[str, dict[str, str]]:
+    """Per method: which local names / self attributes hold which message type."""
+    callbacks = {u.callback: u.type_name for u in uses if u.callback and u.type_name}
+    stored: dict[str, str] = {}
+    per_method: dict[str, dict[str, str]] = {}
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        bound: dict[str, str] = {}
+        if method.name in callbacks and len(method.args.args) >= 2:
+            message_type = callbacks[method.name]
+            assert message_type is not None
+            bound[method.args.args[1].arg] = message_type
+        for node in ast.walk(method):
+            if not isinstance(node, ast.Assign) or len(node.targets) != 1:
+                continue
+            target = node.targets[0]
+            value = node.value
+            key = None
+            if isinstance(value, ast.Call):
+                func = ast.unparse(value.func)
+                head, _, tail = func.partition(".")
+                if head in imports and (not tail or tail in _NESTED_TYPES):
+                    key = imports[head] + (f".{tail}" if tail else "")
+            elif isinstance(value, ast.Name) and value.id in bound:
+                key = bound[value.id]
+            if key is None:
+                continue
+            if isinstance(target, ast.Name):
+                bound[target.id] = key
+            elif isinstance(target, ast.Attribute) and ast.unparse(target.value) == "self":
+                stored[f"self.{target.attr}"] = key
+        per_method[method.name] = bound
+    for bound in per_method.values():
+        for attribute, key in stored.items():
+            bound.setdefault(attribute, key)
+    return per_method
+
+
+def _check_fields(
+    ctx: _Context,
+    cls: ast.ClassDef,
+    uses: Sequence[_Use],
+    catalog: Catalog,
+    imports: dict[str, str],
+) -> None:
+    bindings = _message_bindings(cls, uses, catalog, imports)
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        _FieldVisitor(ctx, catalog, bindings.get(method.name, {})).visit(method)
+    for node in ast.walk(cls):
+        if isinstance(node, ast.Call):
+            func = ast.unparse(node.func)
+            head, _, tail = func.partition(".")
+            if head in imports and (not tail or tail in _NESTED_TYPES):
+                key = imports[head] + (f".{tail}" if tail else "")
+                tree = catalog.fields.get(key)
+                if tree is not None:
+                    for keyword in node.keywords:
+                        if keyword.arg is not None:
+                            _walk_fields(ctx, keyword, tree, [keyword.arg], key)
+
+
+def check_skill(
+    source: str,
+    *,
+    capability: Capability,
+    spec: SkillSpec,
+    catalog: Catalog | None = None,
+    retrieved: Sequence[str] = (),
+    path: str = "skill.py",
+) -> CheckReport:
+    """Runs every static check on the skill ``source``.
+
+    ``catalog`` enables the grounding checks; ``retrieved`` names the interfaces
+    retrieval chose, for the used-versus-retrieved check.
+    """
+    ctx = _Context()
+    try:
+        tree = ast.parse(source, filename=path)
+    except SyntaxError as error:
+        ctx.findings.append(
+            Finding(
+                check="syntax",
+                severity="error",
+                line=error.lineno or 0,
+                column=error.offset or 0,
+                message=f"syntax error: {error.msg}",
+            )
+        )
+        return CheckReport(path=path, findings=ctx.findings)
+
+    imports = _imports(tree)
+    uses = _uses(tree, imports, ctx)
+    _check_input_constants(ctx, tree, capability)
+    found = _skill_class(tree)
+    if found is None:
+        ctx.add("annotations", "error", None, "no class decorated with @skill(...)")
+    else:
+        cls, decorator = found
+        _check_skill_decorator(ctx, cls, decorator, capability, spec)
+        _check_parameters(ctx, cls, capability.inputs, "skill_parameter", "input")
+        _check_parameters(ctx, cls, capability.outputs, "skill_output", "output")
+        methods = _check_states(ctx, cls, spec)
+        _check_placeholders(ctx, tree, source, methods)
+        if catalog is not None:
+            _check_fields(ctx, cls, uses, catalog, imports)
+    if catalog is not None:
+        _check_uses(ctx, uses, catalog)
+
+    used = sorted({u.name for u in uses})
+    wanted = {_normalise(n) for n in retrieved}
+    if retrieved:
+        for name in sorted(wanted - set(used)):
+            ctx.add(
+                "interfaces", "warning", None, f"{name} was retrieved but the code never uses it"
+            )
+        for use in uses:
+            if use.name not in wanted:
+                where = ast.Constant(value=None, lineno=use.line, col_offset=use.column - 1)
+                ctx.add(
+                    "interfaces",
+                    "warning",
+                    where,
+                    f"{use.name} is used but was not retrieved for this capability; "
+                    "check that it is the right interface",
+                )
+    findings = sorted(ctx.findings, key=lambda f: (f.line, f.column, f.check))
+    return CheckReport(path=path, findings=findings, used_interfaces=used)

@@ -1,0 +1,292 @@
+"""Static checks: a good skill passes; each failure mode is found, located and explained."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from skillwright.capability import Capability, load_capability
+from skillwright.generation.model import InterfaceRef
+from skillwright.generation.skeleton import build_skeleton
+from skillwright.spec import SkillSpec, load_spec
+from skillwright.validation.model import Catalog, CatalogEntry, CheckReport, FieldTree
+from skillwright.validation.static import check_skill
+from tests.conftest import SHIPPED_CAPABILITIES
+
+GOOD = (Path(__file__).parent / "skills" / "move_forward_good.py").read_text(encoding="utf-8")
+
+VECTOR: FieldTree = {"x": None, "y": None, "z": None}
+TWIST: FieldTree = {"linear": VECTOR, "angular": VECTOR}
+HEADER: FieldTree = {"stamp": {"sec": None, "nanosec": None}, "frame_id": None}
+ODOMETRY: FieldTree = {
+    "header": HEADER,
+    "child_frame_id": None,
+    "pose": {
+        "pose": {"position": VECTOR, "orientation": {**VECTOR, "w": None}},
+        "covariance": None,
+    },
+    "twist": {"twist": TWIST, "covariance": None},
+}
+CATALOG = Catalog(
+    entries={
+        "/cmd_vel": CatalogEntry(
+            name="/cmd_vel", kind="topic", type_name="geometry_msgs/msg/Twist"
+        ),
+        "/odom": CatalogEntry(name="/odom", kind="topic", type_name="nav_msgs/msg/Odometry"),
+        "/scan": CatalogEntry(name="/scan", kind="topic", type_name="sensor_msgs/msg/LaserScan"),
+        "/navigate_to_pose": CatalogEntry(
+            name="/navigate_to_pose", kind="action", type_name="nav2_msgs/action/NavigateToPose"
+        ),
+    },
+    fields={"geometry_msgs/msg/Twist": TWIST, "nav_msgs/msg/Odometry": ODOMETRY},
+)
+
+
+@pytest.fixture(scope="module")
+def move_forward() -> tuple[Capability, SkillSpec]:
+    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
+    return capability, load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
+
+
+def run(source: str, inputs: tuple[Capability, SkillSpec], **kwargs: object) -> CheckReport:
+    capability, spec = inputs
+    return check_skill(
+        source,
+        capability=capability,
+        spec=spec,
+        catalog=CATALOG,
+        retrieved=kwargs.pop("retrieved", ["/cmd_vel", "/odom"]),  # type: ignore[arg-type]
+        **kwargs,  # type: ignore[arg-type]
+    )
+
+
+def messages(report: CheckReport, check: str | None = None) -> list[str]:
+    return [f.message for f in report.findings if check is None or f.check == check]
+
+
+def test_the_hand_written_skill_passes_without_findings(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    report = run(GOOD, move_forward)
+    assert report.findings == []
+    assert report.passed
+    assert report.used_interfaces == ["/cmd_vel", "/odom"]
+
+
+def test_syntax_error_is_located(move_forward: tuple[Capability, SkillSpec]) -> None:
+    report = run(GOOD.replace("def _travelled(self)", "def _travelled(self"), move_forward)
+    (finding,) = report.findings
+    assert finding.check == "syntax"
+    assert finding.line > 0
+    assert not report.passed
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "expected"),
+    [
+        (
+            'capability_iri="http://skillwright.dev/robots/mr1/capabilities/moveForward/moveForward"',
+            'capability_iri="http://example.org/other"',
+            "@skill capability_iri is 'http://example.org/other', expected",
+        ),
+        (
+            "SkillInterface.REST",
+            "SkillInterface.MQTT",
+            "skill_interface should be SkillInterface.REST",
+        ),
+        ("(ROS2Skill)", "(object)", "must derive from ROS2Skill"),
+        (
+            'name="inDistance"',
+            'name="distance"',
+            "no @skill_parameter for the capability's input inDistance",
+        ),
+        (
+            'name="outLinearVelocity"',
+            'name="speed"',
+            "no @skill_output for the capability's output",
+        ),
+        ("    @stopping\n", "", "no method decorated @stopping"),
+        (
+            "    @completing\n",
+            "    @completing\n    @aborting\n",
+            "@aborting is not in the specification",
+        ),
+    ],
+)
+def test_annotation_problems_are_found(
+    move_forward: tuple[Capability, SkillSpec], old: str, new: str, expected: str
+) -> None:
+    assert old in GOOD
+    report = run(GOOD.replace(old, new, 1), move_forward)
+    assert any(expected in m for m in messages(report, "annotations")), messages(report)
+
+
+def test_missing_skill_decorator(move_forward: tuple[Capability, SkillSpec]) -> None:
+    report = run(GOOD.replace("@skill(", "@other(", 1), move_forward)
+    assert "no class decorated with @skill(...)" in messages(report)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "expected"),
+    [
+        ('"/cmd_vel"', '"/base/cmd_vel"', "topic /base/cmd_vel does not exist on this robot"),
+        (
+            "from geometry_msgs.msg import Twist",
+            "from geometry_msgs.msg import TwistStamped as Twist",
+            "/cmd_vel carries geometry_msgs/msg/Twist, but the code uses geometry_msgs/msg/TwistStamped",
+        ),
+        (
+            'self.node.create_publisher(Twist, "/cmd_vel", 10)',
+            'self.node.create_client(Twist, "/cmd_vel")',
+            "/cmd_vel is a topic on this robot, but the code uses it as a service",
+        ),
+        (
+            "command.linear.x = speed",
+            "command.linear.forward = speed",
+            "has no field 'forward' in linear",
+        ),
+        (
+            "position = self.odom_msg.pose.pose.position",
+            "position = self.odom_msg.pose.position",
+            "nav_msgs/msg/Odometry has no field 'position' in pose",
+        ),
+        (
+            "self.out_linear_velocity = self.odom_msg.twist.twist.linear.x",
+            "self.out_linear_velocity = self.odom_msg.velocity",
+            "has no field 'velocity'",
+        ),
+        (
+            "self.cmd_vel_publisher.publish(Twist())\n        self.out_distance",
+            "self.cmd_vel_publisher.publish(Twist(linear_x=0.0))\n        self.out_distance",
+            "geometry_msgs/msg/Twist has no field 'linear_x'",
+        ),
+    ],
+)
+def test_grounding_problems_are_found(
+    move_forward: tuple[Capability, SkillSpec], old: str, new: str, expected: str
+) -> None:
+    assert old in GOOD
+    report = run(GOOD.replace(old, new, 1), move_forward)
+    found = messages(report, "grounding")
+    assert any(expected in m for m in found), found
+    assert not report.passed
+
+
+def test_callback_parameter_fields_are_checked(move_forward: tuple[Capability, SkillSpec]) -> None:
+    source = GOOD.replace(
+        "        self.odom_msg = msg\n", "        self.odom_msg = msg\n        print(msg.pos)\n", 1
+    )
+    report = run(source, move_forward)
+    assert any("has no field 'pos'" in m for m in messages(report, "grounding"))
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "expected"),
+    [
+        (
+            '        self.node.get_logger().info(f"{self.in_distance} m asked, {self.out_distance} m done")\n',
+            "        pass\n",
+            "@completing has no behaviour",
+        ),
+        (
+            '        self.node.get_logger().info(f"{self.in_distance} m asked, {self.out_distance} m done")\n',
+            "        ...\n",
+            "@completing has no behaviour",
+        ),
+        (
+            "        self.cmd_vel_publisher.publish(Twist())\n\n    @resetting",
+            "        raise NotImplementedError\n\n    @resetting",
+            "raises NotImplementedError",
+        ),
+        (
+            "speed = min(",
+            "speed = min(  # TODO check sign\n            ",
+            "left-over marker in a comment: # TODO",
+        ),
+    ],
+)
+def test_placeholders_are_found(
+    move_forward: tuple[Capability, SkillSpec], old: str, new: str, expected: str
+) -> None:
+    assert old in GOOD
+    report = run(GOOD.replace(old, new, 1), move_forward)
+    assert any(expected in m for m in messages(report, "placeholders")), messages(report)
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        (
+            "while self._travelled() < self.in_distance:",
+            "while self._travelled() < 2.5:\n            distance = 2.5",
+        ),
+        (
+            "speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
+            "self.linear_velocity = 0.5\n        speed = self.linear_velocity",
+        ),
+        (
+            "while self._travelled() < self.in_distance:",
+            "while self._travelled() < self.in_distance:\n            if self.distance_left > 0.3:\n                pass",
+        ),
+    ],
+)
+def test_constants_standing_in_for_inputs_are_found(
+    move_forward: tuple[Capability, SkillSpec], old: str, new: str
+) -> None:
+    assert old in GOOD
+    report = run(GOOD.replace(old, new, 1), move_forward)
+    assert any("stands in for the capability input" in m for m in messages(report, "constants")), (
+        messages(report)
+    )
+
+
+def test_resource_limits_and_input_storage_are_not_mistaken_for_inputs(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    assert messages(run(GOOD, move_forward), "constants") == []
+
+
+def test_collision_avoidance_minimum_distance_hard_coded_is_caught() -> None:
+    capability = load_capability(SHIPPED_CAPABILITIES / "collision-avoidance.ttl").capability
+    spec = load_spec(SHIPPED_CAPABILITIES / "collision-avoidance.spec.yaml")
+    source = (
+        "class C:\n"
+        "    def execute(self):\n"
+        "        min_obstacle_distance = 0.5\n"
+        "        if self.nearest < min_obstacle_distance:\n"
+        "            self.stop()\n"
+    )
+    report = check_skill(source, capability=capability, spec=spec)
+    constants = [f for f in report.findings if f.check == "constants"]
+    assert len(constants) == 1
+    assert "inMinObstacleDistance" in constants[0].message
+    assert constants[0].line == 3
+
+
+def test_retrieved_but_unused_and_used_but_not_retrieved(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    report = run(GOOD, move_forward, retrieved=["/cmd_vel", "/scan"])
+    found = messages(report, "interfaces")
+    assert "/scan was retrieved but the code never uses it" in found
+    assert any(m.startswith("/odom is used but was not retrieved") for m in found)
+    assert report.passed  # warnings only
+
+
+def test_skeleton_is_well_formed_but_fails_for_its_placeholders(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    capability, spec = move_forward
+    interfaces = [
+        InterfaceRef(
+            name="/cmd_vel", kind="topic", type_name="geometry_msgs/msg/Twist", role="publish"
+        ),
+        InterfaceRef(
+            name="/odom", kind="topic", type_name="nav_msgs/msg/Odometry", role="subscribe"
+        ),
+    ]
+    skeleton = build_skeleton(capability, spec, interfaces)
+    report = run(skeleton.code, move_forward)
+    assert {f.check for f in report.findings} == {"placeholders"}
+    assert len(report.findings) == len(spec.states)
