@@ -77,7 +77,7 @@ _RULES: tuple[_Rule, ...] = (
         "base motion",
         ("drive forward", "rotate in place", "set velocity", "stop the base", "avoid collisions"),
         ("navigation controller", "teleoperation", "skills"),
-        r"cmd|command|vel",
+        r"cmd|command",
     ),
     _Rule(
         "t",
