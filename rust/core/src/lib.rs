@@ -4,6 +4,7 @@
 
 pub mod digest;
 pub mod error;
+pub mod index;
 
 pub use error::{CoreError, CoreResult};
 

@@ -1,0 +1,360 @@
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use super::*;
+use std::fs;
+
+fn data(n: usize, seed: u64) -> Vec<f32> {
+    let mut x = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(1);
+    (0..n)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            ((x >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+        })
+        .collect()
+}
+
+fn build(n: usize, dim: usize) -> VectorIndex {
+    let mut index = VectorIndex::new(dim).unwrap();
+    let ids: Vec<i64> = (0..n as i64).map(|i| i * 3 + 1).collect();
+    let kinds: Vec<String> = (0..n)
+        .map(|i| ["topic", "service", "action"][i % 3].to_owned())
+        .collect();
+    index
+        .add(
+            &ids,
+            &data(n * dim, 7),
+            Tags::PerRow(&kinds),
+            Tags::Same("robot"),
+        )
+        .unwrap();
+    index
+}
+
+/// Brute force in f64 over the stored vectors: (id, score) best first, ties by id.
+fn reference(index: &VectorIndex, query: &[f32], k: usize, kind: Option<&str>) -> Vec<(i64, f64)> {
+    let norm: f64 = query
+        .iter()
+        .map(|x| f64::from(*x).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let mut all: Vec<(i64, f64)> = index
+        .ids()
+        .iter()
+        .filter(|id| kind.is_none_or(|k| index.get(**id).unwrap().kind == k))
+        .map(|id| {
+            let v = index.get(*id).unwrap().vector;
+            let s = v
+                .iter()
+                .zip(query)
+                .map(|(a, b)| f64::from(*a) * f64::from(*b))
+                .sum::<f64>();
+            (*id, s / norm)
+        })
+        .collect();
+    all.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    all.truncate(k);
+    all
+}
+
+fn assert_close(hits: &Hits, expected: &[(i64, f64)]) {
+    assert_eq!(hits.k, expected.len());
+    for (i, (id, score)) in expected.iter().enumerate() {
+        assert!(
+            (f64::from(hits.scores[i]) - score).abs() < 1e-5,
+            "{i}: {hits:?} {expected:?}"
+        );
+        // Scores this far apart cannot swap by rounding, so the ids must agree.
+        let near = expected
+            .iter()
+            .any(|(other, s)| other != id && (s - score).abs() < 1e-5);
+        if !near {
+            assert_eq!(hits.ids[i], *id);
+        }
+    }
+}
+
+#[test]
+fn search_equals_brute_force_small_and_parallel() {
+    for (n, dim) in [(1, 3), (50, 17), (200, 384), (3000, 64)] {
+        let index = build(n, dim);
+        for seed in 0..3 {
+            let q = data(dim, 100 + seed);
+            let hits = index.search(&q, 10, &Filter::default()).unwrap();
+            assert_close(&hits, &reference(&index, &q, 10, None));
+        }
+    }
+}
+
+#[test]
+fn filter_restricts_to_matching_kinds() {
+    let index = build(3000, 64);
+    let q = data(64, 5);
+    let kinds = vec!["action".to_owned()];
+    let filter = Filter {
+        kinds: Some(&kinds),
+        sources: None,
+    };
+    let hits = index.search(&q, 7, &filter).unwrap();
+    assert_close(&hits, &reference(&index, &q, 7, Some("action")));
+    let unknown = vec!["parameter".to_owned()];
+    let none = Filter {
+        kinds: Some(&unknown),
+        sources: None,
+    };
+    assert_eq!(index.search(&q, 7, &none).unwrap().k, 0);
+}
+
+#[test]
+fn batch_scores_are_bit_identical_to_single_searches() {
+    let index = build(2500, 40);
+    let queries = data(40 * 37, 9);
+    let kinds = vec!["topic".to_owned(), "action".to_owned()];
+    for filter in [
+        Filter::default(),
+        Filter {
+            kinds: Some(&kinds),
+            sources: None,
+        },
+    ] {
+        let batch = index.search_batch(&queries, 5, &filter).unwrap();
+        assert_eq!((batch.queries, batch.k), (37, 5));
+        for (i, q) in queries.chunks(40).enumerate() {
+            let single = index.search(q, 5, &filter).unwrap();
+            assert_eq!(single.ids, batch.ids[i * 5..i * 5 + 5]);
+            let a: Vec<u32> = single.scores.iter().map(|s| s.to_bits()).collect();
+            let b: Vec<u32> = batch.scores[i * 5..i * 5 + 5]
+                .iter()
+                .map(|s| s.to_bits())
+                .collect();
+            assert_eq!(a, b);
+        }
+    }
+}
+
+#[test]
+fn identical_vectors_tie_and_come_back_by_id() {
+    let mut index = VectorIndex::new(8).unwrap();
+    let v = data(8, 1);
+    let many: Vec<f32> = v.iter().cycle().take(8 * 5).copied().collect();
+    index
+        .add(
+            &[50, 10, 40, 20, 30],
+            &many,
+            Tags::Same("topic"),
+            Tags::Same("a"),
+        )
+        .unwrap();
+    let hits = index.search(&v, 3, &Filter::default()).unwrap();
+    assert_eq!(hits.ids, vec![10, 20, 30]);
+}
+
+#[test]
+fn k_larger_than_the_index_returns_everything_and_empty_returns_nothing() {
+    let index = build(4, 8);
+    assert_eq!(
+        index
+            .search(&data(8, 2), 100, &Filter::default())
+            .unwrap()
+            .k,
+        4
+    );
+    let empty = VectorIndex::new(8).unwrap();
+    let hits = empty.search(&data(8, 2), 3, &Filter::default()).unwrap();
+    assert_eq!((hits.k, hits.ids.len()), (0, 0));
+    let batch = empty
+        .search_batch(&data(16, 2), 3, &Filter::default())
+        .unwrap();
+    assert_eq!((batch.queries, batch.k), (2, 0));
+}
+
+#[test]
+fn bad_arguments_are_refused_with_reasons() {
+    let mut index = build(10, 8);
+    let err = |r: CoreResult<Hits>| r.unwrap_err().to_string();
+    assert!(err(index.search(&data(7, 1), 3, &Filter::default())).contains("dimension 7"));
+    assert!(err(index.search(&data(8, 1), 0, &Filter::default())).contains("k must be"));
+    assert!(err(index.search(&[0.0; 8], 1, &Filter::default())).contains("all zeros"));
+    let mut nan = data(8, 1);
+    nan[3] = f32::NAN;
+    assert!(err(index.search(&nan, 1, &Filter::default())).contains("position 3"));
+    let e = index
+        .add(
+            &[1000, 1001],
+            &[nan.clone(), data(8, 2)].concat(),
+            Tags::Same("t"),
+            Tags::Same("s"),
+        )
+        .unwrap_err();
+    assert!(e.to_string().contains("vector 0 (id 1000)"), "{e}");
+    assert_eq!(index.len(), 10, "a failed add changes nothing");
+    let e = index
+        .add(&[1], &data(8, 2), Tags::Same("t"), Tags::Same("s"))
+        .unwrap_err();
+    assert!(e.to_string().contains("already in the index"));
+    let e = index
+        .add(
+            &[7000, 7000],
+            &data(16, 2),
+            Tags::Same("t"),
+            Tags::Same("s"),
+        )
+        .unwrap_err();
+    assert!(e.to_string().contains("given twice"));
+    assert!(index.remove(&[1, 99999]).is_err());
+    assert_eq!(index.len(), 10, "a failed remove changes nothing");
+    assert!(VectorIndex::new(0).is_err());
+    let e = index
+        .add(&[5000], &data(8, 1), Tags::Same(""), Tags::Same("s"))
+        .unwrap_err();
+    assert!(e.to_string().contains("kind"));
+}
+
+#[test]
+fn remove_and_update_keep_search_consistent() {
+    let mut index = build(100, 16);
+    let removed: Vec<i64> = index.ids().iter().step_by(7).copied().collect();
+    index.remove(&removed).unwrap();
+    assert_eq!(index.len(), 100 - removed.len());
+    for id in &removed {
+        assert!(!index.contains(*id).unwrap());
+    }
+    let target = index.ids()[5];
+    let q = data(16, 77);
+    index
+        .update(&[target], Some(&q), Some(Tags::Same("action")), None)
+        .unwrap();
+    let hits = index.search(&q, 3, &Filter::default()).unwrap();
+    assert_eq!(hits.ids[0], target);
+    assert!((hits.scores[0] - 1.0).abs() < 1e-6);
+    assert_eq!(index.get(target).unwrap().kind, "action");
+    assert_close(&hits, &reference(&index, &q, 3, None));
+    assert!(index.update(&[-5], None, None, None).is_err());
+}
+
+#[test]
+fn save_and_open_round_trip_mapped() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("index.swv");
+    let index = build(777, 33);
+    index.save(&path).unwrap();
+    let opened = VectorIndex::open(&path).unwrap();
+    assert!(opened.is_mapped());
+    assert_eq!((opened.len(), opened.dim()), (777, 33));
+    assert_eq!(opened.ids(), index.ids());
+    assert_eq!(opened.kind_names(), index.kind_names());
+    let q = data(33, 4);
+    assert_eq!(
+        opened.search(&q, 9, &Filter::default()).unwrap(),
+        index.search(&q, 9, &Filter::default()).unwrap()
+    );
+    // A change copies the data out of the map; the file stays as it was.
+    let mut changed = opened;
+    changed.remove(&[1]).unwrap();
+    assert!(!changed.is_mapped());
+    assert_eq!(VectorIndex::open(&path).unwrap().len(), 777);
+    let leftovers: Vec<_> = fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(leftovers.len(), 1, "no temporary file is left behind");
+}
+
+#[test]
+fn empty_index_round_trips() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("empty.swv");
+    VectorIndex::new(5).unwrap().save(&path).unwrap();
+    let opened = VectorIndex::open(&path).unwrap();
+    assert_eq!((opened.len(), opened.dim()), (0, 5));
+}
+
+fn corrupt(path: &Path, offset: usize) {
+    let mut bytes = fs::read(path).unwrap();
+    bytes[offset] ^= 0x40;
+    fs::write(path, bytes).unwrap();
+}
+
+fn format_error(result: CoreResult<impl std::fmt::Debug>) -> (u64, String) {
+    match result {
+        Err(CoreError::Format {
+            offset, message, ..
+        }) => (offset, message),
+        other => panic!("expected a format error, got {other:?}"),
+    }
+}
+
+#[test]
+fn damaged_files_give_format_errors_naming_the_offset() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("i.swv");
+    let index = build(300, 16);
+    index.save(&path).unwrap();
+    let pristine = fs::read(&path).unwrap();
+    let layout = offsets(&index);
+
+    // Foreign file.
+    fs::write(&path, b"PK\x03\x04 a zip file, not an index ".repeat(10)).unwrap();
+    assert_eq!(format_error(VectorIndex::open(&path)).0, 0);
+    // Too short.
+    fs::write(&path, b"SWV").unwrap();
+    assert!(format_error(VectorIndex::open(&path))
+        .1
+        .contains("too short"));
+    // Truncated.
+    fs::write(&path, &pristine[..pristine.len() - 100]).unwrap();
+    let (offset, message) = format_error(VectorIndex::open(&path));
+    assert!(message.contains("truncated"), "{message}");
+    assert_eq!(offset as usize, pristine.len() - 100);
+    // A newer version.
+    let mut newer = pristine.clone();
+    newer[8] = 2;
+    fs::write(&path, &newer).unwrap();
+    assert!(format_error(VectorIndex::open(&path))
+        .1
+        .contains("version 2"));
+    // A flipped header bit.
+    fs::write(&path, &pristine).unwrap();
+    corrupt(&path, 17);
+    assert_eq!(format_error(VectorIndex::open(&path)).0, 120);
+    // A flipped id: caught on open.
+    fs::write(&path, &pristine).unwrap();
+    corrupt(&path, layout.0 + 8);
+    assert!(format_error(VectorIndex::open(&path))
+        .1
+        .contains("checksum mismatch"));
+    // A flipped vector value in a block past the first 4 MiB: open succeeds (the vector
+    // payload is verified lazily), but nothing is computed from it.
+    let big = build(3000, 384);
+    big.save(&path).unwrap();
+    let at = offsets(&big).1 + 3000 * 384 * 4 - 100;
+    corrupt(&path, at);
+    let opened = VectorIndex::open(&path).unwrap();
+    let (offset, message) = format_error(opened.search(&data(384, 1), 3, &Filter::default()));
+    assert!(message.contains("checksum mismatch"), "{message}");
+    assert!(offset as usize <= at && at < offset as usize + (1 << 22));
+    assert!(opened.verify().is_err());
+    assert!(opened.get(1).is_err());
+    let mut opened = opened;
+    assert!(
+        opened.remove(&[1]).is_err(),
+        "a corrupt index is not copied into memory either"
+    );
+}
+
+/// (start of ids, start of vectors) in the file of `index`.
+fn offsets(index: &VectorIndex) -> (usize, usize) {
+    let tags = file::encode_tags(index.kind_names(), index.source_names()).unwrap();
+    file::file_layout(index.dim(), index.len(), tags.len())
+}
+
+#[test]
+fn missing_file_and_folder_are_told_apart() {
+    assert!(matches!(
+        VectorIndex::open(Path::new("/no/such/index.swv")),
+        Err(CoreError::NotFound { .. })
+    ));
+    let dir = tempfile::tempdir().unwrap();
+    assert!(matches!(
+        VectorIndex::open(dir.path()),
+        Err(CoreError::InvalidArgument(_))
+    ));
+}
