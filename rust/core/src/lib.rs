@@ -4,6 +4,7 @@
 
 pub mod digest;
 pub mod error;
+pub mod mcap;
 
 pub use error::{CoreError, CoreResult};
 

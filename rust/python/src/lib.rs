@@ -4,6 +4,7 @@
 //! error mapping (see `errors`). All logic lives in the core crate.
 
 mod errors;
+mod mcap;
 
 use std::path::PathBuf;
 
@@ -20,5 +21,6 @@ fn sha256_file(py: Python<'_>, path: PathBuf) -> PyResult<String> {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", skillwright_core::VERSION)?;
     m.add_function(wrap_pyfunction!(sha256_file, m)?)?;
+    mcap::register(m)?;
     Ok(())
 }

@@ -1,0 +1,145 @@
+"""``skillwright discover``: the interfaces recorded in an MCAP file or rosbag2 folder.
+
+Only click is imported at module level; the Rust core, pydantic and rich load inside
+the command.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import click
+
+if TYPE_CHECKING:
+    from rich.console import Console
+
+    from skillwright.interfaces.inventory import Inventory
+
+__all__ = ["discover", "render_summary"]
+
+
+@click.command()
+@click.argument("path", type=click.Path(path_type=Path))
+@click.option("--json", "as_json", is_flag=True, help="Print the inventory as JSON only.")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Write the inventory (JSON) to this file.",
+)
+@click.option(
+    "--read",
+    "mode",
+    type=click.Choice(["auto", "scan", "full"]),
+    default="auto",
+    show_default=True,
+    help="auto: summary section when complete, else scan; scan: ignore the summary; "
+    "full: also decompress every chunk.",
+)
+@click.option("--name", "resource_name", help="Resource name (default: the recording's name).")
+def discover(
+    path: Path, as_json: bool, output: Path | None, mode: str, resource_name: str | None
+) -> None:
+    """Discover the ROS 2 topics, services and actions recorded in PATH.
+
+    PATH is an .mcap file or a rosbag2 folder (metadata.yaml plus split .mcap files).
+    Prints a summary in the spirit of `ros2 bag info`; the inventory, with every
+    interface's full message definition, goes to -o FILE and/or stdout with --json.
+    """
+    from skillwright.console import err_console, out_console, print_model_json
+    from skillwright.interfaces._io import write_text_atomic
+    from skillwright.interfaces.sources.bag import discover_bag
+
+    inventory = discover_bag(path, mode, resource_name)  # type: ignore[arg-type]
+    if output is not None:
+        write_text_atomic(output, inventory.model_dump_json(indent=2) + "\n")
+    if as_json:
+        print_model_json(inventory)
+        _warn_partial(inventory, err_console())
+        return
+    render_summary(inventory, out_console())
+    _warn_partial(inventory, err_console())
+    if output is not None:
+        out_console().print(f"inventory written to {output}")
+
+
+def _time(ns: int | None) -> str:
+    if ns is None:
+        return "-"
+    from datetime import UTC, datetime
+
+    return datetime.fromtimestamp(ns / 1e9, tz=UTC).isoformat(timespec="milliseconds")
+
+
+def _size(size: int) -> str:
+    value = float(size)
+    for unit in ("B", "KiB", "MiB", "GiB"):
+        if value < 1024 or unit == "GiB":
+            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.1f} {unit}"
+        value /= 1024
+    return f"{size} B"  # pragma: no cover - the loop always returns
+
+
+def render_summary(inventory: Inventory, console: Console) -> None:
+    """Prints duration, counts and a table of the interfaces, like ``ros2 bag info``."""
+    from rich.table import Table
+
+    for source in inventory.sources:
+        total_size = sum(f.size_bytes for f in source.files)
+        methods = sorted({f.read_method for f in source.files})
+        duration = source.duration_ns
+        lines = [
+            ("Recording", f"{source.location} ({source.kind})"),
+            ("Files", f"{len(source.files)}, {_size(total_size)}, read by {', '.join(methods)}"),
+            ("Duration", f"{duration / 1e9:.3f} s" if duration is not None else "-"),
+            ("Start", _time(source.start_time_ns)),
+            ("End", _time(source.end_time_ns)),
+            ("Messages", str(source.message_count or 0)),
+        ]
+        if source.ros_distro:
+            lines.append(("ROS distro", source.ros_distro))
+        for label, value in lines:
+            console.print(f"[bold]{label + ':':<12}[/bold]{value}")
+    counts = {kind: sum(i.kind == kind for i in inventory.interfaces) for kind in
+              ("topic", "service", "action")}  # fmt: skip
+    console.print(
+        f"[bold]{'Interfaces:':<12}[/bold]{counts['topic']} topics, {counts['service']} "
+        f"services, {counts['action']} actions"
+    )
+    table = Table(show_edge=False, pad_edge=False)
+    table.add_column("Kind")
+    table.add_column("Name", overflow="fold")
+    table.add_column("Type", overflow="fold")
+    table.add_column("Messages", justify="right")
+    table.add_column("Rate (Hz)", justify="right")
+    table.add_column("Infrastructure")
+    for entry in inventory.interfaces:
+        traffic = entry.traffic
+        rate = traffic.rate_hz if traffic is not None else None
+        table.add_row(
+            entry.kind,
+            entry.name,
+            entry.type_name or "?",
+            str(traffic.message_count) if traffic is not None else "-",
+            f"{rate:.2f}" if rate is not None else "-",
+            entry.infrastructure.rule if entry.infrastructure is not None else "",
+        )
+    console.print(table)
+
+
+def _warn_partial(inventory: Inventory, console: Console) -> None:
+    for source in inventory.sources:
+        for file in source.files:
+            if file.stopped_at is not None:
+                console.print(
+                    f"[yellow]warning:[/yellow] {file.path}: read only up to byte "
+                    f"{file.stopped_at.offset}: {file.stopped_at.message}"
+                )
+            for damage in file.damaged:
+                console.print(
+                    f"[yellow]warning:[/yellow] {file.path}: byte {damage.offset}: "
+                    f"{damage.message}"
+                )
+        for note in source.notes:
+            console.print(f"[yellow]note:[/yellow] {note}")
