@@ -61,7 +61,7 @@ def discover(
     render_summary(inventory, out_console())
     _warn_partial(inventory, err_console())
     if output is not None:
-        out_console().print(f"inventory written to {output}")
+        out_console().print(f"inventory written to {output}", soft_wrap=True)
 
 
 def _time(ns: int | None) -> str:
@@ -83,6 +83,7 @@ def _size(size: int) -> str:
 
 def render_summary(inventory: Inventory, console: Console) -> None:
     """Prints duration, counts and a table of the interfaces, like ``ros2 bag info``."""
+    from rich.markup import escape
     from rich.table import Table
 
     for source in inventory.sources:
@@ -90,7 +91,7 @@ def render_summary(inventory: Inventory, console: Console) -> None:
         methods = sorted({f.read_method for f in source.files})
         duration = source.duration_ns
         lines = [
-            ("Recording", f"{source.location} ({source.kind})"),
+            ("Recording", f"{escape(source.location)} ({source.kind})"),
             ("Files", f"{len(source.files)}, {_size(total_size)}, read by {', '.join(methods)}"),
             ("Duration", f"{duration / 1e9:.3f} s" if duration is not None else "-"),
             ("Start", _time(source.start_time_ns)),
@@ -100,12 +101,15 @@ def render_summary(inventory: Inventory, console: Console) -> None:
         if source.ros_distro:
             lines.append(("ROS distro", source.ros_distro))
         for label, value in lines:
-            console.print(f"[bold]{label + ':':<12}[/bold]{value}")
-    counts = {kind: sum(i.kind == kind for i in inventory.interfaces) for kind in
-              ("topic", "service", "action")}  # fmt: skip
+            console.print(f"[bold]{label + ':':<12}[/bold]{value}", soft_wrap=True)
+    counts = {
+        kind: sum(i.kind == kind for i in inventory.interfaces)
+        for kind in ("topic", "service", "action")
+    }
     console.print(
         f"[bold]{'Interfaces:':<12}[/bold]{counts['topic']} topics, {counts['service']} "
-        f"services, {counts['action']} actions"
+        f"services, {counts['action']} actions",
+        soft_wrap=True,
     )
     table = Table(show_edge=False, pad_edge=False)
     table.add_column("Kind")
@@ -119,27 +123,48 @@ def render_summary(inventory: Inventory, console: Console) -> None:
         rate = traffic.rate_hz if traffic is not None else None
         table.add_row(
             entry.kind,
-            entry.name,
-            entry.type_name or "?",
+            escape(entry.name),
+            escape(entry.type_name or "?"),
             str(traffic.message_count) if traffic is not None else "-",
             f"{rate:.2f}" if rate is not None else "-",
             entry.infrastructure.rule if entry.infrastructure is not None else "",
         )
-    console.print(table)
+    # Piped output is not cut to 80 columns: type names stay whole for grep and diff.
+    if console.is_terminal:
+        console.print(table)
+    else:
+        from rich.measure import Measurement
+
+        saved = console.width
+        console.width = max(
+            saved, Measurement.get(console, console.options.update_width(10_000), table).maximum
+        )
+        try:
+            console.print(table)
+        finally:
+            console.width = saved
+    noted = [(entry.name, note) for entry in inventory.interfaces for note in entry.notes]
+    if noted:
+        console.print("[bold]Notes:[/bold]")
+        for name, note in noted:
+            console.print(f"  {name}: {note}", markup=False, soft_wrap=True)
 
 
 def _warn_partial(inventory: Inventory, console: Console) -> None:
+    from rich.markup import escape
+
+    def say(label: str, text: str) -> None:
+        console.print(f"[yellow]{label}:[/yellow] {escape(text)}", soft_wrap=True)
+
     for source in inventory.sources:
         for file in source.files:
             if file.stopped_at is not None:
-                console.print(
-                    f"[yellow]warning:[/yellow] {file.path}: read only up to byte "
-                    f"{file.stopped_at.offset}: {file.stopped_at.message}"
+                say(
+                    "warning",
+                    f"{file.path}: read only up to byte {file.stopped_at.offset}: "
+                    f"{file.stopped_at.message}",
                 )
             for damage in file.damaged:
-                console.print(
-                    f"[yellow]warning:[/yellow] {file.path}: byte {damage.offset}: "
-                    f"{damage.message}"
-                )
+                say("warning", f"{file.path}: byte {damage.offset}: {damage.message}")
         for note in source.notes:
-            console.print(f"[yellow]note:[/yellow] {note}")
+            say("note", note)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Final, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
@@ -41,7 +41,7 @@ __all__ = [
     "schema_text",
 ]
 
-INVENTORY_SCHEMA_VERSION = 1
+INVENTORY_SCHEMA_VERSION: Final = 1
 """Bumped whenever a change to the model would make old documents read differently."""
 
 SCHEMA_PATH = Path(__file__).with_name("inventory.schema.json")
@@ -126,9 +126,7 @@ class QosProfile(_Model):
     history: str | None = Field(default=None, description="`keep_last`, `keep_all`, ...")
     depth: int | None = Field(default=None, description="Queue depth for `keep_last`.")
     reliability: str | None = Field(default=None, description="`reliable`, `best_effort`, ...")
-    durability: str | None = Field(
-        default=None, description="`volatile`, `transient_local`, ..."
-    )
+    durability: str | None = Field(default=None, description="`volatile`, `transient_local`, ...")
     deadline_ns: int | None = Field(default=None, description="Deadline; null when infinite.")
     lifespan_ns: int | None = Field(default=None, description="Lifespan; null when infinite.")
     liveliness: str | None = Field(default=None, description="`automatic`, `manual_by_topic`.")

@@ -23,6 +23,7 @@ __all__ = [
     "BUILTIN_TYPES",
     "Block",
     "definition_from_text",
+    "find_block",
     "normalize_type_name",
     "parse_blocks",
     "split_service",
@@ -80,7 +81,7 @@ def normalize_type_name(name: str, package: str | None = None) -> str:
 
 
 def _package_of(type_name: str) -> str | None:
-    return type_name.split("/")[0] if "/" in type_name else None
+    return type_name.split("/", 1)[0] if "/" in type_name else None
 
 
 @dataclass
@@ -237,6 +238,7 @@ def _field(
     type_text: str,
     name: str,
     default: str | None,
+    *,
     package: str | None,
     dependencies: dict[str, Block],
     notes: list[str],
@@ -280,7 +282,10 @@ def _field(
     )
     if builtin:
         return result
-    nested = dependencies.get(base_type)
+    nested = find_block(dependencies, base_type)
+    if nested is not None:
+        # A bare `Goal` inside `pkg/action/...` lives in pkg/action, not pkg/msg.
+        result.base_type = nested.type_name
     if nested is None:
         result.resolved = False
         notes.append(f"field {name!r}: definition of {base_type} is not in the schema")
@@ -294,12 +299,37 @@ def _field(
     return result
 
 
+def find_block(blocks: dict[str, Block], type_name: str) -> Block | None:
+    """The block defining ``type_name``; ``pkg/msg/T``, ``pkg/srv/T`` and ``pkg/action/T``
+    are tried in that order when the exact name is absent (schemas name a type by any)."""
+    exact = blocks.get(type_name)
+    if exact is not None:
+        return exact
+    parts = type_name.split("/")
+    if len(parts) < 2:
+        return None
+    package, name = parts[0], parts[-1]
+    for namespace in ("msg", "srv", "action"):
+        candidate = blocks.get(f"{package}/{namespace}/{name}")
+        if candidate is not None:
+            return candidate
+    return None
+
+
 def _fields(
     block: Block, dependencies: dict[str, Block], notes: list[str], depth: int
 ) -> list[MessageField]:
     package = _package_of(block.type_name)
     return [
-        _field(type_text, name, default, package, dependencies, notes, depth)
+        _field(
+            type_text,
+            name,
+            default,
+            package=package,
+            dependencies=dependencies,
+            notes=notes,
+            depth=depth,
+        )
         for type_text, name, default in block.fields
     ]
 

@@ -36,6 +36,7 @@ from skillwright.interfaces.inventory import (
 from skillwright.interfaces.ros2msg import (
     Block,
     definition_from_text,
+    find_block,
     normalize_type_name,
     parse_blocks,
     split_service,
@@ -108,9 +109,7 @@ def resolve_recording(path: Path) -> Recording:
             f"{folder}: no .mcap files here; give an .mcap file or a rosbag2 folder "
             "recorded with MCAP storage"
         )
-    return Recording(
-        kind="rosbag2", location=folder, files=files, metadata=metadata, notes=notes
-    )
+    return Recording(kind="rosbag2", location=folder, files=files, metadata=metadata, notes=notes)
 
 
 def _load_metadata(path: Path) -> dict[str, Any]:
@@ -135,12 +134,28 @@ def _load_metadata(path: Path) -> dict[str, Any]:
 # --- QoS -------------------------------------------------------------------------------
 
 _HISTORY = {0: "system_default", 1: "keep_last", 2: "keep_all", 3: "unknown"}
-_RELIABILITY = {0: "system_default", 1: "reliable", 2: "best_effort", 3: "unknown",
-                4: "best_available"}  # fmt: skip
-_DURABILITY = {0: "system_default", 1: "transient_local", 2: "volatile", 3: "unknown",
-               4: "best_available"}  # fmt: skip
-_LIVELINESS = {0: "system_default", 1: "automatic", 2: "manual_by_node", 3: "manual_by_topic",
-               4: "unknown", 5: "best_available"}  # fmt: skip
+_RELIABILITY = {
+    0: "system_default",
+    1: "reliable",
+    2: "best_effort",
+    3: "unknown",
+    4: "best_available",
+}
+_DURABILITY = {
+    0: "system_default",
+    1: "transient_local",
+    2: "volatile",
+    3: "unknown",
+    4: "best_available",
+}
+_LIVELINESS = {
+    0: "system_default",
+    1: "automatic",
+    2: "manual_by_node",
+    3: "manual_by_topic",
+    4: "unknown",
+    5: "best_available",
+}
 _INFINITE_SEC = 9223372036
 
 
@@ -302,7 +317,7 @@ def _apply_metadata(channels: list[_Channel], metadata: dict[str, Any]) -> None:
         for channel in known:
             if not channel.type_name:
                 channel.type_name = type_name
-            if isinstance(qos, str) and "offered_qos_profiles" not in channel.metadata:
+            if isinstance(qos, str) and qos and not channel.metadata.get("offered_qos_profiles"):
                 channel.metadata["offered_qos_profiles"] = qos
 
 
@@ -372,7 +387,7 @@ def _service_definitions(
     _, dependencies = parse_blocks(schema.name, text)
     definitions: dict[str, MessageDefinition] = {}
     for role, type_name in (("request", request_type), ("response", response_type)):
-        block = _find_block(dependencies, type_name)
+        block = find_block(dependencies, type_name)
         if block is not None:
             definitions[role] = definition_from_text(
                 block.type_name, block.text, extra_dependencies=dependencies
@@ -383,17 +398,6 @@ def _service_definitions(
         f"{channel.topic}: the event schema does not define {request_type} and "
         f"{response_type}; kept the whole event definition"
     ]
-
-
-def _find_block(blocks: dict[str, Block], type_name: str) -> Block | None:
-    """The block of ``pkg/<ns>/Name`` whatever namespace (msg, srv, action) it was named in."""
-    package, _, name = type_name.partition("/")
-    name = name.rsplit("/", 1)[-1]
-    for full, block in blocks.items():
-        parts = full.split("/")
-        if parts[0] == package and parts[-1] == name:
-            return block
-    return None
 
 
 def _interface_type(kind: InterfaceKind, channel: _Channel, role: str) -> str:
@@ -552,7 +556,7 @@ def _action_definitions(
         ("result", "_Result", "get_result"),
         ("feedback", "_Feedback", None),
     ):
-        block = _find_block(blocks, type_name + suffix)
+        block = find_block(blocks, type_name + suffix)
         if block is not None:
             definitions[role] = definition_from_text(
                 f"{type_name}{suffix}", block.text, extra_dependencies=blocks

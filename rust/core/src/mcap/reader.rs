@@ -492,7 +492,18 @@ impl Scanner<'_> {
             }
             let next = body_offset + len;
             match opcode {
-                op::FOOTER => return Ok(()),
+                op::FOOTER => {
+                    let mut magic = [0u8; 8];
+                    let read = self.input.read_prefix(next, &mut magic)?;
+                    if read < 8 || &magic != MAGIC {
+                        self.stop(
+                            next,
+                            "the closing magic after the footer is missing or damaged: \
+                             the file is cut short or was altered",
+                        );
+                    }
+                    return Ok(());
+                }
                 op::HEADER => {}
                 op::SCHEMA => {
                     let body = self.input.read_at(body_offset, len)?;
