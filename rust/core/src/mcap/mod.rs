@@ -13,10 +13,17 @@
 //!   says where the file broke. A chunk that fails to decompress is skipped and named.
 //!
 //! Record bodies are decoded by our own bounded decoder ([`records`]) rather than the
-//! `mcap` crate's reader: that reader reserves memory from unchecked `u32` string lengths
-//! and can slice out of range on short attachment records, and it cannot skip chunk
-//! bodies while keeping their message indexes. The `mcap` crate writes the files our
-//! tests read, and the upstream conformance suite checks the decoder.
+//! `mcap` crate's reader (0.26), for three reasons found when trying it: its
+//! `parse_record` panics on an attachment record of 32 to 35 bytes ("slice index starts
+//! at 32 but ends at 28"), binrw reserves memory from unchecked `u32` string lengths
+//! (up to 4 GiB per flipped length), and its readers cannot skip chunk bodies while
+//! keeping the message indexes after them, which the scan path depends on. The `mcap`
+//! crate still writes the files our tests read, and the upstream conformance suite
+//! checks the decoder.
+//!
+//! One limit of the index-assisted scan: a channel declared in the middle of a chunk
+//! whose message indexes suffice, and that never carries a message, is not seen (unless
+//! the summary section after the data repeats it). `ReadMode::Full` sees it.
 
 mod reader;
 pub mod records;

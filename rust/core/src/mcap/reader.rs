@@ -385,6 +385,17 @@ fn read_summary(input: &mut Input) -> CoreResult<SummaryOutcome> {
             footer.summary_start
         )));
     }
+    // The summary starts right after the data end record. Checking that record first
+    // keeps a corrupt summary_start from making us load most of the file as "summary".
+    let data_end_len = RECORD_PREFIX_LEN + 4;
+    let data_end_ok = footer.summary_start >= 8 + data_end_len
+        && input.record_prefix(footer.summary_start - data_end_len)? == Some((op::DATA_END, 4));
+    if !data_end_ok {
+        return Ok(Unusable(format!(
+            "the footer's summary offset (byte {}) does not follow a data end record",
+            footer.summary_start
+        )));
+    }
     let section = input.read_at(footer.summary_start, footer_offset - footer.summary_start)?;
     if footer.summary_crc != 0 {
         let mut hasher = crc32fast::Hasher::new();

@@ -164,6 +164,71 @@ fn file_without_summary_falls_back_to_scan_and_says_why() {
 }
 
 #[test]
+fn every_writer_option_combination_reads_alike() {
+    let variants: Vec<(&str, mcap::WriteOptions)> = vec![
+        (
+            "no statistics",
+            chunked(Some(mcap::Compression::Zstd)).emit_statistics(false),
+        ),
+        (
+            "no message indexes",
+            chunked(Some(mcap::Compression::Lz4)).emit_message_indexes(false),
+        ),
+        ("no chunk indexes", chunked(None).emit_chunk_indexes(false)),
+        (
+            "no summary offsets",
+            chunked(None).emit_summary_offsets(false),
+        ),
+        (
+            "no repeated channels",
+            chunked(Some(mcap::Compression::Zstd)).repeat_channels(false),
+        ),
+        ("no repeated schemas", chunked(None).repeat_schemas(false)),
+        (
+            "no crcs",
+            chunked(None)
+                .calculate_chunk_crcs(false)
+                .calculate_summary_section_crc(false),
+        ),
+        ("one big chunk", mcap::WriteOptions::new().chunk_size(None)),
+    ];
+    for (name, options) in variants {
+        let fixture = store(&write_bag(options, 60));
+        for mode in [ReadMode::Auto, ReadMode::Scan, ReadMode::Full] {
+            let summary = read_mcap(&fixture.path, mode).unwrap();
+            assert_eq!(topics(&summary), expected_topics(60), "{name} {mode:?}");
+            assert_eq!(
+                (summary.attachment_count, summary.metadata_count),
+                (1, 1),
+                "{name}"
+            );
+            assert!(
+                !summary.is_partial(),
+                "{name} {mode:?}: {:?}",
+                summary.damaged
+            );
+        }
+    }
+}
+
+#[test]
+fn corrupt_summary_offset_falls_back_to_scan() {
+    let mut bytes = write_bag(chunked(Some(mcap::Compression::Zstd)), 30);
+    // summary_start is the first field of the footer body.
+    let at = bytes.len() - 8 - 20;
+    bytes[at..at + 8].copy_from_slice(&8u64.to_le_bytes());
+    let fixture = store(&bytes);
+    let summary = read_mcap(&fixture.path, ReadMode::Auto).unwrap();
+    assert_eq!(summary.method, ReadMethod::Scan);
+    assert!(
+        summary.notes[0].contains("data end record"),
+        "{:?}",
+        summary.notes
+    );
+    assert_eq!(topics(&summary), expected_topics(30));
+}
+
+#[test]
 fn unchunked_file_is_read() {
     let options = mcap::WriteOptions::new().use_chunks(false);
     let fixture = store(&write_bag(options, 20));
