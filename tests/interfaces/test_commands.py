@@ -35,7 +35,8 @@ def test_summary_lists_duration_counts_and_interfaces(bag: Path) -> None:
     assert "2 topics, 1 services, 0 actions" in result.output
     row = next(line for line in result.output.splitlines() if "/cmd_vel" in line)
     assert "geometry_msgs/msg/Twist" in row
-    assert "10.00" in row
+    assert "~10.00" in row  # summary path: rate over chunk bounds
+    assert "~ rate over chunk time bounds" in result.output
     assert "rosout" in next(line for line in result.output.splitlines() if "/rosout" in line)
 
 
@@ -54,6 +55,8 @@ def test_output_file_is_written_whole(bag: Path, tmp_path: Path) -> None:
     assert f"inventory written to {target}" in result.output
     document = json.loads(target.read_text())
     assert document["sources"][0]["files"][0]["read_method"] == "scan"
+    assert document["interfaces"][0]["traffic"]["times_exact"] is True
+    assert "~" not in result.output
     assert list(target.parent.iterdir()) == [target]  # no temporary file left behind
 
 

@@ -7,14 +7,15 @@ the command.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import click
 
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from skillwright.interfaces.inventory import Inventory
+    from skillwright.interfaces.inventory import Inventory, SourceFile
+    from skillwright.interfaces.sources.bag import ReadMode
 
 __all__ = ["discover", "render_summary"]
 
@@ -51,7 +52,7 @@ def discover(
     from skillwright.interfaces._io import write_text_atomic
     from skillwright.interfaces.sources.bag import discover_bag
 
-    inventory = discover_bag(path, mode, resource_name)  # type: ignore[arg-type]
+    inventory = discover_bag(path, cast("ReadMode", mode), resource_name)
     if output is not None:
         write_text_atomic(output, inventory.model_dump_json(indent=2) + "\n")
     if as_json:
@@ -81,6 +82,12 @@ def _size(size: int) -> str:
     return f"{size} B"  # pragma: no cover - the loop always returns
 
 
+def _chunks(files: list[SourceFile]) -> str:
+    count = sum(f.chunk_count for f in files)
+    kinds = sorted({c or "none" for f in files for c in f.compressions})
+    return f"{count} ({', '.join(kinds)})" if kinds else str(count)
+
+
 def render_summary(inventory: Inventory, console: Console) -> None:
     """Prints duration, counts and a table of the interfaces, like ``ros2 bag info``."""
     from rich.markup import escape
@@ -97,6 +104,7 @@ def render_summary(inventory: Inventory, console: Console) -> None:
             ("Start", _time(source.start_time_ns)),
             ("End", _time(source.end_time_ns)),
             ("Messages", str(source.message_count or 0)),
+            ("Chunks", _chunks(source.files)),
         ]
         if source.ros_distro:
             lines.append(("ROS distro", source.ros_distro))
@@ -118,15 +126,19 @@ def render_summary(inventory: Inventory, console: Console) -> None:
     table.add_column("Messages", justify="right")
     table.add_column("Rate (Hz)", justify="right")
     table.add_column("Infrastructure")
+    approximate = False
     for entry in inventory.interfaces:
         traffic = entry.traffic
-        rate = traffic.rate_hz if traffic is not None else None
+        rate = "-"
+        if traffic is not None and traffic.rate_hz is not None:
+            rate = f"{traffic.rate_hz:.2f}" if traffic.times_exact else f"~{traffic.rate_hz:.2f}"
+            approximate = approximate or not traffic.times_exact
         table.add_row(
             entry.kind,
             escape(entry.name),
             escape(entry.type_name or "?"),
             str(traffic.message_count) if traffic is not None else "-",
-            f"{rate:.2f}" if rate is not None else "-",
+            rate,
             entry.infrastructure.rule if entry.infrastructure is not None else "",
         )
     # Piped output is not cut to 80 columns: type names stay whole for grep and diff.
@@ -143,6 +155,12 @@ def render_summary(inventory: Inventory, console: Console) -> None:
             console.print(table)
         finally:
             console.width = saved
+    if approximate:
+        console.print(
+            "~ rate over chunk time bounds from the summary section; --read scan gives "
+            "exact first/last times",
+            soft_wrap=True,
+        )
     noted = [(entry.name, note) for entry in inventory.interfaces for note in entry.notes]
     if noted:
         console.print("[bold]Notes:[/bold]")

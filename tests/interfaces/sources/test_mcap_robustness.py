@@ -7,8 +7,10 @@ stalling the suite. The Rust crate has its own exhaustive versions of these test
 
 from __future__ import annotations
 
+import faulthandler
 import os
 import threading
+import time
 from pathlib import Path
 from typing import Any
 
@@ -118,18 +120,32 @@ def test_folder_and_unknown_mode_are_invalid_arguments(tmp_path: Path) -> None:
         read_mcap(path, "fast")  # type: ignore[arg-type]
 
 
-def test_reading_releases_the_gil(shared_data: Path) -> None:
-    """Two threads reading at once both finish (a held GIL would still finish, so this
-    mainly guards that the binding does not deadlock when called concurrently)."""
-    path = max(RECORDINGS, key=lambda p: p.stat().st_size)
-    results: list[int] = []
-    threads = [
-        threading.Thread(target=lambda: results.append(read_mcap(path, "full").message_count))
-        for _ in range(4)
-    ]
-    for thread in threads:
-        thread.start()
-    for thread in threads:
-        thread.join(WATCHDOG_SECONDS)
-    assert len(results) == 4
-    assert len(set(results)) == 1
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs POSIX named pipes")
+def test_reading_releases_the_gil(tmp_path: Path) -> None:
+    """The reader blocks opening a named pipe until someone writes to it; that someone is
+    this test's main thread, which can only run if the reader let go of the GIL."""
+    pipe = tmp_path / "pipe.mcap"
+    os.mkfifo(pipe)
+    outcome: dict[str, BaseException] = {}
+
+    def read() -> None:
+        try:
+            read_mcap(pipe)
+        except BaseException as error:  # checked below
+            outcome["error"] = error
+
+    # If the GIL were held, the main thread could not even wake up to fail the test;
+    # faulthandler ends the process with a traceback instead of hanging the suite.
+    faulthandler.dump_traceback_later(60, exit=True)
+    try:
+        worker = threading.Thread(target=read, daemon=True)
+        worker.start()
+        time.sleep(0.2)  # the worker is now blocked inside read_mcap, opening the pipe
+        with pipe.open("wb"):
+            pass
+        worker.join(WATCHDOG_SECONDS)
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+    assert not worker.is_alive()
+    assert isinstance(outcome.get("error"), errors.FileFormatError)
+    assert "empty file" in str(outcome["error"])

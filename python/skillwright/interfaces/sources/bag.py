@@ -16,7 +16,7 @@ from collections.abc import Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from skillwright.errors import FileFormatError, InputFileNotFoundError, InvalidArgumentError
 from skillwright.interfaces.infrastructure import classify
@@ -42,6 +42,9 @@ from skillwright.interfaces.ros2msg import (
     split_service,
 )
 from skillwright.interfaces.sources import InterfaceSource
+
+if TYPE_CHECKING:
+    from skillwright.core import McapFile
 
 __all__ = ["BagSource", "ReadMode", "discover_bag", "resolve_recording"]
 
@@ -248,7 +251,7 @@ class _Channel:
         self.times_exact = self.times_exact and exact
 
 
-def _read_files(files: Sequence[Path], mode: ReadMode) -> list[Any]:
+def _read_files(files: Sequence[Path], mode: ReadMode) -> list[McapFile]:
     from skillwright.core import read_mcap
 
     if len(files) == 1:
@@ -258,7 +261,7 @@ def _read_files(files: Sequence[Path], mode: ReadMode) -> list[Any]:
         return list(pool.map(lambda f: read_mcap(f, mode), files))
 
 
-def _merge_channels(results: Iterable[Any]) -> list[_Channel]:
+def _merge_channels(results: Iterable[McapFile]) -> list[_Channel]:
     merged: dict[tuple[str, str, str], _Channel] = {}
     for result in results:
         schemas = {s.id: s for s in result.schemas}
@@ -358,7 +361,12 @@ def _message_definition(channel: _Channel) -> MessageDefinition | None:
     if channel.schema.encoding != "ros2msg":
         return _raw_definition(channel.type_name, channel.schema)
     text, _ = _schema_text(channel.schema)
-    return definition_from_text(channel.schema.name, text)
+    definition = definition_from_text(channel.schema.name, text)
+    if not text.strip():
+        # rosbag2 stores an empty text when the recorder could not find the definition.
+        definition.fields = None
+        definition.notes.append("the recording stored an empty definition for this type")
+    return definition
 
 
 def _service_definitions(
@@ -581,7 +589,7 @@ def _action_definitions(
 # --- the source ------------------------------------------------------------------------
 
 
-def _source_file(path: Path, result: Any) -> SourceFile:
+def _source_file(path: Path, result: McapFile) -> SourceFile:
     return SourceFile(
         path=str(path),
         size_bytes=result.file_size,
