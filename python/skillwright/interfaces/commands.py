@@ -176,7 +176,9 @@ def _warn_partial(inventory: Inventory, console: Console) -> None:
 
     for source in inventory.sources:
         for file in source.files:
-            if file.stopped_at is not None:
+            if file.read_method == "unreadable" and file.stopped_at is not None:
+                say("warning", f"skipped {file.stopped_at.message}")
+            elif file.stopped_at is not None:
                 say(
                     "warning",
                     f"{file.path}: read only up to byte {file.stopped_at.offset}: "

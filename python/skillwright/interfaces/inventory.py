@@ -234,9 +234,10 @@ class SourceFile(_Model):
 
     path: str = Field(description="Path as given or as listed in metadata.yaml.")
     size_bytes: int = Field(description="File size.")
-    read_method: str = Field(
+    read_method: Literal["summary", "scan", "full", "unreadable"] = Field(
         description="`summary` (footer and summary section only), `scan` (records, chunk "
-        "bodies skipped where message indexes suffice) or `full` (every chunk inflated)."
+        "bodies skipped where message indexes suffice), `full` (every chunk inflated) or "
+        "`unreadable` (not an MCAP file; skipped, `stopped_at` says why)."
     )
     profile: str | None = Field(default=None, description="MCAP header profile, e.g. `ros2`.")
     library: str | None = Field(default=None, description="MCAP header library (the writer).")

@@ -320,3 +320,24 @@ def test_every_read_mode_gives_the_same_interfaces(tmp_path: Path) -> None:
         for mode in ("auto", "scan", "full")
     }
     assert dumps["auto"] == dumps["scan"] == dumps["full"]
+
+
+def test_unreadable_split_is_skipped_with_a_note(tmp_path: Path) -> None:
+    folder = tmp_path / "bag"
+    folder.mkdir()
+    write_recording(folder / "bag_0.mcap", [Topic("/a", "std_msgs/msg/String", "string data")])
+    (folder / "bag_1.mcap").write_bytes(b"")  # the recorder died right after opening it
+    inventory = discover_bag(folder)
+    first, second = inventory.sources[0].files
+    assert (first.read_method, second.read_method) == ("summary", "unreadable")
+    assert second.partial
+    assert second.stopped_at is not None
+    assert "empty file" in second.stopped_at.message
+    assert inventory.interface("/a").traffic is not None
+
+
+def test_folder_where_no_file_is_readable_raises(tmp_path: Path) -> None:
+    (tmp_path / "bag_0.mcap").write_bytes(b"not mcap")
+    (tmp_path / "bag_1.mcap").write_bytes(b"")
+    with pytest.raises(errors.FileFormatError, match=r"bag_0\.mcap: not an MCAP file"):
+        discover_bag(tmp_path)

@@ -251,14 +251,47 @@ class _Channel:
         self.times_exact = self.times_exact and exact
 
 
-def _read_files(files: Sequence[Path], mode: ReadMode) -> list[McapFile]:
+def _read_files(
+    files: Sequence[Path], mode: ReadMode
+) -> tuple[list[tuple[Path, McapFile]], list[SourceFile]]:
+    """Reads every file; returns the readable ones and a record of the unreadable ones.
+
+    In a split bag one file that is not MCAP at all (typically the last split, left
+    empty when the recorder died just after opening it) must not hide the others, so
+    its error becomes a note; a lone file's error, or every file failing, is raised.
+    """
     from skillwright.core import read_mcap
 
+    def read(path: Path) -> McapFile | FileFormatError:
+        try:
+            return read_mcap(path, mode)
+        except FileFormatError as error:
+            return error
+
     if len(files) == 1:
-        return [read_mcap(files[0], mode)]
-    # The core releases the GIL, so split files are read in parallel.
-    with ThreadPoolExecutor(max_workers=min(4, len(files))) as pool:
-        return list(pool.map(lambda f: read_mcap(f, mode), files))
+        outcomes = [read(files[0])]
+    else:
+        # The core releases the GIL, so split files are read in parallel.
+        with ThreadPoolExecutor(max_workers=min(4, len(files))) as pool:
+            outcomes = list(pool.map(read, files))
+    readable = [
+        (p, o) for p, o in zip(files, outcomes, strict=True) if not isinstance(o, Exception)
+    ]
+    failed = [(p, o) for p, o in zip(files, outcomes, strict=True) if isinstance(o, Exception)]
+    if failed and not readable:
+        raise failed[0][1]
+    unreadable = [
+        SourceFile(
+            path=str(path),
+            size_bytes=path.stat().st_size,
+            read_method="unreadable",
+            message_count=0,
+            partial=True,
+            stopped_at=Damage(offset=0, message=str(error)),
+        )
+        for path, error in failed
+    ]
+    return readable, unreadable
 
 
 def _merge_channels(results: Iterable[McapFile]) -> list[_Channel]:
@@ -623,11 +656,14 @@ class BagSource(InterfaceSource):
     def discover(self) -> Inventory:
         """Reads the recording (see :func:`discover_bag`)."""
         recording = resolve_recording(self.path)
-        results = _read_files(recording.files, self.mode)
+        readable, unreadable = _read_files(recording.files, self.mode)
+        results = [r for _, r in readable]
         channels = _merge_channels(results)
         if recording.metadata is not None:
             _apply_metadata(channels, recording.metadata)
-        files = [_source_file(p, r) for p, r in zip(recording.files, results, strict=True)]
+        files = [_source_file(p, r) for p, r in readable]
+        # Keep the files in recording order, unreadable ones included.
+        files = sorted([*files, *unreadable], key=lambda f: recording.files.index(Path(f.path)))
         starts = [r.message_start_time for r in results if r.message_start_time is not None]
         ends = [r.message_end_time for r in results if r.message_end_time is not None]
         notes = list(recording.notes)
