@@ -115,11 +115,19 @@ def resolve_recording(path: Path) -> Recording:
     return Recording(kind="rosbag2", location=folder, files=files, metadata=metadata, notes=notes)
 
 
+def _yaml_loader() -> type[Any]:
+    """libyaml's safe loader when PyYAML was built with it (several times faster on the
+    metadata of bags with many topics), else the pure-Python safe loader."""
+    import yaml
+
+    return getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
 def _load_metadata(path: Path) -> dict[str, Any]:
     import yaml
 
     try:
-        document = yaml.safe_load(path.read_text(encoding="utf-8"))
+        document = yaml.load(path.read_text(encoding="utf-8"), Loader=_yaml_loader())
     except yaml.YAMLError as error:
         mark = getattr(error, "problem_mark", None)
         where = f" (line {mark.line + 1})" if mark is not None else ""
@@ -190,7 +198,7 @@ def parse_qos_profiles(text: str) -> list[QosProfile]:
     import yaml
 
     try:
-        document = yaml.safe_load(text)
+        document = yaml.load(text, Loader=_yaml_loader())
     except yaml.YAMLError:
         return []
     if not isinstance(document, list):
