@@ -1,11 +1,23 @@
 """Typed stubs of the Rust extension ``skillwright._core`` (checked by ``make lint``)."""
 
 from os import PathLike
+from pathlib import Path
+from typing import Literal, final
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["VectorIndex", "__version__", "index_isa", "sha256_file"]
+__all__ = [
+    "McapChannel",
+    "McapDamage",
+    "McapFile",
+    "McapSchema",
+    "VectorIndex",
+    "__version__",
+    "index_isa",
+    "read_mcap",
+    "sha256_file",
+]
 __version__: str
 
 def sha256_file(path: str | PathLike[str]) -> str:
@@ -85,3 +97,110 @@ class VectorIndex:
         kinds: list[str] | None = None,
         sources: list[str] | None = None,
     ) -> tuple[NDArray[np.int64], NDArray[np.float32]]: ...
+
+# --- MCAP discovery (rust/python/src/mcap.rs) ---
+
+@final
+class McapSchema:
+    """A schema record: how the messages of the channels that use it are laid out."""
+
+    @property
+    def id(self) -> int: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def encoding(self) -> str: ...
+    @property
+    def data(self) -> bytes:
+        """The schema's bytes as stored (for ``ros2msg``, the message definition text)."""
+
+@final
+class McapChannel:
+    """A channel record with its message count and log-time range (nanoseconds)."""
+
+    @property
+    def id(self) -> int: ...
+    @property
+    def schema_id(self) -> int: ...
+    @property
+    def topic(self) -> str: ...
+    @property
+    def message_encoding(self) -> str: ...
+    @property
+    def metadata(self) -> dict[str, str]: ...
+    @property
+    def message_count(self) -> int: ...
+    @property
+    def first_log_time(self) -> int | None: ...
+    @property
+    def last_log_time(self) -> int | None: ...
+    @property
+    def times_exact(self) -> bool:
+        """False when the times are chunk-index bounds (summary reading), not exact."""
+
+@final
+class McapDamage:
+    """A place in the file where something was wrong."""
+
+    @property
+    def offset(self) -> int: ...
+    @property
+    def message(self) -> str: ...
+
+@final
+class McapFile:
+    """What one MCAP file holds, as ``read_mcap`` found it."""
+
+    @property
+    def path(self) -> Path: ...
+    @property
+    def file_size(self) -> int: ...
+    @property
+    def profile(self) -> str | None: ...
+    @property
+    def library(self) -> str | None: ...
+    @property
+    def method(self) -> Literal["summary", "scan", "full"]: ...
+    @property
+    def schemas(self) -> list[McapSchema]: ...
+    @property
+    def channels(self) -> list[McapChannel]: ...
+    @property
+    def message_count(self) -> int: ...
+    @property
+    def message_start_time(self) -> int | None: ...
+    @property
+    def message_end_time(self) -> int | None: ...
+    @property
+    def attachment_count(self) -> int: ...
+    @property
+    def metadata_count(self) -> int: ...
+    @property
+    def chunk_count(self) -> int: ...
+    @property
+    def compressions(self) -> list[str]: ...
+    @property
+    def orphan_message_count(self) -> int: ...
+    @property
+    def stopped(self) -> McapDamage | None:
+        """Where reading stopped before the end of the file (cut short, broken frame)."""
+    @property
+    def damaged(self) -> list[McapDamage]:
+        """Records skipped as damaged; reading went on after them."""
+    @property
+    def notes(self) -> list[str]: ...
+    @property
+    def partial(self) -> bool:
+        """True when part of the file could not be read (``stopped`` or ``damaged``)."""
+
+def read_mcap(
+    path: str | PathLike[str], mode: Literal["auto", "scan", "full"] = "auto"
+) -> McapFile:
+    """Reads what the MCAP file at ``path`` holds, without holding the GIL.
+
+    ``auto`` reads the summary section when it is complete and scans otherwise; ``scan``
+    always scans (message indexes let it skip chunk bodies); ``full`` decompresses every
+    chunk. A damaged or truncated file gives a partial result. Raises
+    ``InputFileNotFoundError``, ``InputFileError``, ``InvalidArgumentError`` (a folder, an
+    unknown mode) and ``FileFormatError`` (empty or not an MCAP file; names the offset).
+    """

@@ -23,6 +23,7 @@ __all__ = ["main"]
 COMMANDS: dict[str, str] = {
     "capability": "skillwright.capability.commands:capability",
     "spec": "skillwright.spec.commands:spec",
+    "discover": "skillwright.interfaces.commands:discover",
 }
 
 

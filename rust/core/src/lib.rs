@@ -5,6 +5,7 @@
 pub mod digest;
 pub mod error;
 pub mod index;
+pub mod mcap;
 
 pub use error::{CoreError, CoreResult};
 

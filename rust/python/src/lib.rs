@@ -5,6 +5,7 @@
 
 mod errors;
 mod index;
+mod mcap;
 
 use std::path::PathBuf;
 
@@ -22,5 +23,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", skillwright_core::VERSION)?;
     m.add_function(wrap_pyfunction!(sha256_file, m)?)?;
     index::register(m)?;
+    mcap::register(m)?;
     Ok(())
 }
