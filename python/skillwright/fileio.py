@@ -6,6 +6,8 @@ import os
 import tempfile
 from pathlib import Path
 
+from skillwright.errors import InputFileError
+
 __all__ = ["write_atomic"]
 
 
@@ -13,16 +15,26 @@ def write_atomic(path: Path, data: bytes | str) -> None:
     """Writes ``data`` to ``path`` through a temporary file in the same folder and a rename.
 
     Readers see either the old file or the complete new one, never a partial file.
+    Raises :class:`InputFileError` naming ``path`` when it cannot be written.
     """
-    path.parent.mkdir(parents=True, exist_ok=True)
+    folder = path.parent if str(path.parent) else Path()
     payload = data.encode("utf-8") if isinstance(data, str) else data
-    fd, temp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(payload)
-            handle.flush()
-            os.fsync(handle.fileno())
-        Path(temp_name).replace(path)
+        folder.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    except OSError as error:
+        raise InputFileError(f"{path}: cannot write here: {error.strerror or error}") from error
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(payload)
+            stream.flush()
+            os.fsync(stream.fileno())
+        # mkstemp creates the file private (0600); our outputs are ordinary documents.
+        Path(temporary).chmod(0o644)
+        Path(temporary).replace(path)
+    except OSError as error:
+        Path(temporary).unlink(missing_ok=True)
+        raise InputFileError(f"{path}: cannot write: {error.strerror or error}") from error
     except BaseException:
-        Path(temp_name).unlink(missing_ok=True)
+        Path(temporary).unlink(missing_ok=True)
         raise

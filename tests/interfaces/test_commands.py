@@ -80,8 +80,17 @@ def test_non_mcap_input_is_a_one_line_error(tmp_path: Path) -> None:
     assert "Traceback" not in result.output
 
 
+def test_output_folder_is_created_when_missing(bag: Path, tmp_path: Path) -> None:
+    target = tmp_path / "new-folder" / "inventory.json"
+    result = CliRunner().invoke(main, ["discover", str(bag), "-o", str(target)])
+    assert result.exit_code == 0
+    assert target.is_file()
+
+
 def test_unwritable_output_is_a_user_error(bag: Path, tmp_path: Path) -> None:
-    target = tmp_path / "missing-folder" / "inventory.json"
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    target = blocker / "inventory.json"
     result = CliRunner().invoke(main, ["discover", str(bag), "-o", str(target)])
     assert result.exit_code == 2
     assert "cannot write" in result.stderr

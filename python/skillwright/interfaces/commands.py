@@ -49,12 +49,12 @@ def discover(
     interface's full message definition, goes to -o FILE and/or stdout with --json.
     """
     from skillwright.console import err_console, out_console, print_model_json
-    from skillwright.interfaces._io import write_text_atomic
+    from skillwright.fileio import write_atomic
     from skillwright.interfaces.sources.bag import discover_bag
 
     inventory = discover_bag(path, cast("ReadMode", mode), resource_name)
     if output is not None:
-        write_text_atomic(output, inventory.model_dump_json(indent=2) + "\n")
+        write_atomic(output, inventory.model_dump_json(indent=2) + "\n")
     if as_json:
         print_model_json(inventory)
         _warn_partial(inventory, err_console())

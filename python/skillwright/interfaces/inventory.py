@@ -323,7 +323,7 @@ def schema_text() -> str:
 
 
 if __name__ == "__main__":  # pragma: no cover - maintenance entry point
-    from skillwright.interfaces._io import write_text_atomic
+    from skillwright.fileio import write_atomic
 
-    write_text_atomic(SCHEMA_PATH, schema_text())
+    write_atomic(SCHEMA_PATH, schema_text())
     print(f"wrote {SCHEMA_PATH}")
