@@ -26,6 +26,7 @@ __all__ = [
     "find_block",
     "normalize_type_name",
     "parse_blocks",
+    "split_action",
     "split_service",
 ]
 
@@ -360,6 +361,27 @@ def definition_from_text(
         fields=fields,
         constants=main.constants,
         notes=list(dict.fromkeys(notes)),
+    )
+
+
+def split_action(text: str) -> tuple[str, str, str] | None:
+    """Goal, result and feedback text of a raw ``.action`` definition (two top-level
+    ``---`` lines, optionally after an ``ACTION:`` header line), or ``None``."""
+    main_lines: list[str] = []
+    for line in text.splitlines():
+        if _SEPARATOR.match(line.strip()):
+            break
+        if not main_lines and line.startswith("ACTION:"):
+            continue
+        main_lines.append(line)
+    cuts = [i for i, line in enumerate(main_lines) if line.strip() == "---"]
+    if len(cuts) != 2:
+        return None
+    first, second = cuts
+    return (
+        "\n".join(main_lines[:first]),
+        "\n".join(main_lines[first + 1 : second]),
+        "\n".join(main_lines[second + 1 :]),
     )
 
 

@@ -39,6 +39,7 @@ from skillwright.interfaces.ros2msg import (
     find_block,
     normalize_type_name,
     parse_blocks,
+    split_action,
     split_service,
 )
 from skillwright.interfaces.sources import InterfaceSource
@@ -578,6 +579,31 @@ def build_interfaces(channels: Sequence[_Channel]) -> list[Interface]:
     return interfaces
 
 
+def _raw_action(
+    type_name: str, members: Sequence[tuple[str, _Channel]]
+) -> dict[str, MessageDefinition] | None:
+    """Goal, result and feedback from a schema holding the raw ``.action`` text, as some
+    recorders store for the feedback and goal/result service events."""
+    for _, channel in members:
+        schema = channel.schema
+        if schema is None or schema.encoding != "ros2msg":
+            continue
+        text, _ = _schema_text(schema)
+        parts = split_action(text)
+        if parts is None:
+            continue
+        _, dependencies = parse_blocks(schema.name, text)
+        return {
+            role: definition_from_text(
+                f"{type_name}_{suffix}", part, extra_dependencies=dependencies
+            )
+            for role, suffix, part in zip(
+                ("goal", "result", "feedback"), ("Goal", "Result", "Feedback"), parts, strict=True
+            )
+        }
+    return None
+
+
 def _action_definitions(
     members: Sequence[tuple[str, _Channel]],
 ) -> tuple[str, dict[str, MessageDefinition], list[str]]:
@@ -600,6 +626,9 @@ def _action_definitions(
             blocks.update(dependencies)
             blocks.setdefault(main.type_name, main)
     definitions: dict[str, MessageDefinition] = {}
+    raw = _raw_action(type_name, members)
+    if raw is not None:
+        return type_name, raw, notes
     for role, suffix, fallback_service in (
         ("goal", "_Goal", "send_goal"),
         ("result", "_Result", "get_result"),
