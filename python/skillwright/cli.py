@@ -22,6 +22,7 @@ __all__ = ["main"]
 # name -> "module:attribute" of a click command or group; loaded on first use.
 COMMANDS: dict[str, str] = {
     "capability": "skillwright.capability.commands:capability",
+    "check": "skillwright.validation.commands:check",
     "spec": "skillwright.spec.commands:spec",
     "discover": "skillwright.interfaces.commands:discover",
 }

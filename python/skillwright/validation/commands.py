@@ -1,0 +1,103 @@
+"""``skillwright check``: run the static checks on a skill file."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+__all__ = ["check"]
+
+
+@click.command("check")
+@click.argument("skill_file", type=click.Path(path_type=Path))
+@click.option(
+    "--capability",
+    "capability_file",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="The capability model the skill implements.",
+)
+@click.option(
+    "--capability-iri", metavar="IRI", help="Which capability, when the file holds several."
+)
+@click.option(
+    "--spec", "spec_file", required=True, type=click.Path(path_type=Path), help="The skill spec."
+)
+@click.option(
+    "--interfaces",
+    "source",
+    type=click.Path(path_type=Path),
+    help="The robot's interfaces: an .mcap file, a rosbag2 folder or an inventory .json. "
+    "Without it, interface grounding is not checked.",
+)
+@click.option(
+    "--retrieved",
+    multiple=True,
+    metavar="NAME",
+    help="An interface retrieval chose (repeatable): enables the used-versus-retrieved check.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
+def check(
+    skill_file: Path,
+    capability_file: Path,
+    capability_iri: str | None,
+    spec_file: Path,
+    source: Path | None,
+    retrieved: tuple[str, ...],
+    as_json: bool,
+) -> None:
+    """Check SKILL_FILE statically against its capability, spec and the robot's interfaces.
+
+    Exit status 0 when no check fails, 1 when a check finds an error, 2 for bad input.
+    """
+    from skillwright.capability.reader import load_capability
+    from skillwright.console import out_console, print_model_json
+    from skillwright.errors import InputFileError, InputFileNotFoundError
+    from skillwright.spec.loader import load_spec
+    from skillwright.validation.static import check_skill
+
+    if not skill_file.is_file():
+        raise InputFileNotFoundError(f"skill file {skill_file}: no such file; check the path")
+    try:
+        source_text = skill_file.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputFileError(f"skill file {skill_file}: cannot be read as UTF-8 text") from error
+    capability = load_capability(capability_file, capability_iri=capability_iri).capability
+    skill_spec = load_spec(spec_file)
+    catalog = None
+    if source is not None:
+        from skillwright.interfaces.load import load_inventory
+        from skillwright.validation.catalog import catalog_from_inventory
+
+        catalog = catalog_from_inventory(load_inventory(source))
+    report = check_skill(
+        source_text,
+        capability=capability,
+        spec=skill_spec,
+        catalog=catalog,
+        retrieved=retrieved,
+        path=str(skill_file),
+    )
+    if as_json:
+        print_model_json(report)
+    else:
+        console = out_console()
+        for finding in report.findings:
+            style = "red" if finding.severity == "error" else "yellow"
+            console.print(
+                f"{report.path}:{finding.line}:{finding.column}: "
+                f"[{style}]{finding.severity}[/] [{finding.check}] {finding.message}",
+                markup=True,
+                highlight=False,
+            )
+        errors = sum(f.severity == "error" for f in report.findings)
+        warnings = len(report.findings) - errors
+        verdict = "passed" if report.passed else "failed"
+        grounding = "" if catalog is not None else " (interfaces not checked: no --interfaces)"
+        console.print(
+            f"{report.path}: {verdict}, {errors} error(s), {warnings} warning(s){grounding}"
+        )
+    if not report.passed:
+        sys.exit(1)
