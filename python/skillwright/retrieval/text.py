@@ -135,7 +135,11 @@ def stem(word: str) -> str:
         if word.endswith(suffix) and len(word) - len(suffix) >= 3:
             if suffix == "s" and word.endswith("ss"):
                 return word
-            return word[: len(word) - len(suffix)] + keep
+            base = word[: len(word) - len(suffix)] + keep
+            # "mapping" -> "mapp" -> "map", "planned" -> "plann" -> "plan"
+            if suffix in {"ing", "ed"} and base[-1] == base[-2] and base[-1] not in "lsz":
+                base = base[:-1]
+            return base
     return word
 
 

@@ -1,0 +1,70 @@
+"""What retrieval knows about each interface: a text to embed and weighted terms.
+
+Both come from the same parts — the name, the type, the field names and the uniform
+description — so the dense and the lexical score judge the same evidence.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from collections.abc import Iterable, Sequence
+
+from skillwright.interfaces.description import Description, describe_by_rules
+from skillwright.interfaces.inventory import Interface, MessageField
+from skillwright.retrieval.text import tokens
+
+__all__ = ["describe", "field_paths", "interface_terms", "interface_text"]
+
+TERM_WEIGHTS = {"name": 3.0, "type": 2.0, "package": 0.5, "field": 0.5, "description": 1.0}
+_MAIN_ROLES = ("message", "goal", "request", "feedback", "result", "response")
+
+
+def _paths(fields: Sequence[MessageField], prefix: str, depth: int) -> Iterable[str]:
+    for field in fields:
+        path = f"{prefix}{field.name}"
+        yield path
+        if depth > 1 and field.fields:
+            yield from _paths(field.fields, f"{path}.", depth - 1)
+
+
+def field_paths(interface: Interface, depth: int = 3) -> list[str]:
+    """Field paths of the interface's main definitions (message; goal, feedback, ...)."""
+    out: list[str] = []
+    for role in _MAIN_ROLES:
+        definition = interface.definitions.get(role)
+        if definition is not None and definition.fields:
+            out.extend(p for p in _paths(definition.fields, "", depth) if p not in out)
+    return out
+
+
+def describe(interface: Interface) -> Description:
+    """The interface's description: the one enrichment stored, else the rules engine's."""
+    if interface.description:
+        return Description(purpose=interface.description, module="other", engine="stored")
+    return describe_by_rules(
+        interface.kind, interface.name, interface.type_name, field_paths(interface, depth=2)
+    )
+
+
+def interface_text(interface: Interface, description: Description) -> str:
+    """The text embedded for dense retrieval."""
+    short_type = interface.type_name.rsplit("/", 1)[-1]
+    return f"{interface.kind} {interface.name} ({short_type}). {description.text()}"
+
+
+def interface_terms(interface: Interface, description: Description) -> dict[str, float]:
+    """Weighted lexical terms of the interface."""
+    terms: defaultdict[str, float] = defaultdict(float)
+
+    def add(text: str, part: str) -> None:
+        for term in tokens(text):
+            terms[term] += TERM_WEIGHTS[part]
+
+    add(interface.name, "name")
+    package, _, rest = interface.type_name.partition("/")
+    add(rest.rsplit("/", 1)[-1], "type")
+    add(package, "package")
+    for path in field_paths(interface, depth=2):
+        add(path.rsplit(".", 1)[-1], "field")
+    add(description.purpose + " " + " ".join(description.tasks), "description")
+    return dict(terms)
