@@ -20,7 +20,9 @@ import click
 __all__ = ["main"]
 
 # name -> "module:attribute" of a click command or group; loaded on first use.
-COMMANDS: dict[str, str] = {}
+COMMANDS: dict[str, str] = {
+    "models": "skillwright.llm.commands:models",
+}
 
 
 class LazyGroup(click.Group):
