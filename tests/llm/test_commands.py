@@ -5,14 +5,25 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 
 from skillwright.cli import main
+from skillwright.console import out_console
 from tests.llm.conftest import write_models_toml
 
 
+@pytest.fixture(autouse=True)
+def wide_console(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A console wide enough that table rows are not wrapped (rich reads COLUMNS once)."""
+    monkeypatch.setenv("COLUMNS", "250")
+    out_console.cache_clear()
+    yield
+    out_console.cache_clear()
+
+
 def _invoke(*args: str) -> tuple[int, str]:
-    result = CliRunner().invoke(main, list(args), terminal_width=250)
+    result = CliRunner().invoke(main, list(args))
     return result.exit_code, result.output
 
 

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from skillwright.errors import ModelError
 from skillwright.llm import load_generator
 from skillwright.llm.base import ChatMessage, GenerationOptions, Prompt
 from skillwright.llm.config import Registry
@@ -76,7 +77,9 @@ def test_prefix_is_split_at_a_message_boundary(big_registry: Registry, cache: Pa
         special=True,
     )
     assert prefix + rest == whole  # byte-level vocabulary: splitting changes no token
-    assert generator.llama.detokenize(prefix).decode().endswith("publish cmd_vel\n")
+    # SentencePiece-style tokenisation writes spaces as U+2581.
+    text = generator.llama.detokenize(prefix).decode().replace("\u2581", " ")
+    assert text.endswith("### assistant:\ndef execute(self): publish cmd_vel\n")
     generator.close()
 
 
@@ -105,11 +108,20 @@ def test_corrupt_cache_file_is_discarded_with_a_warning_not_fatal(
     generator = _load(big_registry, cache)
     with caplog.at_level(logging.WARNING, logger="skillwright.llm.prefix_cache"):
         text, how = _run(generator, prompt)
+    prefix_tokens = generator.prompt_tokens(prompt)[0]
     generator.close()
     assert (text, how) == (expected, "stored")
     assert "discarding prefix cache" in caplog.text
     assert "checksum mismatch" in caplog.text
-    assert PrefixCache(cache / "prefix").load(saved.stem, generator.prompt_tokens(prompt)[0])
+    assert PrefixCache(cache / "prefix").load(saved.stem, prefix_tokens)  # rewritten, intact
+
+
+def test_closed_model_refuses_instead_of_crashing(tiny_registry: Registry, cache: Path) -> None:
+    generator = _load(tiny_registry, cache)
+    generator.close()
+    generator.close()  # idempotent
+    with pytest.raises(ModelError, match="'tiny' was closed"):
+        generator.count_tokens(skill_prompt("Q"))
 
 
 def test_cache_key_changes_with_model_tokens_and_context() -> None:
@@ -143,7 +155,7 @@ def test_unusable_cache_file_is_deleted(
     tmp_path: Path, caplog: pytest.LogCaptureFixture, damage: object, reason: str
 ) -> None:
     cache = PrefixCache(tmp_path)
-    path = cache.store("k-1", PrefixState((1, 2), b"xyz"))
+    path = cache.store("k-1", PrefixState((1, 2), b"xyz" * 100))
     path.write_bytes(damage(path.read_bytes()))  # type: ignore[operator]
     asked = [1, 3] if reason == "holds a different prefix" else [1, 2]
     with caplog.at_level(logging.WARNING):

@@ -118,7 +118,12 @@ class SentenceTransformerEncoder:
                 f"embedding model {model_id!r}: cannot load {folder} ({error}); reinstall the "
                 "model's package or copy its folder again"
             ) from None
-        dimension = self.model.get_sentence_embedding_dimension()
+        # sentence-transformers 6 renamed the method (the old name warns).
+        size = (
+            getattr(self.model, "get_embedding_dimension", None)
+            or self.model.get_sentence_embedding_dimension
+        )
+        dimension = size()
         if dimension is None:
             raise ModelError(f"embedding model {model_id!r}: {folder} has no fixed dimension")
         self.dimension = int(dimension)

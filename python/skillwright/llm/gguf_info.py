@@ -195,13 +195,13 @@ def read_gguf_info(path: Path) -> GGUFInfo:
     architecture = metadata.get("general.architecture")
     context = metadata.get(f"{architecture}.context_length") if architecture else None
     template = metadata.get("tokenizer.chat_template")
-    name = metadata.get("general.name")
+    model_name = metadata.get("general.name")
     return GGUFInfo(
         path=path,
         version=version,
         file_size=size,
         architecture=architecture if isinstance(architecture, str) else None,
-        name=name if isinstance(name, str) else None,
+        name=model_name if isinstance(model_name, str) else None,
         context_length=context if isinstance(context, int) else None,
         quantisation=_quantisation(metadata, tensor_types),
         parameters=parameters,

@@ -25,7 +25,8 @@ from skillwright.llm.files import ChecksumCache, ModelFile, check_model_file
 from skillwright.llm.prefix_cache import PrefixCache, PrefixState, prefix_key
 
 if TYPE_CHECKING:
-    from llama_cpp import Llama, LlamaGrammar
+    from llama_cpp import Llama
+    from llama_cpp.llama_grammar import LlamaGrammar
 
 __all__ = ["LlamaCppGenerator", "load_llamacpp", "render_chat"]
 
@@ -94,6 +95,7 @@ class LlamaCppGenerator:
         self.context_length = entry.context_length
         self._origin = origin
         self._busy = threading.Lock()
+        self._closed = False
         template = entry.chat_template or model_file.info.chat_template
         if template is None:
             raise ModelError(
@@ -133,6 +135,7 @@ class LlamaCppGenerator:
         part of it that the fixed turns alone tokenise to (a merge across the boundary only
         shortens it by a token).
         """
+        self._check_open()
         whole = self._tokenize(self.render(prompt.messages, add_generation_prompt=True))
         if not prompt.prefix_messages:
             return [], whole
@@ -208,6 +211,7 @@ class LlamaCppGenerator:
                 f"model {self.model_id!r} is already generating; finish or close that stream first"
             )
         try:
+            self._check_open()
             if prefix:
                 how = self._restore_prefix(prefix, cancel)
                 if how is None:
@@ -278,10 +282,10 @@ class LlamaCppGenerator:
                     self.prefix_cache.discard(key, f"llama.cpp could not restore it ({error})")
                 else:
                     return "disk"
-        llama.reset()
+        llama.reset()  # type: ignore[no-untyped-call]
         for start in range(0, n, llama.n_batch):
             if cancel is not None and cancel.is_set():
-                llama.reset()
+                llama.reset()  # type: ignore[no-untyped-call]
                 return None
             llama.eval(prefix[start : start + llama.n_batch])
         if self.prefix_cache is None:
@@ -324,12 +328,19 @@ class LlamaCppGenerator:
         )
 
     def close(self) -> None:
-        """Frees the model's memory."""
-        self.llama.close()
+        """Frees the model's memory; the generator cannot be used afterwards."""
+        if not self._closed:
+            self._closed = True
+            self.llama.close()
+
+    def _check_open(self) -> None:
+        # llama.cpp would crash the process on a freed model; refuse instead.
+        if self._closed:
+            raise ModelError(f"model {self.model_id!r} was closed; load it again to use it")
 
 
 def _grammar(schema: dict[str, Any]) -> LlamaGrammar:
-    from llama_cpp import LlamaGrammar
+    from llama_cpp.llama_grammar import LlamaGrammar
 
     try:
         return LlamaGrammar.from_json_schema(json.dumps(schema), verbose=False)

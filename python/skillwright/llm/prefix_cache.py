@@ -131,8 +131,10 @@ class PrefixCache:
 
 def _check(raw: bytes, tokens: Sequence[int]) -> str | None:
     """Why a cache file cannot be used, or ``None`` if it is intact and holds ``tokens``."""
-    if not raw.startswith(_MAGIC) or len(raw) < len(_MAGIC) + 4 + _DIGEST:
+    if not raw.startswith(_MAGIC):
         return "not a skillwright prefix-cache file"
+    if len(raw) < len(_MAGIC) + 4 + _DIGEST:
+        return "truncated"
     if hashlib.sha256(raw[:-_DIGEST]).digest() != raw[-_DIGEST:]:
         return "checksum mismatch (the file is damaged or truncated)"
     header_len = struct.unpack_from("<I", raw, len(_MAGIC))[0]
