@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -11,6 +12,7 @@ from skillwright.llm.config import (
     LlamaCppModel,
     OpenAIModel,
     load_registry,
+    models_json_schema,
     shipped_models_file,
 )
 from tests.conftest import REPO_ROOT
@@ -178,3 +180,12 @@ def test_server_model_without_base_url_is_an_error(tmp_path: Path) -> None:
     path.write_text('[[llm]]\nid = "gpu"\nbackend = "openai"\n')
     with pytest.raises(ConfigError, match=r"llm\[0\] \(id 'gpu'\)\.base_url: Field required"):
         load_registry(path)
+
+
+def test_checked_in_json_schema_matches_the_models() -> None:
+    schema_file = shipped_models_file().with_name("models.schema.json")
+    expected = json.dumps(models_json_schema(), indent=2) + "\n"
+    assert schema_file.read_text(encoding="utf-8") == expected, (
+        "models.schema.json is stale; regenerate it from skillwright.llm.config.models_json_schema"
+    )
+    assert '"additionalProperties": false' in expected  # editors flag unknown keys too

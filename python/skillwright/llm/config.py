@@ -36,6 +36,7 @@ __all__ = [
     "Sampling",
     "cache_dir",
     "load_registry",
+    "models_json_schema",
     "shipped_models_file",
     "user_models_file",
 ]
@@ -179,6 +180,11 @@ class ModelsFile(BaseModel):
     """Generation models, one ``[[llm]]`` table each."""
     embedding: tuple[EmbeddingModel, ...] = ()
     """Embedding models, one ``[[embedding]]`` table each."""
+
+
+def models_json_schema() -> dict[str, Any]:
+    """JSON schema of a ``models.toml`` (for editors; checked in as ``models.schema.json``)."""
+    return ModelsFile.model_json_schema()
 
 
 def shipped_models_file() -> Path:

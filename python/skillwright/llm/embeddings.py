@@ -53,6 +53,8 @@ def force_offline() -> None:
     These libraries read the variables when first imported, so this runs before importing them.
     """
     os.environ.update(_OFFLINE)
+    # Model loading draws progress bars on stderr; they are noise in a command's output.
+    os.environ.setdefault("HF_HUB_DISABLE_PROGRESS_BARS", "1")
 
 
 class Encoder(Protocol):
