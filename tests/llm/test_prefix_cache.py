@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import threading
 from pathlib import Path
 
 import pytest
@@ -179,3 +180,35 @@ def test_default_loader_uses_the_prefix_cache(tiny_registry: Registry, cache: Pa
     stream.text()
     assert stream.prefix_cache == "stored"
     generator.close()
+
+
+class CancelAfter(threading.Event):
+    """A cancel flag that turns itself on after being looked at ``checks`` times."""
+
+    def __init__(self, checks: int) -> None:
+        super().__init__()
+        self.checks = checks
+
+    def is_set(self) -> bool:
+        self.checks -= 1
+        if self.checks < 0:
+            self.set()
+        return super().is_set()
+
+
+def test_cancel_during_prefix_evaluation_stops_between_batches(
+    big_registry: Registry, cache: Path
+) -> None:
+    prompt = skill_prompt("Write the skill for: drive 1 m.")
+    generator = _load(big_registry, cache)
+    assert len(generator.prompt_tokens(prompt)[0]) > 3 * 64  # several batches of 64 tokens
+    stream = generator.stream(prompt, GenerationOptions(max_tokens=24), cancel=CancelAfter(2))
+    assert list(stream) == []
+    assert stream.finish_reason == "cancelled"
+    assert generator.llama.n_tokens == 0  # the half-evaluated prefix was dropped
+    assert not (cache / "prefix").exists()  # and not saved
+    text, how = _run(generator, prompt)
+    generator.close()
+    fresh = _load(big_registry, cache, prefix_cache=False)
+    assert (text, how) == (_run(fresh, prompt)[0], "stored")
+    fresh.close()

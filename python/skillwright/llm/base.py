@@ -100,7 +100,9 @@ class TextStream:
     finish_reason: FinishReason | None = None
     """Why generation ended; ``None`` until it has."""
     completion_chunks: int = 0
-    """Chunks produced so far (one per generated token for the local backend)."""
+    """Text chunks produced so far."""
+    completion_tokens: int | None = None
+    """Tokens generated so far, when the backend reports them."""
     started: float = field(default_factory=time.perf_counter)
     """``time.perf_counter()`` when the stream was created."""
     first_chunk_at: float | None = None

@@ -183,21 +183,24 @@ def check_model(ctx: click.Context, model_id: str, tokens: int) -> None:
     generator.close()
     elapsed = (stream.finished_at or time.perf_counter()) - stream.started
     first = stream.time_to_first_chunk
+    produced = stream.completion_tokens or stream.completion_chunks
+    # Speed of generation proper: tokens after the first over the time after the first.
     rate = (
-        (stream.completion_chunks - 1) / (elapsed - first)
-        if first is not None and stream.completion_chunks > 1 and elapsed > first
+        (produced - 1) / (elapsed - first)
+        if first is not None and produced > 1 and elapsed > first
         else None
     )
     console.print(f"output: {text.strip()!r}")
+    unit = "tokens" if stream.completion_tokens is not None else "chunks"
     console.print(
         f"prompt tokens: {stream.prompt_tokens if stream.prompt_tokens is not None else '?'}, "
-        f"generated chunks: {stream.completion_chunks} ({stream.finish_reason})"
+        f"generated {unit}: {produced} ({stream.finish_reason})"
     )
     console.print(
         "time to first token: "
         + (f"{first:.2f} s" if first is not None else "-")
         + ", generation speed: "
-        + (f"{rate:.1f} tokens/s" if rate is not None else "-")
+        + (f"{rate:.1f} {unit}/s" if rate is not None else "-")
     )
 
 

@@ -206,6 +206,8 @@ class LlamaCppGenerator:
         grammar: LlamaGrammar | None,
         cancel: threading.Event | None,
     ) -> Iterator[str]:
+        from llama_cpp import StoppingCriteriaList
+
         if not self._busy.acquire(blocking=False):
             raise ModelError(
                 f"model {self.model_id!r} is already generating; finish or close that stream first"
@@ -222,6 +224,24 @@ class LlamaCppGenerator:
                 stream.finish_reason = "cancelled"
                 return
             sampling = self.entry.sampling
+            stream.completion_tokens = 0
+            prompt_length = len(prefix) + len(rest)
+
+            halted = False
+
+            def count(input_ids: Any, _logits: Any) -> bool:
+                # Called after every sampled token with the tokens before it: the only exact
+                # token count (stream chunks do not map one-to-one to tokens). It also enforces
+                # max_tokens, which llama-cpp-python overruns while a UTF-8 character is
+                # incomplete: the token after the limit is dropped, never shown.
+                nonlocal halted
+                done = len(input_ids) - prompt_length + 1
+                stream.completion_tokens = min(max_tokens, max(stream.completion_tokens or 0, done))
+                if done > max_tokens and not halted:
+                    halted = True  # the library calls once more at the end: answer False then
+                    return True
+                return False
+
             completion: Iterator[Any] = self.llama.create_completion(
                 prompt=prefix + rest,
                 max_tokens=max_tokens,
@@ -235,6 +255,7 @@ class LlamaCppGenerator:
                 seed=sampling.seed if options.seed is None else options.seed,
                 stop=list(options.stop),
                 grammar=grammar,
+                stopping_criteria=StoppingCriteriaList([count]),
                 stream=True,
             )  # type: ignore[assignment]
             try:

@@ -138,8 +138,11 @@ class OpenAIGenerator:
                         f"model {self.model_id!r}: server error: {event['error']}"
                     )
                 usage = event.get("usage")
-                if isinstance(usage, dict) and isinstance(usage.get("prompt_tokens"), int):
-                    stream.prompt_tokens = usage["prompt_tokens"]
+                if isinstance(usage, dict):
+                    if isinstance(usage.get("prompt_tokens"), int):
+                        stream.prompt_tokens = usage["prompt_tokens"]
+                    if isinstance(usage.get("completion_tokens"), int):
+                        stream.completion_tokens = usage["completion_tokens"]
                 for choice in event.get("choices") or []:
                     text = (choice.get("delta") or {}).get("content")
                     if text:
