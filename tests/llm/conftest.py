@@ -30,7 +30,7 @@ def tiny_gguf(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_tiny_llama(tmp_path_factory.mktemp("models") / "tiny.gguf")
 
 
-def write_models_toml(path: Path, model_file: Path, *, extra: str = "", context: int = 512) -> Path:
+def write_models_toml(path: Path, model_file: Path, *, extra: str = "", context: int = 768) -> Path:
     """A user models.toml that adds the tiny model as ``tiny`` and makes it the default."""
     path.write_text(
         f"""

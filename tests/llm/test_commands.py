@@ -48,7 +48,7 @@ def test_list_reads_size_quantisation_and_context_from_the_header(
     [line] = [line for line in output.splitlines() if line.startswith("│ tiny ")]
     assert "present (no sha256 set)" in line
     assert "F32" in line
-    assert "512 / 8192" in line
+    assert "768 / 8192" in line
     assert "KB" in line
 
 
@@ -98,3 +98,16 @@ def test_unknown_key_in_the_user_file_fails_the_command(tmp_path: Path) -> None:
     code, output = _invoke("models", "--models", str(models), "list")
     assert code == 2
     assert "unknown key 'defaults.genration'" in output
+
+
+def test_list_shows_a_server_model_without_contacting_it(tmp_path: Path) -> None:
+    # The suite's network guard fails the test on any connection attempt.
+    models = tmp_path / "models.toml"
+    models.write_text(
+        '[[llm]]\nid = "plant-gpu"\nbackend = "openai"\nbase_url = "http://192.0.2.7:8080/v1"\n'
+    )
+    code, output = _invoke("models", "--models", str(models), "list")
+    assert code == 0, output
+    [line] = [line for line in output.splitlines() if line.startswith("│ plant-gpu ")]
+    assert "server (not contacted)" in line
+    assert "http://192.0.2.7:8080/v1" in line

@@ -35,8 +35,8 @@ def tiny(tiny_registry: Registry, cache: Path) -> Iterator[LlamaCppGenerator]:
 def test_loaded_model_keeps_the_backend_contract(tiny: LlamaCppGenerator) -> None:
     assert isinstance(tiny, TextGenerator)
     assert tiny.model_id == "tiny"
-    assert tiny.context_length == 512
-    assert tiny.llama.n_ctx() == 512  # from models.toml, not llama-cpp-python's default
+    assert tiny.context_length == 768
+    assert tiny.llama.n_ctx() == 768  # from models.toml, not llama-cpp-python's default (512)
 
 
 def test_stream_yields_chunks_as_they_are_generated(tiny: LlamaCppGenerator) -> None:
@@ -129,17 +129,17 @@ def test_unconstrained_output_of_the_random_model_is_not_json(tiny: LlamaCppGene
 def test_prompt_that_does_not_fit_is_refused_with_both_numbers(tiny: LlamaCppGenerator) -> None:
     used = tiny.count_tokens(QUESTION)
     with pytest.raises(ContextOverflowError) as info:
-        tiny.stream(QUESTION, GenerationOptions(max_tokens=512))
+        tiny.stream(QUESTION, GenerationOptions(max_tokens=700))
     message = str(info.value)
-    assert f"the prompt takes {used} tokens and up to 512 may be generated" in message
-    assert "the context holds 512" in message
+    assert f"the prompt takes {used} tokens and up to 700 may be generated" in message
+    assert f"{used + 700} in all, but the context holds 768" in message
     assert "`context_length` of 'tiny'" in message
     assert "trained with up to 8192" in message
 
 
 def test_long_prompt_alone_overflowing_is_refused(tiny: LlamaCppGenerator) -> None:
-    long = Prompt.chat("x" * 600)
-    with pytest.raises(ContextOverflowError, match="but the context holds 512"):
+    long = Prompt.chat("x" * 800)
+    with pytest.raises(ContextOverflowError, match="but the context holds 768"):
         tiny.stream(long, GenerationOptions(max_tokens=1))
 
 
