@@ -21,7 +21,12 @@ from typing import TYPE_CHECKING, Any
 from skillwright.errors import ContextOverflowError, InvalidArgumentError, ModelError
 from skillwright.llm.base import ChatMessage, GenerationOptions, Prompt, TextStream
 from skillwright.llm.config import LlamaCppModel, Registry, cache_dir
-from skillwright.llm.files import ChecksumCache, ModelFile, check_model_file
+from skillwright.llm.files import (
+    ChecksumCache,
+    ModelFile,
+    check_model_file,
+    inspect_model_file,
+)
 from skillwright.llm.prefix_cache import PrefixCache, PrefixState, prefix_key
 
 if TYPE_CHECKING:
@@ -384,7 +389,10 @@ def load_llamacpp(
     its ``prefix`` folder unless ``prefix_cache`` is false.
     """
     folder = cache or cache_dir()
-    model_file = check_model_file(entry, registry, ChecksumCache(folder / "checksums.json"))
+    checksums = ChecksumCache(folder / "checksums.json")
+    # The prefix cache keys states by the model's checksum, so only it needs one computed.
+    check = check_model_file if prefix_cache else inspect_model_file
+    model_file = check(entry, registry, checksums)
     trained = model_file.info.context_length
     if trained is not None and entry.context_length > trained:
         log.warning(
