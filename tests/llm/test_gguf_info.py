@@ -38,7 +38,10 @@ def test_file_cut_inside_the_tensor_data_is_reported_as_truncated(
 def test_file_cut_inside_the_header_names_the_byte_offset(tiny_gguf: Path, tmp_path: Path) -> None:
     cut = tmp_path / "cut.gguf"
     cut.write_bytes(tiny_gguf.read_bytes()[:200])
-    with pytest.raises(ModelFormatError, match=r"ends inside the GGUF header .* at byte \d+"):
+    with pytest.raises(
+        ModelFormatError,
+        match=r"truncated inside the GGUF header .* at byte \d+; copy the complete file",
+    ):
         read_gguf_info(cut)
 
 
@@ -46,7 +49,10 @@ def test_file_cut_inside_the_header_names_the_byte_offset(tiny_gguf: Path, tmp_p
 def test_file_that_is_not_gguf_says_so(tmp_path: Path, content: bytes) -> None:
     path = tmp_path / "model.gguf"
     path.write_bytes(content)
-    with pytest.raises(ModelFormatError, match=r"not a GGUF model file .* at byte 0"):
+    with pytest.raises(
+        ModelFormatError,
+        match=r"not a GGUF model file .* at byte 0; skillwright runs GGUF files only",
+    ):
         read_gguf_info(path)
 
 

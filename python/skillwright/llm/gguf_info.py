@@ -73,16 +73,17 @@ class _Reader:
         self.path = path
         self.size = size
 
-    def fail(self, message: str, offset: int | None = None) -> ModelFormatError:
+    def fail(self, message: str, offset: int | None = None, todo: str = "") -> ModelFormatError:
         at = f" at byte {offset}" if offset is not None else ""
-        return ModelFormatError(f"{self.path}: {message}{at}")
+        todo = todo or "copy the complete file again or get another build of the model"
+        return ModelFormatError(f"{self.path}: {message}{at}; {todo}")
 
     def read(self, count: int, what: str) -> bytes:
         offset = self.stream.tell()
         if count > self.size - offset:
             raise self.fail(
-                f"the file ends inside the GGUF header ({what} needs {count} bytes, "
-                f"{self.size - offset} left; the file is truncated)",
+                f"truncated inside the GGUF header ({what} needs {count} bytes, "
+                f"{self.size - offset} left)",
                 offset,
             )
         return self.stream.read(count)
@@ -147,9 +148,9 @@ def read_gguf_info(path: Path) -> GGUFInfo:
         magic = stream.read(4)
         if magic != _MAGIC:
             raise reader.fail(
-                f"not a GGUF model file (starts with {magic!r}, expected {_MAGIC!r}); "
-                "skillwright runs GGUF files only: get a .gguf build of the model",
+                f"not a GGUF model file (starts with {magic!r}, expected {_MAGIC!r})",
                 0,
+                "skillwright runs GGUF files only: get a .gguf build of the model",
             )
         version = reader.scalar("<I", "version")
         if version not in (2, 3):
