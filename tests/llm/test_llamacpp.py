@@ -205,3 +205,17 @@ def test_loading_without_prefix_cache_still_generates(tiny_registry: Registry, c
     assert stream.prefix_cache == "evaluated"
     assert not (cache / "prefix").exists()
     generator.close()
+
+
+def test_gguf_that_llama_cpp_cannot_load_is_a_model_error(tmp_path: Path) -> None:
+    import gguf
+
+    odd = tmp_path / "odd.gguf"
+    writer = gguf.GGUFWriter(str(odd), "no-such-architecture")
+    writer.write_header_to_file()
+    writer.write_kv_data_to_file()
+    writer.write_tensors_to_file()
+    writer.close()
+    registry = load_registry(write_models_toml(tmp_path / "models.toml", odd))
+    with pytest.raises(ModelError, match=r"model 'tiny': llama.cpp could not load .*odd\.gguf"):
+        load_generator(registry, "tiny", cache=tmp_path / "c")
