@@ -102,19 +102,24 @@ def bench_prefix_cache(
     assert how == "stored", how
     storing.close()
 
-    restoring = load_llamacpp(entry, registry, cache=cache)
-    restored, how = _ttft(restoring, _prompt(restoring, "Write the skill for: turn 90 degrees."))
-    assert how == "disk", how
-    memory, how = _ttft(restoring, _prompt(restoring, "Write the skill for: stop."))
-    assert how == "memory", how
-    restoring.close()
+    # The cores are shared: take the best of three for the short measurements.
+    restored = memory = float("inf")
+    for task in ("turn 90 degrees", "stop", "open the gripper"):
+        restoring = load_llamacpp(entry, registry, cache=cache)
+        seconds, how = _ttft(restoring, _prompt(restoring, f"Write the skill for: {task}."))
+        assert how == "disk", how
+        restored = min(restored, seconds)
+        seconds, how = _ttft(restoring, _prompt(restoring, f"Write the skill to undo: {task}."))
+        assert how == "memory", how
+        memory = min(memory, seconds)
+        restoring.close()
     size = sum(p.stat().st_size for p in (cache / "prefix").glob("*.bin"))
     print(f"model {entry.id}, prompt {tokens} tokens, saved state {size / 2**20:.1f} MB")
     return [
         ("TTFT, prefix evaluated (no cache)", uncached, "1.00"),
         ("TTFT, prefix evaluated + saved", stored, f"{stored / uncached:.2f}"),
-        ("TTFT, prefix restored from disk", restored, f"{restored / uncached:.3f}"),
-        ("TTFT, prefix still in memory", memory, f"{memory / uncached:.3f}"),
+        ("TTFT, prefix restored from disk (best of 3)", restored, f"{restored / uncached:.3f}"),
+        ("TTFT, prefix still in memory (best of 3)", memory, f"{memory / uncached:.3f}"),
     ]
 
 
