@@ -25,6 +25,7 @@ COMMANDS: dict[str, str] = {
     "check": "skillwright.validation.commands:check",
     "spec": "skillwright.spec.commands:spec",
     "discover": "skillwright.interfaces.commands:discover",
+    "models": "skillwright.llm.commands:models",
 }
 
 

@@ -14,10 +14,17 @@ from __future__ import annotations
 
 __all__ = [
     "CapabilityError",
+    "ConfigError",
+    "ContextOverflowError",
     "FileFormatError",
     "InputFileError",
     "InputFileNotFoundError",
     "InvalidArgumentError",
+    "ModelChecksumError",
+    "ModelError",
+    "ModelFileMissingError",
+    "ModelFormatError",
+    "ModelServerError",
     "SkillwrightError",
     "SpecError",
 ]
@@ -52,3 +59,31 @@ class CapabilityError(SkillwrightError, ValueError):
 
 class SpecError(SkillwrightError, ValueError):
     """A skill specification is malformed or violates the specification rules."""
+
+
+class ConfigError(SkillwrightError, ValueError):
+    """A configuration file (e.g. ``models.toml``) is malformed; the message names file and key."""
+
+
+class ModelError(SkillwrightError):
+    """A model cannot be used: unknown id, failed load or generation; the message names it."""
+
+
+class ModelFileMissingError(ModelError, FileNotFoundError):
+    """A model's file is not where ``models.toml`` says; the message says where to put it."""
+
+
+class ModelChecksumError(ModelError, ValueError):
+    """A model file's SHA-256 differs from the one in ``models.toml``."""
+
+
+class ModelFormatError(ModelError, ValueError):
+    """A model file is not a (complete) GGUF file; the message names the byte offset."""
+
+
+class ContextOverflowError(ModelError, ValueError):
+    """Prompt plus requested output do not fit the model's context; nothing is truncated."""
+
+
+class ModelServerError(ModelError, ConnectionError):
+    """A configured model server (OpenAI-compatible HTTP) failed or could not be reached."""

@@ -1,0 +1,432 @@
+"""Generation with a local GGUF model through llama-cpp-python, with a prompt prefix cache.
+
+The chat prompt is rendered with the model's chat template (from ``models.toml`` or, by
+default, the GGUF file) and tokenised in two parts: the fixed prefix and the rest. The prefix
+is evaluated once, its llama.cpp state saved (see :mod:`skillwright.llm.prefix_cache`), and
+restored for later prompts; the rest is evaluated on top of it. The fresh and the restored
+path evaluate exactly the same batches, so they give the same tokens.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import threading
+import time
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from skillwright.errors import ContextOverflowError, InvalidArgumentError, ModelError
+from skillwright.llm.base import ChatMessage, GenerationOptions, Prompt, TextStream
+from skillwright.llm.config import LlamaCppModel, Registry, cache_dir
+from skillwright.llm.files import (
+    ChecksumCache,
+    ModelFile,
+    check_model_file,
+    inspect_model_file,
+)
+from skillwright.llm.prefix_cache import PrefixCache, PrefixState, prefix_key
+
+if TYPE_CHECKING:
+    from llama_cpp import Llama
+    from llama_cpp.llama_grammar import LlamaGrammar
+
+__all__ = ["LlamaCppGenerator", "load_llamacpp", "render_chat"]
+
+log = logging.getLogger(__name__)
+
+
+def render_chat(
+    template: str,
+    messages: Sequence[ChatMessage],
+    *,
+    bos_token: str = "",
+    eos_token: str = "",
+    add_generation_prompt: bool = True,
+) -> str:
+    """Renders chat turns with a Hugging Face style Jinja2 chat template (sandboxed)."""
+    import jinja2.ext
+    from jinja2.sandbox import ImmutableSandboxedEnvironment
+
+    def raise_exception(message: str) -> None:
+        raise InvalidArgumentError(f"the chat template rejects the prompt: {message}")
+
+    environment = ImmutableSandboxedEnvironment(
+        trim_blocks=True, lstrip_blocks=True, extensions=[jinja2.ext.loopcontrols]
+    )
+    # Templates expect transformers' tojson (plain JSON, not jinja's HTML-escaped one).
+    environment.filters["tojson"] = lambda value, indent=None: json.dumps(
+        value, ensure_ascii=False, indent=indent
+    )
+    try:
+        compiled = environment.from_string(template)
+    except jinja2.TemplateSyntaxError as error:
+        raise InvalidArgumentError(f"chat template line {error.lineno}: {error.message}") from None
+    return compiled.render(
+        messages=[{"role": m.role, "content": m.content} for m in messages],
+        bos_token=bos_token,
+        eos_token=eos_token,
+        add_generation_prompt=add_generation_prompt,
+        raise_exception=raise_exception,
+    )
+
+
+class LlamaCppGenerator:
+    """A GGUF model loaded in this process; implements :class:`~skillwright.llm.base.TextGenerator`.
+
+    One generation runs at a time per model; starting a second stream while one is open raises.
+    """
+
+    def __init__(
+        self,
+        entry: LlamaCppModel,
+        model_file: ModelFile,
+        llama: Llama,
+        *,
+        prefix_cache: PrefixCache | None,
+        origin: Path,
+    ) -> None:
+        self.entry = entry
+        """The model's ``models.toml`` entry."""
+        self.model_file = model_file
+        """The checked file it was loaded from."""
+        self.llama = llama
+        """The llama-cpp-python model (for callers that need more than this contract)."""
+        self.prefix_cache = prefix_cache
+        """Where evaluated prefixes are saved, or ``None`` to evaluate them every time."""
+        self.model_id = entry.id
+        self.context_length = entry.context_length
+        self._origin = origin
+        self._busy = threading.Lock()
+        self._closed = False
+        template = entry.chat_template or model_file.info.chat_template
+        if template is None:
+            raise ModelError(
+                f"model {entry.id!r}: {model_file.path} stores no chat template; set "
+                f"`chat_template` of {entry.id!r} in your models.toml"
+            )
+        self._template = template
+        self._bos = self._special_text(llama.token_bos())
+        self._eos = self._special_text(llama.token_eos())
+
+    def _special_text(self, token: int) -> str:
+        if token < 0:
+            return ""
+        return self.llama.detokenize([token], special=True).decode("utf-8", errors="replace")
+
+    def _tokenize(self, text: str) -> list[int]:
+        tokens = self.llama.tokenize(text.encode("utf-8"), add_bos=True, special=True)
+        bos = self.llama.token_bos()
+        if len(tokens) > 1 and tokens[0] == tokens[1] == bos:
+            tokens = tokens[1:]  # the template wrote BOS and the tokenizer added one
+        return tokens
+
+    def render(self, messages: Sequence[ChatMessage], *, add_generation_prompt: bool) -> str:
+        """The prompt text the model sees for these turns."""
+        return render_chat(
+            self._template,
+            messages,
+            bos_token=self._bos,
+            eos_token=self._eos,
+            add_generation_prompt=add_generation_prompt,
+        )
+
+    def prompt_tokens(self, prompt: Prompt) -> tuple[list[int], list[int]]:
+        """The prompt's tokens split into (fixed prefix, rest); the prefix may be empty.
+
+        The whole prompt is tokenised at once, exactly as without a cache; the prefix is the
+        part of it that the fixed turns alone tokenise to (a merge across the boundary only
+        shortens it by a token).
+        """
+        self._check_open()
+        whole = self._tokenize(self.render(prompt.messages, add_generation_prompt=True))
+        if not prompt.prefix_messages:
+            return [], whole
+        head = self._tokenize(
+            self.render(prompt.messages[: prompt.prefix_messages], add_generation_prompt=False)
+        )
+        shared = 0
+        for ours, theirs in zip(head, whole, strict=False):
+            if ours != theirs:
+                break
+            shared += 1
+        if shared < len(head) - 1:
+            log.warning(
+                "model %s: the chat template renders the prefix differently inside the whole "
+                "prompt; the prefix cache is not used for this prompt",
+                self.model_id,
+            )
+            return [], whole
+        return whole[:shared], whole[shared:]
+
+    def count_tokens(self, prompt: Prompt) -> int:
+        """Tokens the rendered prompt takes."""
+        prefix, rest = self.prompt_tokens(prompt)
+        return len(prefix) + len(rest)
+
+    def stream(
+        self,
+        prompt: Prompt,
+        options: GenerationOptions | None = None,
+        cancel: threading.Event | None = None,
+    ) -> TextStream:
+        """Starts a generation; see :class:`~skillwright.llm.base.TextGenerator`."""
+        options = options or GenerationOptions()
+        max_tokens = options.max_tokens or self.entry.sampling.max_tokens
+        prefix, rest = self.prompt_tokens(prompt)
+        used = len(prefix) + len(rest)
+        if used + max_tokens > self.context_length:
+            trained = self.model_file.info.context_length
+            hint = f" (the model was trained with up to {trained})" if trained else ""
+            raise ContextOverflowError(
+                f"model {self.model_id!r}: the prompt takes {used} tokens and up to "
+                f"{max_tokens} may be generated, {used + max_tokens} in all, but the context "
+                f"holds {self.context_length}; raise `context_length` of {self.model_id!r} in "
+                f"your models.toml{hint}, lower max_tokens, or shorten the prompt "
+                f"(settings from {self._origin})"
+            )
+        grammar = _grammar(options.json_schema) if options.json_schema is not None else None
+        stream = TextStream(iter(()), prompt_tokens=used)
+        stream.chunks = self._generate(
+            stream,
+            prefix,
+            rest,
+            max_tokens=max_tokens,
+            options=options,
+            grammar=grammar,
+            cancel=cancel,
+        )
+        return stream
+
+    def _generate(
+        self,
+        stream: TextStream,
+        prefix: list[int],
+        rest: list[int],
+        *,
+        max_tokens: int,
+        options: GenerationOptions,
+        grammar: LlamaGrammar | None,
+        cancel: threading.Event | None,
+    ) -> Iterator[str]:
+        from llama_cpp import StoppingCriteriaList
+
+        if not self._busy.acquire(blocking=False):
+            raise ModelError(
+                f"model {self.model_id!r} is already generating; finish or close that stream first"
+            )
+        try:
+            self._check_open()
+            if prefix:
+                how = self._restore_prefix(prefix, cancel)
+                if how is None:
+                    stream.finish_reason = "cancelled"
+                    return
+                stream.prefix_cache = how
+            if cancel is not None and cancel.is_set():
+                stream.finish_reason = "cancelled"
+                return
+            sampling = self.entry.sampling
+            stream.completion_tokens = 0
+            prompt_length = len(prefix) + len(rest)
+
+            halted = False
+
+            def count(input_ids: Any, _logits: Any) -> bool:
+                # Called after every sampled token with the tokens before it: the only exact
+                # token count (stream chunks do not map one-to-one to tokens). It also enforces
+                # max_tokens, which llama-cpp-python overruns while a UTF-8 character is
+                # incomplete: the token after the limit is dropped, never shown.
+                nonlocal halted
+                done = len(input_ids) - prompt_length + 1
+                stream.completion_tokens = min(max_tokens, max(stream.completion_tokens or 0, done))
+                if done > max_tokens and not halted:
+                    halted = True  # the library calls once more at the end: answer False then
+                    return True
+                return False
+
+            completion: Iterator[Any] = self.llama.create_completion(
+                prompt=prefix + rest,
+                max_tokens=max_tokens,
+                temperature=sampling.temperature
+                if options.temperature is None
+                else options.temperature,
+                top_p=sampling.top_p if options.top_p is None else options.top_p,
+                top_k=sampling.top_k,
+                min_p=sampling.min_p,
+                repeat_penalty=sampling.repeat_penalty,
+                seed=sampling.seed if options.seed is None else options.seed,
+                stop=list(options.stop),
+                grammar=grammar,
+                stopping_criteria=StoppingCriteriaList([count]),
+                stream=True,
+            )  # type: ignore[assignment]
+            try:
+                for chunk in completion:
+                    choice = chunk["choices"][0]
+                    if choice["text"]:
+                        yield choice["text"]
+                    if choice.get("finish_reason"):
+                        stream.finish_reason = choice["finish_reason"]
+                    # Checked after each token: a cancel set while the caller handled the last
+                    # chunk stops generation before another token is computed.
+                    if cancel is not None and cancel.is_set():
+                        stream.finish_reason = "cancelled"
+                        return
+            finally:
+                close = getattr(completion, "close", None)
+                if close is not None:
+                    close()
+            if stream.finish_reason is None:
+                stream.finish_reason = "stop"
+        finally:
+            self._busy.release()
+
+    def _cache_context(self) -> str:
+        import llama_cpp
+
+        return (
+            f"n_ctx={self.llama.n_ctx()};n_batch={self.llama.n_batch};"
+            f"llama-cpp-python={llama_cpp.__version__}"
+        )
+
+    def _restore_prefix(self, prefix: list[int], cancel: threading.Event | None) -> Any:
+        """Puts the prefix's state into the context; returns how, or ``None`` if cancelled."""
+        llama = self.llama
+        n = len(prefix)
+        if llama.n_tokens >= n and llama.input_ids[:n].tolist() == prefix:
+            return "memory"
+        key = prefix_key(self.model_file.sha256 or "nosum", prefix, context=self._cache_context())
+        if self.prefix_cache is not None:
+            saved = self.prefix_cache.load(key, prefix)
+            if saved is not None:
+                try:
+                    self._load_state(saved)
+                except (RuntimeError, ValueError) as error:
+                    self.prefix_cache.discard(key, f"llama.cpp could not restore it ({error})")
+                else:
+                    return "disk"
+        llama.reset()  # type: ignore[no-untyped-call]
+        for start in range(0, n, llama.n_batch):
+            if cancel is not None and cancel.is_set():
+                llama.reset()  # type: ignore[no-untyped-call]
+                return None
+            llama.eval(prefix[start : start + llama.n_batch])
+        if self.prefix_cache is None:
+            return "evaluated"
+        try:
+            self.prefix_cache.store(key, PrefixState(tuple(prefix), self._state_bytes()))
+        except OSError as error:
+            log.warning("could not save the prefix cache (%s); continuing without it", error)
+            return "evaluated"
+        return "stored"
+
+    def _state_bytes(self) -> bytes:
+        # Llama.save_state() also copies the score matrix (n_batch x vocabulary floats, ~300 MB
+        # for a 150k-token vocabulary) that only log-probabilities need; take just the state.
+        import ctypes
+
+        import llama_cpp
+
+        size = llama_cpp.llama_state_get_size(self.llama.ctx)
+        buffer = (ctypes.c_uint8 * size)()
+        written = llama_cpp.llama_state_get_data(self.llama.ctx, buffer, size)
+        return bytes(memoryview(buffer)[:written])
+
+    def _load_state(self, saved: PrefixState) -> None:
+        import numpy as np
+        from llama_cpp import LlamaState
+
+        llama = self.llama
+        ids = np.zeros(len(llama.input_ids), dtype=np.intc)
+        ids[: len(saved.tokens)] = saved.tokens
+        llama.load_state(
+            LlamaState(
+                input_ids=ids,
+                scores=np.zeros((1, llama.n_vocab()), dtype=np.single),
+                n_tokens=len(saved.tokens),
+                llama_state=saved.state,
+                llama_state_size=len(saved.state),
+                seed=self.entry.sampling.seed,
+            )
+        )
+
+    def close(self) -> None:
+        """Frees the model's memory; the generator cannot be used afterwards."""
+        if not self._closed:
+            self._closed = True
+            self.llama.close()
+
+    def _check_open(self) -> None:
+        # llama.cpp would crash the process on a freed model; refuse instead.
+        if self._closed:
+            raise ModelError(f"model {self.model_id!r} was closed; load it again to use it")
+
+
+def _grammar(schema: dict[str, Any]) -> LlamaGrammar:
+    from llama_cpp.llama_grammar import LlamaGrammar
+
+    try:
+        return LlamaGrammar.from_json_schema(json.dumps(schema), verbose=False)
+    except (ValueError, TypeError, KeyError, NotImplementedError) as error:
+        raise InvalidArgumentError(
+            f"the JSON schema cannot be turned into a grammar: {error}; simplify the schema"
+        ) from None
+
+
+def load_llamacpp(
+    entry: LlamaCppModel,
+    registry: Registry,
+    *,
+    cache: Path | None = None,
+    prefix_cache: bool = True,
+) -> LlamaCppGenerator:
+    """Checks a model's file (presence, GGUF header, checksum) and loads it with llama.cpp.
+
+    ``cache`` defaults to :func:`~skillwright.llm.config.cache_dir`; saved prefix states go to
+    its ``prefix`` folder unless ``prefix_cache`` is false.
+    """
+    folder = cache or cache_dir()
+    checksums = ChecksumCache(folder / "checksums.json")
+    # The prefix cache keys states by the model's checksum, so only it needs one computed.
+    check = check_model_file if prefix_cache else inspect_model_file
+    model_file = check(entry, registry, checksums)
+    trained = model_file.info.context_length
+    if trained is not None and entry.context_length > trained:
+        log.warning(
+            "model %s: context_length %d exceeds the %d tokens it was trained with; "
+            "answers near the end of a long prompt may degrade",
+            entry.id,
+            entry.context_length,
+            trained,
+        )
+    from llama_cpp import Llama
+
+    started = time.perf_counter()
+    try:
+        llama = Llama(
+            model_path=str(model_file.path),
+            n_ctx=entry.context_length,
+            n_batch=min(entry.batch_size, entry.context_length),
+            n_threads=entry.threads,
+            # Prompt evaluation is compute-bound: use every core unless told otherwise
+            # (llama-cpp-python's default is half of them).
+            n_threads_batch=entry.threads or os.cpu_count() or 1,
+            seed=entry.sampling.seed,
+            verbose=False,
+        )
+    except (ValueError, RuntimeError, OSError) as error:
+        raise ModelError(
+            f"model {entry.id!r}: llama.cpp could not load {model_file.path} ({error}); the file "
+            "may be damaged or need a newer llama-cpp-python: copy it again or try another build"
+        ) from None
+    log.info("model %s loaded in %.2f s", entry.id, time.perf_counter() - started)
+    return LlamaCppGenerator(
+        entry,
+        model_file,
+        llama,
+        prefix_cache=PrefixCache(folder / "prefix") if prefix_cache else None,
+        origin=registry.origin,
+    )
