@@ -23,9 +23,9 @@ __all__ = ["main"]
 COMMANDS: dict[str, str] = {
     "capability": "skillwright.capability.commands:capability",
     "check": "skillwright.validation.commands:check",
-    "spec": "skillwright.spec.commands:spec",
     "discover": "skillwright.interfaces.commands:discover",
     "models": "skillwright.llm.commands:models",
+    "spec": "skillwright.spec.commands:spec",
 }
 
 

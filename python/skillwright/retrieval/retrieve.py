@@ -23,7 +23,7 @@ __all__ = ["DENSE_WEIGHT", "Embedder", "Hit", "rank_interfaces"]
 Embedder = Callable[[Sequence[str]], Sequence[Sequence[float]]]
 """Texts -> unit-length vectors (the local embedding model)."""
 
-DENSE_WEIGHT = 0.5
+DENSE_WEIGHT = 0.3
 """Share of the dense score in the mix when an embedder is given."""
 
 DUPLICATE_TYPE_FACTOR = 0.5
@@ -53,6 +53,25 @@ def _scaled(values: Sequence[float]) -> list[float]:
 def _reason(query: dict[str, float], terms: dict[str, float]) -> str:
     shared = sorted((t for t in query if t in terms), key=lambda t: -(query[t] * terms[t]))[:4]
     return f"shares {', '.join(shared)}" if shared else "semantic match only"
+
+
+def _cosines(
+    embed: Embedder, query: str, texts: Sequence[str], kinds: Sequence[str]
+) -> list[float]:
+    """Cosine of the query with every text, through the exact Rust index."""
+    import numpy as np
+
+    from skillwright.retrieval.index import VectorIndex
+
+    vectors = np.asarray(embed([query, *texts]), dtype=np.float32)
+    index = VectorIndex(vectors.shape[1])
+    ids = np.arange(len(texts), dtype=np.int64)
+    index.add(ids, vectors[1:], kind=list(kinds), source="inventory")
+    hits = index.search(vectors[0], k=len(texts))
+    cosines = [0.0] * len(texts)
+    for row, score in zip(hits.ids.tolist(), hits.scores.tolist(), strict=True):
+        cosines[row] = float(score)
+    return cosines
 
 
 def candidates(inventory: Inventory, include_infrastructure: bool = False) -> list[Interface]:
@@ -89,14 +108,8 @@ def rank_interfaces(
     lexical = _scaled(lexical_raw)
     dense: list[float] | None = None
     if embed is not None:
-        texts = [
-            query.text,
-            *(interface_text(i, d) for i, d in zip(pool, descriptions, strict=True)),
-        ]
-        vectors = embed(texts)
-        q = vectors[0]
-        cosines = [sum(a * b for a, b in zip(q, v, strict=True)) for v in vectors[1:]]
-        dense = _scaled(cosines)
+        texts = [interface_text(i, d) for i, d in zip(pool, descriptions, strict=True)]
+        dense = _scaled(_cosines(embed, query.text, texts, [i.kind for i in pool]))
     hits = []
     for index, interface in enumerate(pool):
         d = dense[index] if dense is not None else None
