@@ -22,6 +22,7 @@ from typing import Annotated, Any, Literal, TypeVar
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, ValidationError
 
 from skillwright.errors import ConfigError
+from skillwright.paths import cache_dir
 
 __all__ = [
     "ENV_MODELS_DIR",
@@ -45,8 +46,6 @@ ENV_MODELS_FILE = "SKILLWRIGHT_MODELS"
 """Environment variable naming a user ``models.toml`` (same effect as ``--models``)."""
 ENV_MODELS_DIR = "SKILLWRIGHT_MODELS_DIR"
 """Environment variable naming the folder relative model files are looked up in."""
-ENV_CACHE_DIR = "SKILLWRIGHT_CACHE_DIR"
-"""Environment variable naming skillwright's cache folder (prefix states, embeddings, sums)."""
 
 _STRICT = ConfigDict(extra="forbid", frozen=True, use_attribute_docstrings=True)
 
@@ -200,12 +199,6 @@ def _xdg(variable: str, fallback: str) -> Path:
 def user_models_file() -> Path:
     """The documented place of a user's ``models.toml`` (it may not exist)."""
     return _xdg("XDG_CONFIG_HOME", ".config") / "skillwright" / "models.toml"
-
-
-def cache_dir() -> Path:
-    """skillwright's cache folder: ``$SKILLWRIGHT_CACHE_DIR`` or ``$XDG_CACHE_HOME/skillwright``."""
-    value = os.environ.get(ENV_CACHE_DIR)
-    return Path(value) if value else _xdg("XDG_CACHE_HOME", ".cache") / "skillwright"
 
 
 def _describe_location(data: Any, loc: tuple[int | str, ...]) -> str:
