@@ -1,6 +1,7 @@
 """Typed stubs of the Rust extension ``skillwright._core`` (checked by ``make lint``)."""
 
 from os import PathLike
+from typing import final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -20,6 +21,7 @@ def sha256_file(path: str | PathLike[str]) -> str:
 def index_isa() -> str:
     """Instruction set the index's scoring loops use on this CPU (``avx2+fma`` or ``baseline``)."""
 
+@final
 class VectorIndex:
     """Exact cosine index over float32 vectors with int64 ids and kind/source tags.
 
@@ -43,7 +45,7 @@ class VectorIndex:
     @property
     def mapped(self) -> bool: ...
     def __len__(self) -> int: ...
-    def __contains__(self, id: int) -> bool: ...
+    def __contains__(self, key: int, /) -> bool: ...
     def ids(self) -> NDArray[np.int64]:
         """Ids of all rows, in storage order."""
 
