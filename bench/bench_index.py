@@ -41,20 +41,31 @@ def unit_rows(rng: np.random.Generator, n: int) -> np.ndarray:
     return out
 
 
-def median_call_us(call: Callable[[np.ndarray], Any], queries: np.ndarray) -> float:
-    call(queries[0])  # warm up caches and lazy work
-    times = []
+def median_calls_us(calls: list[Callable[[np.ndarray], Any]], queries: np.ndarray) -> list[float]:
+    """Median latency of each call over ``queries``, in microseconds.
+
+    The calls take turns on every query, so a busy machine slows them alike.
+    """
+    for call in calls:
+        call(queries[0])  # warm up caches and lazy work
+    times: list[list[float]] = [[] for _ in calls]
     for q in queries:
-        start = time.perf_counter()
-        call(q)
-        times.append(time.perf_counter() - start)
-    return statistics.median(times) * 1e6
+        for call, spent in zip(calls, times, strict=True):
+            start = time.perf_counter()
+            call(q)
+            spent.append(time.perf_counter() - start)
+    return [statistics.median(spent) * 1e6 for spent in times]
 
 
-def best_rate(call: Callable[[], Any], queries: int, repeats: int) -> float:
-    call()
-    best = min(timed(call) for _ in range(repeats))
-    return queries / best
+def best_rates(calls: list[Callable[[], Any]], queries: int, repeats: int) -> list[float]:
+    """Best queries-per-second of each call over ``repeats`` interleaved rounds."""
+    best = [float("inf")] * len(calls)
+    for call in calls:
+        call()
+    for _ in range(repeats):
+        for i, call in enumerate(calls):
+            best[i] = min(best[i], timed(call))
+    return [queries / b for b in best]
 
 
 def timed(call: Callable[[], Any]) -> float:
@@ -103,114 +114,120 @@ def ratio(a: float, b: float) -> str:
     return f"{a / b:.2f}x"
 
 
+def single_row(n: int, matrix: np.ndarray, ours: VectorIndex, flat: Any, count: int) -> str:
+    queries = np.random.default_rng(n).standard_normal((count, DIM), dtype=np.float32)
+    # The index and NumPy must agree (up to float rounding at the k-th place).
+    expected = numpy_single(matrix)(queries[0])
+    agree = len(set(expected.tolist()) ^ set(ours.search(queries[0], K).ids.tolist())) <= 2
+
+    def faiss_single(q: np.ndarray) -> Any:
+        return flat.search((q / np.linalg.norm(q))[None, :], K)
+
+    calls = [lambda q: ours.search(q, K), numpy_single(matrix)]
+    if flat is not None:
+        calls.append(faiss_single)
+    t_ours, t_numpy, t_faiss, *_ = [*median_calls_us(calls, queries), float("nan")]
+    return row(
+        f"{n:,}",
+        f"{t_ours:,.1f}",
+        f"{t_numpy:,.1f}",
+        f"{t_faiss:,.1f}",
+        ratio(t_numpy, t_ours),
+        ratio(t_faiss, t_ours),
+        "yes" if agree else "NO",
+    )
+
+
+def batch_row(n: int, matrix: np.ndarray, ours: VectorIndex, flat: Any) -> str:
+    batch = np.random.default_rng(n + 1).standard_normal((BATCH, DIM), dtype=np.float32)
+    repeats = 3 if n >= 1_000_000 else 7
+
+    def faiss_batch() -> Any:
+        return flat.search(batch / np.linalg.norm(batch, axis=1, keepdims=True), K)
+
+    calls = [lambda: ours.search_batch(batch, K), numpy_batch(matrix, batch)]
+    if flat is not None:
+        calls.append(faiss_batch)
+    r_ours, r_numpy, r_faiss, *_ = [*best_rates(calls, BATCH, repeats), float("nan")]
+    return row(
+        f"{n:,}",
+        f"{r_ours:,.0f}",
+        f"{r_numpy:,.0f}",
+        f"{r_faiss:,.0f}",
+        ratio(r_ours, r_numpy),
+        ratio(r_ours, r_faiss),
+    )
+
+
+def open_lines(ours: VectorIndex) -> list[str]:
+    queries = np.random.default_rng(7).standard_normal((2, DIM), dtype=np.float32)
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "bench.swv"
+        t_save = timed(lambda: ours.save(path))
+        opens = [timed(lambda: VectorIndex.open(path)) for _ in range(5)]
+        opened = VectorIndex.open(path)
+        t_first = timed(lambda: opened.search(queries[0], K))
+        t_next = timed(lambda: opened.search(queries[1], K))
+        again = VectorIndex.open(path)
+        t_verify = timed(again.verify)
+        size_mb = path.stat().st_size / 1e6
+    return [
+        f"saved index: {len(ours):,} vectors, {size_mb:,.0f} MB, saved in {t_save:.2f} s",
+        f"open (memory-mapped; header, layout, ids and tags checked): "
+        f"median of 5 {statistics.median(opens) * 1e3:.2f} ms",
+        f"first search after open (includes verifying the vector checksums): "
+        f"{t_first * 1e3:.1f} ms; next search {t_next * 1e3:.1f} ms",
+        f"verify() alone after a fresh open: {t_verify * 1e3:.1f} ms",
+    ]
+
+
+def run_size(n: int, faiss: Any, quick: bool, with_open: bool) -> tuple[str, str, list[str]]:
+    matrix = unit_rows(np.random.default_rng(0), n)
+    ours = VectorIndex(DIM)
+    ours.add(np.arange(n, dtype=np.int64), matrix, kind="topic", source="bench")
+    flat = None
+    if faiss:
+        flat = faiss.IndexFlatIP(DIM)
+        flat.add(matrix)
+    count = 20 if n >= 1_000_000 else 100 if n >= 100_000 else 2000
+    if quick:
+        count = max(5, count // 10)
+    return (
+        single_row(n, matrix, ours, flat, count),
+        batch_row(n, matrix, ours, flat),
+        open_lines(ours) if with_open else [],
+    )
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--sizes", default="200,10000,100000,1000000")
     parser.add_argument("--quick", action="store_true", help="fewer queries per size")
     args = parser.parse_args()
     sizes = [int(s) for s in args.sizes.split(",")]
     faiss = load_faiss()
-    rng = np.random.default_rng(0)
     print(f"vector index benchmark: dim {DIM}, k {K}, batch {BATCH}, kernel {index_isa()}")
     print("FAISS: " + (f"faiss-cpu {faiss.__version__}" if faiss else "not installed, skipped"))
-    single_rows = []
-    batch_rows = []
-    open_lines = []
+    singles, batches, opening = [], [], []
     for n in sizes:
-        matrix = unit_rows(rng, n)
-        ids = np.arange(n, dtype=np.int64)
-        ours = VectorIndex(DIM)
-        ours.add(ids, matrix, kind="topic", source="bench")
-        flat = None
-        if faiss:
-            flat = faiss.IndexFlatIP(DIM)
-            flat.add(matrix)
-        count = 20 if n >= 1_000_000 else 100 if n >= 100_000 else 2000
-        if args.quick:
-            count = max(5, count // 10)
-        queries = rng.standard_normal((count, DIM), dtype=np.float32)
-
-        # The three must agree (up to float rounding at the k-th place).
-        check = queries[0]
-        expected = numpy_single(matrix)(check)
-        got = ours.search(check, K).ids
-        agree = len(set(expected.tolist()) ^ set(got.tolist())) <= 2
-
-        t_ours = median_call_us(lambda q: ours.search(q, K), queries)
-        t_numpy = median_call_us(numpy_single(matrix), queries)
-        t_faiss = (
-            median_call_us(lambda q: flat.search((q / np.linalg.norm(q))[None, :], K), queries)
-            if flat is not None
-            else float("nan")
-        )
-        single_rows.append(
-            row(
-                f"{n:,}",
-                f"{t_ours:,.1f}",
-                f"{t_numpy:,.1f}",
-                f"{t_faiss:,.1f}",
-                ratio(t_numpy, t_ours),
-                ratio(t_faiss, t_ours),
-                "yes" if agree else "NO",
-            )
-        )
-
-        batch = rng.standard_normal((BATCH, DIM), dtype=np.float32)
-        repeats = 2 if n >= 1_000_000 else 5
-        r_ours = best_rate(lambda: ours.search_batch(batch, K), BATCH, repeats)
-        r_numpy = best_rate(numpy_batch(matrix, batch), BATCH, repeats)
-
-        def faiss_batch() -> Any:
-            q = batch / np.linalg.norm(batch, axis=1, keepdims=True)
-            return flat.search(q, K)  # type: ignore[union-attr]
-
-        r_faiss = best_rate(faiss_batch, BATCH, repeats) if flat is not None else float("nan")
-        batch_rows.append(
-            row(
-                f"{n:,}",
-                f"{r_ours:,.0f}",
-                f"{r_numpy:,.0f}",
-                f"{r_faiss:,.0f}",
-                ratio(r_ours, r_numpy),
-                ratio(r_ours, r_faiss),
-            )
-        )
-
-        if n == max(sizes):
-            with tempfile.TemporaryDirectory() as folder:
-                path = Path(folder) / "bench.swv"
-                t_save = timed(lambda: ours.save(path))
-                opens = [timed(lambda: VectorIndex.open(path)) for _ in range(5)]
-                opened = VectorIndex.open(path)
-                t_first = timed(lambda: opened.search(queries[0], K))
-                t_next = timed(lambda: opened.search(queries[1], K))
-                again = VectorIndex.open(path)
-                t_verify = timed(again.verify)
-                size_mb = path.stat().st_size / 1e6
-                open_lines = [
-                    f"saved index: {n:,} vectors, {size_mb:,.0f} MB, saved in {t_save:.2f} s",
-                    f"open (memory-mapped, header/ids/tags checked): "
-                    f"median {statistics.median(opens) * 1e3:.2f} ms",
-                    f"first search after open (verifies vector checksums): "
-                    f"{t_first * 1e3:.1f} ms; next search {t_next * 1e3:.1f} ms",
-                    f"verify() alone on a fresh open: {t_verify * 1e3:.1f} ms",
-                ]
-                del opened, again
-        del ours, flat, matrix
+        single, batch, lines = run_size(n, faiss, args.quick, n == max(sizes))
+        singles.append(single)
+        batches.append(batch)
+        opening += lines
 
     print()
     print("Single query, median latency per call in microseconds (lower is better)")
     print(row("vectors", "index", "NumPy", "FAISS flat", "vs NumPy", "vs FAISS", "same top-k"))
     print(row(*["---"] * 7))
-    print("\n".join(single_rows))
+    print("\n".join(singles))
     print()
     print(f"Batch of {BATCH} queries, queries per second (higher is better)")
     print(row("vectors", "index", "NumPy", "FAISS flat", "vs NumPy", "vs FAISS"))
     print(row(*["---"] * 6))
-    print("\n".join(batch_rows))
-    if open_lines:
+    print("\n".join(batches))
+    if opening:
         print()
-        print("\n".join(open_lines))
+        print("\n".join(opening))
 
 
 if __name__ == "__main__":
