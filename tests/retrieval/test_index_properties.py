@@ -30,11 +30,16 @@ class Case:
 
 
 @st.composite
-def cases(draw: st.DrawFn) -> Case:
-    n = draw(st.integers(0, 300))
+def cases(draw: st.DrawFn, max_n: int = 300, min_n: int = 0, cluster: bool = False) -> Case:
+    n = draw(st.integers(min_n, max_n))
     dim = draw(st.integers(1, 70))
     rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
     vectors = rng.standard_normal((n, dim)).astype(np.float32)
+    if cluster and draw(st.booleans()):
+        # Nearly parallel vectors: scores closer together than the 8-bit first pass of
+        # large searches can tell apart.
+        spread = draw(st.sampled_from([1e-1, 1e-3, 1e-5]))
+        vectors = (rng.standard_normal(dim) + spread * vectors).astype(np.float32)
     if n > 1 and draw(st.booleans()):
         # Exact duplicates tie exactly; their order must then come from the ids.
         copies = rng.integers(0, n, size=n // 3)
@@ -49,7 +54,7 @@ def cases(draw: st.DrawFn) -> Case:
         kinds=[KINDS[i] for i in rng.integers(0, 3, size=n)],
         sources=[SOURCES[i] for i in rng.integers(0, 2, size=n)],
         queries=queries,
-        k=draw(st.integers(1, n + 5)),
+        k=draw(st.integers(1, n + 5) if n < 1000 else st.integers(1, 150)),
         kind_filter=draw(st.none() | st.lists(st.sampled_from([*KINDS, "parameter"]))),
         source_filter=draw(st.none() | st.lists(st.sampled_from(SOURCES), min_size=1)),
     )
@@ -191,3 +196,21 @@ def test_after_removes_and_updates_search_still_equals_reference(
     for query in case.queries:
         hits = index.search(query, case.k, kinds=case.kind_filter, sources=case.source_filter)
         check_against_reference(after, query, hits.ids, hits.scores)
+
+
+@settings(max_examples=30, deadline=None)
+@given(cases(min_n=2048, max_n=6000, cluster=True))
+def test_large_searches_with_a_first_pass_equal_the_reference_and_the_full_scan(
+    case: Case,
+) -> None:
+    # From 2048 allowed vectors a single search first scores 8-bit copies, then rescores;
+    # a batch always scans everything in f32. Both must agree exactly.
+    index = build(case)
+    for query in case.queries:
+        hits = index.search(query, case.k, kinds=case.kind_filter, sources=case.source_filter)
+        check_against_reference(case, query, hits.ids, hits.scores)
+        full = index.search_batch(
+            query[None, :], case.k, kinds=case.kind_filter, sources=case.source_filter
+        )
+        np.testing.assert_array_equal(hits.ids, full.ids[0])
+        np.testing.assert_array_equal(hits.scores, full.scores[0])

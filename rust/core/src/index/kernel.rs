@@ -301,6 +301,12 @@ fn isa() -> Isa {
     })
 }
 
+/// Whether the AVX2 + FMA loops are in use (for other modules' own AVX2 builds).
+#[cfg(target_arch = "x86_64")]
+pub(crate) fn has_avx2() -> bool {
+    isa() == Isa::Avx2Fma
+}
+
 /// Name of the instruction set the scoring loops run with on this CPU (for benchmarks).
 pub fn isa_name() -> &'static str {
     match isa() {
