@@ -41,30 +41,38 @@ def unit_rows(rng: np.random.Generator, n: int) -> np.ndarray:
     return out
 
 
+ROUNDS = 3
+
+
 def median_calls_us(calls: list[Callable[[np.ndarray], Any]], queries: np.ndarray) -> list[float]:
     """Median latency of each call over ``queries``, in microseconds.
 
-    The calls take turns on every query, so a busy machine slows them alike.
+    Each call runs all queries in a block (the libraries' thread pools spin after work,
+    which would slow whichever call ran next if they took turns per query); the blocks
+    repeat ``ROUNDS`` times and the best median counts, so a burst of load from other
+    processes on a shared machine does not decide the result.
     """
-    for call in calls:
-        call(queries[0])  # warm up caches and lazy work
-    times: list[list[float]] = [[] for _ in calls]
-    for q in queries:
-        for call, spent in zip(calls, times, strict=True):
-            start = time.perf_counter()
-            call(q)
-            spent.append(time.perf_counter() - start)
-    return [statistics.median(spent) * 1e6 for spent in times]
+    best = [float("inf")] * len(calls)
+    for _ in range(ROUNDS):
+        for i, call in enumerate(calls):
+            call(queries[0])  # warm up caches and lazy work
+            spent = []
+            for q in queries:
+                start = time.perf_counter()
+                call(q)
+                spent.append(time.perf_counter() - start)
+            best[i] = min(best[i], statistics.median(spent))
+    return [b * 1e6 for b in best]
 
 
 def best_rates(calls: list[Callable[[], Any]], queries: int, repeats: int) -> list[float]:
-    """Best queries-per-second of each call over ``repeats`` interleaved rounds."""
+    """Best queries-per-second of each call over ``ROUNDS`` blocks of ``repeats`` runs."""
     best = [float("inf")] * len(calls)
-    for call in calls:
-        call()
-    for _ in range(repeats):
+    for _ in range(ROUNDS):
         for i, call in enumerate(calls):
-            best[i] = min(best[i], timed(call))
+            call()
+            for _ in range(repeats):
+                best[i] = min(best[i], timed(call))
     return [queries / b for b in best]
 
 
@@ -140,7 +148,7 @@ def single_row(n: int, matrix: np.ndarray, ours: VectorIndex, flat: Any, count: 
 
 def batch_row(n: int, matrix: np.ndarray, ours: VectorIndex, flat: Any) -> str:
     batch = np.random.default_rng(n + 1).standard_normal((BATCH, DIM), dtype=np.float32)
-    repeats = 3 if n >= 1_000_000 else 7
+    repeats = 2 if n >= 1_000_000 else 4
 
     def faiss_batch() -> Any:
         return flat.search(batch / np.linalg.norm(batch, axis=1, keepdims=True), K)
@@ -189,7 +197,7 @@ def run_size(n: int, faiss: Any, quick: bool, with_open: bool) -> tuple[str, str
     if faiss:
         flat = faiss.IndexFlatIP(DIM)
         flat.add(matrix)
-    count = 20 if n >= 1_000_000 else 100 if n >= 100_000 else 2000
+    count = 20 if n >= 1_000_000 else 100 if n >= 100_000 else 1000
     if quick:
         count = max(5, count // 10)
     return (
