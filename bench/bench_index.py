@@ -1,9 +1,10 @@
 """Benchmark of the vector index against NumPy and FAISS (exact inner-product search).
 
 Measures, in one run and on the same data (random unit vectors, dimension 384, k = 10):
-single-query latency including the Python call (median over many queries), batch
-throughput (queries per second for a batch of 128), and the time to open a saved index
-of a million vectors (plus its first search, which verifies the vector checksums).
+single-query latency including the Python call (median over many queries, best of three
+rounds), batch throughput (queries per second for a batch of 128), and the time to open a
+saved index of the largest size (plus its first search, which verifies the vector
+checksums and builds the 8-bit copy single searches start with).
 
 NumPy: a pre-normalised matrix, ``X @ q`` and ``argpartition``; FAISS: ``IndexFlatIP`` on
 the same normalised vectors (install with ``pip install -e '.[bench]'``; skipped when
