@@ -445,3 +445,14 @@ fn prefiltered_single_search_equals_full_scan_bit_for_bit() {
         .unwrap();
     check(&index);
 }
+
+#[test]
+fn wide_vectors_beyond_the_stack_buffer_search_correctly() {
+    // Queries wider than 1024 are normalised on the heap; 2100 rows take the first pass.
+    let index = build(2100, 1500);
+    let q = data(1500, 8);
+    let single = index.search(&q, 5, &Filter::default()).unwrap();
+    assert_close(&single, &reference(&index, &q, 5, None));
+    let full = index.search_batch(&q, 5, &Filter::default()).unwrap();
+    assert_eq!(single, Hits { queries: 1, ..full });
+}
