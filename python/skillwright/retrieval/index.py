@@ -5,7 +5,7 @@ and a stored vector; every search considers every (allowed) vector, so the resul
 exact: it equals a NumPy brute-force reference, with ties ordered by id. (Single searches
 over thousands of vectors first compare 8-bit copies, with proven error bounds, and
 rescore in float32 only the vectors those bounds cannot rule out: same result, a quarter
-of the memory traffic.)
+of the memory traffic. The 8-bit copy adds a quarter to the memory and file size.)
 Each vector has an integer id of the caller's choosing and two tags: a *kind* (``topic``,
 ``service``, ``action``, ...) and a *source* (robot, bag, document set); searches can be
 restricted to some kinds and/or sources.

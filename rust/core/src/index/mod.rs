@@ -169,7 +169,7 @@ pub struct VectorIndex {
     /// id -> row, built on first use: opening a large index should not pay for it.
     id_rows: OnceLock<Result<FxHashMap<i64, u32>, i64>>,
     /// 8-bit copy of the vectors for the first pass of large single searches, built on
-    /// first use and kept up to date by every change.
+    /// first use (or mapped from the file) and kept up to date by every change.
     quant: OnceLock<prefilter::Quantized>,
     backing: Option<Backing>,
 }
@@ -818,6 +818,9 @@ impl VectorIndex {
     /// Writes the index to `path` atomically (a temporary file, then a rename).
     pub fn save(&self, path: &Path) -> CoreResult<()> {
         let vectors = self.vectors()?;
+        let quant = self
+            .quant
+            .get_or_init(|| prefilter::Quantized::build(vectors, self.dim));
         file::save(
             path,
             &file::Parts {
@@ -828,6 +831,9 @@ impl VectorIndex {
                 sources: self.sources.as_slice(),
                 kind_names: self.kind_names.names(),
                 source_names: self.source_names.names(),
+                codes: quant.codes(),
+                steps: quant.steps(),
+                errors: quant.errors(),
             },
         )
     }
@@ -844,7 +850,12 @@ impl VectorIndex {
             kind_names: opened.kind_names,
             source_names: opened.source_names,
             id_rows: OnceLock::new(),
-            quant: OnceLock::new(),
+            quant: OnceLock::from(prefilter::Quantized::from_columns(
+                opened.dim,
+                opened.codes,
+                opened.steps,
+                opened.errors,
+            )),
             backing: Some(Backing {
                 path: path.to_path_buf(),
                 map: opened.map,

@@ -10,28 +10,30 @@
 //! few dozen, are rescored with the same f32 kernel as a full scan, so the result, ties
 //! included, is bit for bit the one a full scan returns: this is an exact search.
 //!
-//! The 8-bit copy lives in memory, built on the first search that needs it (one pass over
-//! the vectors, which the first search of an opened index makes anyway to verify them) and
-//! kept up to date by every change.
+//! The 8-bit copy (a quarter of the vectors' size) is built on the first search that needs
+//! it, saved with the index (so an opened index maps it like the vectors) and kept up to
+//! date by every change.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use rayon::prelude::*;
 
+use super::column::Column;
+
 /// Largest dimension for which the integer dot products are guaranteed not to overflow
 /// with a useful query precision; larger indexes always take the full scan.
 pub(crate) const MAX_DIM: usize = 8192;
 
-/// The 8-bit copy of the rows of an index.
-#[derive(Debug, Default)]
+/// The 8-bit copy of the rows of an index (owned, or mapped from a saved index).
+#[derive(Debug)]
 pub(crate) struct Quantized {
     dim: usize,
-    codes: Vec<i8>,
+    codes: Column<i8>,
     /// Per row: the value of one code step.
-    step: Vec<f32>,
+    step: Column<f32>,
     /// Per row: an upper bound of the Euclidean norm of `v - codes * step`.
-    error: Vec<f32>,
+    error: Column<f32>,
 }
 
 #[inline(always)]
@@ -85,43 +87,69 @@ fn quantize_row_fast(v: &[f32], codes: &mut [i8]) -> (f32, f32) {
 impl Quantized {
     pub(crate) fn build(vectors: &[f32], dim: usize) -> Self {
         let rows = vectors.len() / dim;
-        let mut q = Quantized {
-            dim,
-            codes: vec![0; rows * dim],
-            step: vec![0.0; rows],
-            error: vec![0.0; rows],
-        };
-        let per_row: Vec<(f32, f32)> = q
-            .codes
+        let mut codes = vec![0i8; rows * dim];
+        let per_row: Vec<(f32, f32)> = codes
             .par_chunks_mut(dim)
             .zip(vectors.par_chunks(dim))
             .with_min_len(256)
             .map(|(codes, v)| quantize_row_fast(v, codes))
             .collect();
-        for ((s, e), (step, error)) in q.step.iter_mut().zip(&mut q.error).zip(per_row) {
-            *s = step;
-            *e = error;
+        let (step, error) = per_row.into_iter().unzip();
+        Quantized {
+            dim,
+            codes: Column::Owned(codes),
+            step: Column::Owned(step),
+            error: Column::Owned(error),
         }
-        q
+    }
+
+    /// The copy saved with an index (see `file`).
+    pub(crate) fn from_columns(
+        dim: usize,
+        codes: Column<i8>,
+        step: Column<f32>,
+        error: Column<f32>,
+    ) -> Self {
+        Quantized {
+            dim,
+            codes,
+            step,
+            error,
+        }
+    }
+
+    pub(crate) fn codes(&self) -> &[i8] {
+        self.codes.as_slice()
+    }
+
+    pub(crate) fn steps(&self) -> &[f32] {
+        self.step.as_slice()
+    }
+
+    pub(crate) fn errors(&self) -> &[f32] {
+        self.error.as_slice()
     }
 
     pub(crate) fn push_rows(&mut self, vectors: &[f32]) {
         let dim = self.dim;
         for v in vectors.chunks_exact(dim) {
-            let start = self.codes.len();
-            self.codes.resize(start + dim, 0);
-            let (step, error) = quantize_row(v, self.codes.get_mut(start..).unwrap_or(&mut []));
-            self.step.push(step);
-            self.error.push(error);
+            let codes = self.codes.to_mut();
+            let start = codes.len();
+            codes.resize(start + dim, 0);
+            let (step, error) = quantize_row(v, codes.get_mut(start..).unwrap_or(&mut []));
+            self.step.to_mut().push(step);
+            self.error.to_mut().push(error);
         }
     }
 
     pub(crate) fn set_row(&mut self, row: usize, v: &[f32]) {
         let dim = self.dim;
-        if let Some(codes) = self.codes.get_mut(row * dim..(row + 1) * dim) {
+        if let Some(codes) = self.codes.to_mut().get_mut(row * dim..(row + 1) * dim) {
             let (step, error) = quantize_row(v, codes);
-            if let (Some(s), Some(e)) = (self.step.get_mut(row), self.error.get_mut(row)) {
+            if let Some(s) = self.step.to_mut().get_mut(row) {
                 *s = step;
+            }
+            if let Some(e) = self.error.to_mut().get_mut(row) {
                 *e = error;
             }
         }
@@ -130,16 +158,16 @@ impl Quantized {
     /// Mirrors the index's removal: the last row moves into `row`.
     pub(crate) fn swap_remove(&mut self, row: usize) {
         let dim = self.dim;
-        let Some(last) = self.step.len().checked_sub(1) else {
+        let Some(last) = self.step.as_slice().len().checked_sub(1) else {
             return;
         };
+        let codes = self.codes.to_mut();
         if row != last {
-            self.codes
-                .copy_within(last * dim..(last + 1) * dim, row * dim);
+            codes.copy_within(last * dim..(last + 1) * dim, row * dim);
         }
-        self.codes.truncate(last * dim);
-        self.step.swap_remove(row);
-        self.error.swap_remove(row);
+        codes.truncate(last * dim);
+        self.step.to_mut().swap_remove(row);
+        self.error.to_mut().swap_remove(row);
     }
 }
 
@@ -255,18 +283,24 @@ fn first_pass_impl<I: Iterator<Item = usize>, D: Fn(&[i8], &[i16]) -> i32>(
     int_dot: D,
 ) -> Part {
     let dim = quant.dim;
+    let (all_codes, steps, errors) = (quant.codes(), quant.steps(), quant.errors());
     let mut lowers: BinaryHeap<Reverse<Bound>> = BinaryHeap::with_capacity(k + 1);
     let mut threshold = f64::NEG_INFINITY;
     let mut candidates = Vec::new();
     for r in rows {
-        let codes = quant.codes.get(r * dim..(r + 1) * dim).unwrap_or(&[]);
-        let step = f64::from(quant.step.get(r).copied().unwrap_or(0.0));
-        let error = f64::from(quant.error.get(r).copied().unwrap_or(f32::INFINITY));
+        let codes = all_codes.get(r * dim..(r + 1) * dim).unwrap_or(&[]);
+        let step = f64::from(steps.get(r).copied().unwrap_or(0.0));
+        let error = f64::from(errors.get(r).copied().unwrap_or(f32::INFINITY));
         let approx = f64::from(int_dot(codes, &query.codes)) * step * query.step;
         // |q·v - approx| <= |q·(v - v̂)| + |(q - q̂)·v̂| <= ‖v - v̂‖·‖q‖ + ‖q - q̂‖·‖v̂‖,
         // with ‖q‖, ‖v‖ = 1 (to f32 rounding) and ‖v̂‖ <= 1 + ‖v - v̂‖; plus the f32 slack.
         let bound = error * (1.0 + 1e-6) + query.error * (1.0 + error) + query.slack;
-        let (low, high) = (approx - bound, approx + bound);
+        // A bound that is not a number (only a damaged file could hold one) rules nothing out.
+        let (low, high) = if bound.is_finite() && approx.is_finite() {
+            (approx - bound, approx + bound)
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        };
         if lowers.len() < k {
             lowers.push(Reverse(Bound(low)));
             if lowers.len() == k {

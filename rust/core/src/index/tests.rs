@@ -456,3 +456,38 @@ fn wide_vectors_beyond_the_stack_buffer_search_correctly() {
     let full = index.search_batch(&q, 5, &Filter::default()).unwrap();
     assert_eq!(single, Hits { queries: 1, ..full });
 }
+
+#[test]
+fn opened_index_uses_the_saved_8_bit_copy_and_keeps_it_current() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.swv");
+    let index = build(3000, 24);
+    index.save(&path).unwrap();
+    let mut opened = VectorIndex::open(&path).unwrap();
+    for seed in 0..5 {
+        let q = data(24, 300 + seed);
+        let hits = opened.search(&q, 7, &Filter::default()).unwrap();
+        assert_eq!(hits, index.search(&q, 7, &Filter::default()).unwrap());
+    }
+    let first: Vec<i64> = opened.ids().iter().take(500).copied().collect();
+    opened.remove(&first).unwrap();
+    opened
+        .add(
+            &[-1, -2],
+            &data(48, 5),
+            Tags::Same("action"),
+            Tags::Same("s"),
+        )
+        .unwrap();
+    let update_id = opened.ids()[10];
+    opened
+        .update(&[update_id], Some(&data(24, 6)), None, None)
+        .unwrap();
+    for seed in 0..5 {
+        let q = data(24, 400 + seed);
+        let single = opened.search(&q, 7, &Filter::default()).unwrap();
+        let full = opened.search_batch(&q, 7, &Filter::default()).unwrap();
+        assert_eq!(single, full);
+        assert_close(&single, &reference(&opened, &q, 7, None));
+    }
+}
