@@ -32,6 +32,7 @@ def sha256_file(path: str | PathLike[str]) -> str:
 def index_isa() -> str:
     """Instruction set the index's scoring loops use on this CPU (``avx2+fma`` or ``baseline``)."""
 
+@final
 class VectorIndex:
     """Exact cosine index over float32 vectors with int64 ids and kind/source tags.
 
@@ -55,7 +56,7 @@ class VectorIndex:
     @property
     def mapped(self) -> bool: ...
     def __len__(self) -> int: ...
-    def __contains__(self, id: int) -> bool: ...
+    def __contains__(self, key: int, /) -> bool: ...
     def ids(self) -> NDArray[np.int64]:
         """Ids of all rows, in storage order."""
 

@@ -15,8 +15,8 @@ use skillwright_core::CoreError;
 
 use crate::errors;
 
-/// Rows x dimension below which a call keeps the GIL.
-const DETACH_WORK: usize = 1 << 15;
+/// Rows x dimension below which a call keeps the GIL (a few microseconds of work).
+const DETACH_WORK: usize = 1 << 17;
 
 /// Ids and scores of a search, as NumPy arrays.
 type HitArrays<'py, I, S> = (Bound<'py, I>, Bound<'py, S>);

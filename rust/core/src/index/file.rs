@@ -15,11 +15,13 @@
 //!     40     8  length of the tag section
 //!     48    40  offsets of the id, kind, source, vector and checksum sections
 //!     88     8  xxh3-64 of the checksum section
-//!     96    24  reserved, zero
+//!     96    24  offsets of the code, step and error sections
 //!    120     8  xxh3-64 of bytes 0..120
 //!    128        tags: kinds then sources, each u32 count + (u32 length + UTF-8) per tag
 //!               ids: i64 per row; kinds: u32 code per row; sources: u32 code per row
 //!               vectors: dimension f32 per row, normalised
+//!               codes: dimension i8 per row, steps: f32 per row, errors: f32 per row
+//!               (the 8-bit copy single searches start with, see `prefilter`)
 //!               checksums: xxh3-64 of each block of the payload (bytes 128 up to the
 //!               checksum section, cut into blocks of the size above; the last is shorter)
 //! ```
@@ -30,7 +32,7 @@
 //! caught before anything is mapped as data), the checksum table, and the checksums of
 //! every block holding tags, ids or tag codes, then the tags and codes themselves. That
 //! is a few MB even for a million rows, so opening stays cheap. The vector payload
-//! (1.5 GB for a million 384-d rows) is verified on first use instead, once, in parallel,
+//! and its 8-bit copy (1.9 GB for a million 384-d rows) are verified on first use instead, once, in parallel,
 //! before the first search, `get`, save or change reads it (`VectorIndex::verify` forces
 //! it): hashing it on open would read the whole file and defeat the memory map, while a
 //! search reads every vector anyway, so corruption is still reported (with the offset of
@@ -78,6 +80,9 @@ pub(crate) struct Parts<'a> {
     pub(crate) sources: &'a [u32],
     pub(crate) kind_names: &'a [String],
     pub(crate) source_names: &'a [String],
+    pub(crate) codes: &'a [i8],
+    pub(crate) steps: &'a [f32],
+    pub(crate) errors: &'a [f32],
 }
 
 /// What `open` returns: columns borrowed from the map, and the blocks left to verify.
@@ -89,6 +94,9 @@ pub(crate) struct Opened {
     pub(crate) sources: Column<u32>,
     pub(crate) kind_names: TagTable,
     pub(crate) source_names: TagTable,
+    pub(crate) codes: Column<i8>,
+    pub(crate) steps: Column<f32>,
+    pub(crate) errors: Column<f32>,
     pub(crate) map: Arc<Mmap>,
     pub(crate) lazy_blocks: Vec<Block>,
 }
@@ -100,6 +108,9 @@ struct Layout {
     kinds: Range<usize>,
     sources: Range<usize>,
     vectors: Range<usize>,
+    codes: Range<usize>,
+    steps: Range<usize>,
+    errors: Range<usize>,
     checksums: Range<usize>,
 }
 
@@ -123,7 +134,10 @@ impl Layout {
         let kinds = section(ids.end, count.checked_mul(4)?)?;
         let sources = section(kinds.end, count.checked_mul(4)?)?;
         let vectors = section(sources.end, count.checked_mul(dim)?.checked_mul(4)?)?;
-        let payload_end = align(vectors.end)?;
+        let codes = section(vectors.end, count.checked_mul(dim)?)?;
+        let steps = section(codes.end, count.checked_mul(4)?)?;
+        let errors = section(steps.end, count.checked_mul(4)?)?;
+        let payload_end = align(errors.end)?;
         let blocks = block_count(payload_end - HEADER_LEN);
         let checksums = payload_end..payload_end.checked_add(blocks.checked_mul(8)?)?;
         Some(Layout {
@@ -132,6 +146,9 @@ impl Layout {
             kinds,
             sources,
             vectors,
+            codes,
+            steps,
+            errors,
             checksums,
         })
     }
@@ -236,6 +253,11 @@ impl LeValue for i64 {
         i64::to_le(self)
     }
 }
+impl LeValue for i8 {
+    fn to_le(self) -> Self {
+        self
+    }
+}
 impl LeValue for u32 {
     fn to_le(self) -> Self {
         u32::to_le(self)
@@ -269,6 +291,9 @@ fn header(
     put(72, &(layout.vectors.start as u64).to_le_bytes());
     put(80, &(layout.checksums.start as u64).to_le_bytes());
     put(88, &sums_hash.to_le_bytes());
+    put(96, &(layout.codes.start as u64).to_le_bytes());
+    put(104, &(layout.steps.start as u64).to_le_bytes());
+    put(112, &(layout.errors.start as u64).to_le_bytes());
     let hash = xxh3_64(h.get(..120).unwrap_or(&[]));
     if let Some(slot) = h.get_mut(120..128) {
         slot.copy_from_slice(&hash.to_le_bytes());
@@ -320,6 +345,12 @@ fn write_file(tmp: &Path, parts: &Parts<'_>, tags: &[u8], layout: &Layout) -> Co
     w.write_values(parts.sources).map_err(io)?;
     w.pad_to(layout.vectors.start).map_err(io)?;
     w.write_values(parts.vectors).map_err(io)?;
+    w.pad_to(layout.codes.start).map_err(io)?;
+    w.write_values(parts.codes).map_err(io)?;
+    w.pad_to(layout.steps.start).map_err(io)?;
+    w.write_values(parts.steps).map_err(io)?;
+    w.pad_to(layout.errors.start).map_err(io)?;
+    w.write_values(parts.errors).map_err(io)?;
     w.pad_to(layout.checksums.start).map_err(io)?;
     let (mut out, hashes) = w.finish();
     let sums: Vec<u8> = hashes.iter().flat_map(|h| h.to_le_bytes()).collect();
@@ -531,6 +562,9 @@ pub(crate) fn open(path: &Path) -> CoreResult<Opened> {
         (64, layout.sources.start),
         (72, layout.vectors.start),
         (80, layout.checksums.start),
+        (96, layout.codes.start),
+        (104, layout.steps.start),
+        (112, layout.errors.start),
     ] {
         if u64_at(head, at) != expected as u64 {
             return Err(fail(
@@ -591,6 +625,9 @@ pub(crate) fn open(path: &Path) -> CoreResult<Opened> {
         sources,
         kind_names,
         source_names,
+        codes: column::<i8>(&map, &layout.codes),
+        steps: column::<f32>(&map, &layout.steps),
+        errors: column::<f32>(&map, &layout.errors),
         map,
         lazy_blocks: later,
     })
@@ -616,6 +653,9 @@ mod tests {
             &layout.kinds,
             &layout.sources,
             &layout.vectors,
+            &layout.codes,
+            &layout.steps,
+            &layout.errors,
             &layout.checksums,
         ] {
             assert_eq!(r.start % ALIGN, 0);

@@ -1,12 +1,13 @@
 //! Scoring loops: dot products of stored rows with queries, fed into `TopK`.
 //!
-//! The loops are plain Rust written so LLVM vectorises them: 16 independent lane
-//! accumulators per dot product, a scalar tail, and a fixed-order reduction. The same
-//! source is compiled twice: for the baseline target, and with AVX2 + FMA enabled, chosen
-//! once per process after a CPU check (so a shipped build stays portable and needs no
-//! `-C target-cpu`). Every (row, query) pair is summed in the same order in the single,
-//! the four-query and the batch paths, so a batch search returns bit-identical scores to
-//! the single searches it replaces, and identical rows always tie exactly.
+//! Two builds of the loops, chosen once per process after a CPU check, so a shipped
+//! build stays portable and needs no `-C target-cpu`: plain Rust that LLVM vectorises
+//! for the baseline target (16 lane accumulators, a scalar tail, a fixed-order sum), and
+//! explicit AVX2 + FMA vectors (`avx2`). Within a build, every (row, query) pair is summed
+//! in the same order in the single-query, four-row and four-query loops, so a batch
+//! search returns bit-identical scores to the single searches it replaces, and identical
+//! rows always tie exactly (then the lower id wins, see `TopK`). Single queries score four
+//! rows per pass (one query load for four rows); batches score four queries per row.
 
 use std::sync::OnceLock;
 
@@ -24,16 +25,6 @@ impl Mac for Plain {
     #[inline(always)]
     fn mac(acc: f32, a: f32, b: f32) -> f32 {
         acc + a * b
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-struct Fused;
-#[cfg(target_arch = "x86_64")]
-impl Mac for Fused {
-    #[inline(always)]
-    fn mac(acc: f32, a: f32, b: f32) -> f32 {
-        a.mul_add(b, acc)
     }
 }
 
@@ -169,30 +160,125 @@ fn tile_impl<M: Mac, I: Iterator<Item = usize> + Clone>(
     }
 }
 
+/// The same loops with AVX2 + FMA, written with explicit 256-bit vectors: LLVM's
+/// auto-vectoriser kept narrowing the multi-row and multi-query loops to 128 bits.
+///
+/// Per (row, query) pair the order of operations is the same in every function here:
+/// two 8-lane accumulators over 16-float chunks (low and high half), a scalar fused tail,
+/// then `finish`. So one row scored alone, with three other rows, or against four
+/// queries gives the same bits.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn scan_avx2<I: Iterator<Item = usize>>(
-    vectors: &[f32],
-    dim: usize,
-    ids: &[i64],
-    rows: I,
-    query: &[f32],
-    top: &mut TopK,
-) {
-    scan_impl::<Fused, I>(vectors, dim, ids, rows, query, top);
-}
+mod avx2 {
+    use std::arch::x86_64::{__m256, _mm256_add_ps, _mm256_fmadd_ps, _mm256_setzero_ps};
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn tile_avx2<I: Iterator<Item = usize> + Clone>(
-    vectors: &[f32],
-    dim: usize,
-    ids: &[i64],
-    rows: I,
-    queries: &[&[f32]],
-    tops: &mut [TopK],
-) {
-    tile_impl::<Fused, I>(vectors, dim, ids, rows, queries, tops);
+    use super::{id_of, row, TopK, LANES};
+
+    /// A 16-float chunk as two vectors (a plain unaligned load).
+    #[inline(always)]
+    fn halves(chunk: &[f32]) -> [__m256; 2] {
+        let array: [f32; LANES] = chunk.try_into().unwrap_or([0.0; LANES]);
+        bytemuck::cast(array)
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn tail(x: &[f32], y: &[f32]) -> f32 {
+        let mut t = 0.0f32;
+        for (a, b) in x.iter().zip(y) {
+            t = a.mul_add(*b, t);
+        }
+        t
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn finish(acc: [__m256; 2], tail: f32) -> f32 {
+        let lanes: [f32; 8] = bytemuck::cast(_mm256_add_ps(acc[0], acc[1]));
+        lanes.iter().sum::<f32>() + tail
+    }
+
+    /// `one` against each of `others` (four rows against a query, or a row against four
+    /// queries); the query for one reuses its loads across the others.
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    fn dot_n<const N: usize>(one: &[f32], others: [&[f32]; N]) -> [f32; N] {
+        let mut acc = [[_mm256_setzero_ps(); 2]; N];
+        let mut chunks = others.map(|o| o.chunks_exact(LANES));
+        let ones = one.chunks_exact(LANES);
+        let one_tail = ones.remainder();
+        for y in ones {
+            let [yl, yh] = halves(y);
+            for (a, c) in acc.iter_mut().zip(chunks.iter_mut()) {
+                let [xl, xh] = halves(c.next().unwrap_or(&[]));
+                a[0] = _mm256_fmadd_ps(xl, yl, a[0]);
+                a[1] = _mm256_fmadd_ps(xh, yh, a[1]);
+            }
+        }
+        let mut out = [0.0f32; N];
+        for ((o, a), c) in out.iter_mut().zip(acc).zip(&chunks) {
+            *o = finish(a, tail(c.remainder(), one_tail));
+        }
+        out
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn scan<I: Iterator<Item = usize>>(
+        vectors: &[f32],
+        dim: usize,
+        ids: &[i64],
+        rows: I,
+        query: &[f32],
+        top: &mut TopK,
+    ) {
+        let mut group = [0usize; 4];
+        let mut filled = 0;
+        for r in rows {
+            if let Some(slot) = group.get_mut(filled) {
+                *slot = r;
+            }
+            filled += 1;
+            if filled == 4 {
+                let s = dot_n(query, group.map(|r| row(vectors, dim, r)));
+                for (score, r) in s.into_iter().zip(group) {
+                    top.push(score, id_of(ids, r));
+                }
+                filled = 0;
+            }
+        }
+        for r in group.into_iter().take(filled) {
+            let [score] = dot_n(query, [row(vectors, dim, r)]);
+            top.push(score, id_of(ids, r));
+        }
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) fn tile<I: Iterator<Item = usize> + Clone>(
+        vectors: &[f32],
+        dim: usize,
+        ids: &[i64],
+        rows: I,
+        queries: &[&[f32]],
+        tops: &mut [TopK],
+    ) {
+        let mut qs = queries.chunks_exact(4);
+        let mut ts = tops.chunks_exact_mut(4);
+        for (q, t) in (&mut qs).zip(&mut ts) {
+            let (Ok(q), [t0, t1, t2, t3]) = (<[&[f32]; 4]>::try_from(q), t) else {
+                continue;
+            };
+            for r in rows.clone() {
+                let s = dot_n(row(vectors, dim, r), q);
+                let id = id_of(ids, r);
+                t0.push(s[0], id);
+                t1.push(s[1], id);
+                t2.push(s[2], id);
+                t3.push(s[3], id);
+            }
+        }
+        for (q, t) in qs.remainder().iter().zip(ts.into_remainder()) {
+            scan(vectors, dim, ids, rows.clone(), q, t);
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -213,6 +299,12 @@ fn isa() -> Isa {
         }
         Isa::Baseline
     })
+}
+
+/// Whether the AVX2 + FMA loops are in use (for other modules' own AVX2 builds).
+#[cfg(target_arch = "x86_64")]
+pub(crate) fn has_avx2() -> bool {
+    isa() == Isa::Avx2Fma
 }
 
 /// Name of the instruction set the scoring loops run with on this CPU (for benchmarks).
@@ -237,7 +329,7 @@ pub(crate) fn scan<I: Iterator<Item = usize>>(
         #[cfg(target_arch = "x86_64")]
         #[allow(unsafe_code)]
         // SAFETY: `isa()` returns Avx2Fma only after the CPU reported AVX2 and FMA.
-        Isa::Avx2Fma => unsafe { scan_avx2(vectors, dim, ids, rows, query, top) },
+        Isa::Avx2Fma => unsafe { avx2::scan(vectors, dim, ids, rows, query, top) },
         Isa::Baseline => scan_impl::<Plain, I>(vectors, dim, ids, rows, query, top),
     }
 }
@@ -256,7 +348,7 @@ pub(crate) fn tile<I: Iterator<Item = usize> + Clone>(
         #[cfg(target_arch = "x86_64")]
         #[allow(unsafe_code)]
         // SAFETY: `isa()` returns Avx2Fma only after the CPU reported AVX2 and FMA.
-        Isa::Avx2Fma => unsafe { tile_avx2(vectors, dim, ids, rows, queries, tops) },
+        Isa::Avx2Fma => unsafe { avx2::tile(vectors, dim, ids, rows, queries, tops) },
         Isa::Baseline => tile_impl::<Plain, I>(vectors, dim, ids, rows, queries, tops),
     }
 }

@@ -1,7 +1,10 @@
 //! An exact vector index: cosine top-k over f32 vectors with ids and metadata.
 //!
 //! Vectors are normalised on insert, so a dot product is their cosine; every search
-//! scores every (allowed) row, so results are exact and equal a brute-force reference.
+//! considers every (allowed) row, so results are exact and equal a brute-force reference.
+//! Large single searches first score 8-bit copies of the rows and rescore in f32 only the
+//! rows whose error bounds leave them a chance (`prefilter`): same result, a quarter of
+//! the memory traffic.
 //! Hits are ordered by score, high first, and ties by id, low first. Rows have no order
 //! of their own: removal moves the last row into the gap.
 //!
@@ -13,6 +16,7 @@
 mod column;
 mod file;
 mod kernel;
+mod prefilter;
 mod topk;
 
 use std::collections::hash_map::Entry;
@@ -37,6 +41,9 @@ pub const MAX_TAG_LEN: usize = 255;
 /// Work (rows x dimension) from which one search is split across threads; below it the
 /// cost of waking threads outweighs the gain, and the search stays on the caller's thread.
 const PARALLEL_WORK: usize = 1 << 17;
+/// Allowed rows from which a single search takes the 8-bit first pass (`prefilter`);
+/// below it a full scan is as fast.
+const PREFILTER_ROWS: usize = 2048;
 /// Rows per tile in batch search: a tile (tens of KiB) stays in L2 while every query of a
 /// task is scored against it, so rows are read from memory once per task, not per query.
 const TILE_ROWS: usize = 64;
@@ -161,6 +168,9 @@ pub struct VectorIndex {
     source_names: TagTable,
     /// id -> row, built on first use: opening a large index should not pay for it.
     id_rows: OnceLock<Result<FxHashMap<i64, u32>, i64>>,
+    /// 8-bit copy of the vectors for the first pass of large single searches, built on
+    /// first use (or mapped from the file) and kept up to date by every change.
+    quant: OnceLock<prefilter::Quantized>,
     backing: Option<Backing>,
 }
 
@@ -231,6 +241,7 @@ impl VectorIndex {
             kind_names: TagTable::default(),
             source_names: TagTable::default(),
             id_rows: OnceLock::new(),
+            quant: OnceLock::new(),
             backing: None,
         })
     }
@@ -417,6 +428,9 @@ impl VectorIndex {
         self.ids.to_mut().extend_from_slice(ids);
         self.kinds.to_mut().extend_from_slice(&kind_codes);
         self.sources.to_mut().extend_from_slice(&source_codes);
+        if let Some(quant) = self.quant.get_mut() {
+            quant.push_rows(&normalised);
+        }
         if let Some(Ok(map)) = self.id_rows.get_mut() {
             for (i, id) in ids.iter().enumerate() {
                 map.insert(*id, (start + i) as u32);
@@ -481,6 +495,9 @@ impl VectorIndex {
                 if let Some(slot) = dst.get_mut(row * dim..(row + 1) * dim) {
                     slot.copy_from_slice(src);
                 }
+                if let Some(quant) = self.quant.get_mut() {
+                    quant.set_row(*row, src);
+                }
             }
             if let Some(kinds) = &kinds {
                 let code = self.kind_names.intern(kinds.get(i))?;
@@ -535,6 +552,9 @@ impl VectorIndex {
                 }
             }
             vectors.truncate(last * dim);
+            if let Some(quant) = self.quant.get_mut() {
+                quant.swap_remove(row);
+            }
             ids_col.truncate(last);
             self.kinds.to_mut().truncate(last);
             self.sources.to_mut().truncate(last);
@@ -641,7 +661,37 @@ impl VectorIndex {
             top
         };
         let threads = rayon::current_num_threads();
-        let top = if threads > 1 && total * dim >= PARALLEL_WORK {
+        let top = if total >= PREFILTER_ROWS
+            && dim <= prefilter::MAX_DIM
+            && k.saturating_mul(16) <= total
+        {
+            // Large index, small k: an 8-bit first pass, then exact rescoring of the rows
+            // it cannot rule out; same result as the full scan below (see `prefilter`).
+            let quant = self
+                .quant
+                .get_or_init(|| prefilter::Quantized::build(vectors, dim));
+            let query = prefilter::Query::new(q);
+            let first = |part: Range<usize>| match &allowed {
+                None => prefilter::first_pass(quant, &query, part, k),
+                Some(rows) => {
+                    let rows = rows.get(part).unwrap_or(&[]).iter().map(|r| *r as usize);
+                    prefilter::first_pass(quant, &query, rows, k)
+                }
+            };
+            // The first pass reads a quarter of the bytes, so it splits later.
+            let parts = if threads > 1 && total * dim >= 4 * PARALLEL_WORK {
+                split(total, threads * 2, 4 * PARALLEL_WORK / dim)
+                    .into_par_iter()
+                    .map(first)
+                    .collect()
+            } else {
+                vec![first(0..total)]
+            };
+            let rows = prefilter::survivors(parts, k);
+            let mut top = TopK::new(k.min(total));
+            kernel::scan(vectors, dim, ids, rows.into_iter(), q, &mut top);
+            top
+        } else if threads > 1 && total * dim >= PARALLEL_WORK {
             let parts = split(total, threads * 2, PARALLEL_WORK / dim);
             let tops: Vec<TopK> = parts.into_par_iter().map(scan_part).collect();
             let mut merged = TopK::new(k.min(total));
@@ -768,6 +818,9 @@ impl VectorIndex {
     /// Writes the index to `path` atomically (a temporary file, then a rename).
     pub fn save(&self, path: &Path) -> CoreResult<()> {
         let vectors = self.vectors()?;
+        let quant = self
+            .quant
+            .get_or_init(|| prefilter::Quantized::build(vectors, self.dim));
         file::save(
             path,
             &file::Parts {
@@ -778,6 +831,9 @@ impl VectorIndex {
                 sources: self.sources.as_slice(),
                 kind_names: self.kind_names.names(),
                 source_names: self.source_names.names(),
+                codes: quant.codes(),
+                steps: quant.steps(),
+                errors: quant.errors(),
             },
         )
     }
@@ -794,6 +850,12 @@ impl VectorIndex {
             kind_names: opened.kind_names,
             source_names: opened.source_names,
             id_rows: OnceLock::new(),
+            quant: OnceLock::from(prefilter::Quantized::from_columns(
+                opened.dim,
+                opened.codes,
+                opened.steps,
+                opened.errors,
+            )),
             backing: Some(Backing {
                 path: path.to_path_buf(),
                 map: opened.map,

@@ -358,3 +358,136 @@ fn missing_file_and_folder_are_told_apart() {
         Err(CoreError::InvalidArgument(_))
     ));
 }
+
+/// Vectors in a tight cluster, with exact duplicates: many scores within the 8-bit error,
+/// and exact ties, the hardest case for the first pass of single searches.
+fn clustered(n: usize, dim: usize, seed: u64) -> Vec<f32> {
+    let base = data(dim, seed);
+    let noise = data(n * dim, seed + 1);
+    let mut out: Vec<f32> = noise
+        .chunks(dim)
+        .flat_map(|row| base.iter().zip(row).map(|(b, e)| b + 0.01 * e))
+        .collect();
+    for r in (0..n).step_by(17) {
+        let copy: Vec<f32> = out[..dim].to_vec();
+        out[r * dim..(r + 1) * dim].copy_from_slice(&copy);
+    }
+    out
+}
+
+#[test]
+fn prefiltered_single_search_equals_full_scan_bit_for_bit() {
+    let (n, dim) = (5000, 48);
+    let mut index = VectorIndex::new(dim).unwrap();
+    let ids: Vec<i64> = (0..n as i64).map(|i| (i * 7919) % 100_003).collect();
+    let kinds: Vec<String> = (0..n)
+        .map(|i| ["topic", "action"][i % 2].to_owned())
+        .collect();
+    index
+        .add(
+            &ids,
+            &clustered(n, dim, 3),
+            Tags::PerRow(&kinds),
+            Tags::Same("s"),
+        )
+        .unwrap();
+    let topics = vec!["topic".to_owned()];
+    let check = |index: &VectorIndex| {
+        for (seed, k) in [(10, 1), (11, 10), (12, 100)] {
+            let mut q = clustered(1, dim, 3);
+            for (x, e) in q.iter_mut().zip(data(dim, seed)) {
+                *x += 0.02 * e;
+            }
+            for filter in [
+                Filter::default(),
+                Filter {
+                    kinds: Some(&topics),
+                    sources: None,
+                },
+            ] {
+                // A batch of one query always takes the full scan.
+                let single = index.search(&q, k, &filter).unwrap();
+                let full = index.search_batch(&q, k, &filter).unwrap();
+                assert_eq!(single.ids, full.ids);
+                let a: Vec<u32> = single.scores.iter().map(|s| s.to_bits()).collect();
+                let b: Vec<u32> = full.scores.iter().map(|s| s.to_bits()).collect();
+                assert_eq!(a, b);
+            }
+            // The exact duplicate of row 0 at the query's position ties and sorts by id.
+            let v0 = index.get(ids[0]).unwrap().vector;
+            let hits = index.search(&v0, 5, &Filter::default()).unwrap();
+            let mut dups: Vec<i64> = (0..n)
+                .step_by(17)
+                .map(|r| ids[r])
+                .filter(|id| index.contains(*id).unwrap())
+                .collect();
+            dups.push(ids[0]);
+            dups.sort_unstable();
+            dups.dedup();
+            assert_eq!(hits.ids, dups[..5]);
+        }
+    };
+    check(&index);
+    // The 8-bit copy follows every change.
+    let gone: Vec<i64> = ids.iter().skip(1).step_by(3).copied().collect();
+    index.remove(&gone).unwrap();
+    let moved = ids[2];
+    index
+        .update(&[moved], Some(&data(dim, 99)), None, None)
+        .unwrap();
+    index
+        .add(
+            &[1_000_000],
+            &clustered(1, dim, 3),
+            Tags::Same("topic"),
+            Tags::Same("s"),
+        )
+        .unwrap();
+    check(&index);
+}
+
+#[test]
+fn wide_vectors_beyond_the_stack_buffer_search_correctly() {
+    // Queries wider than 1024 are normalised on the heap; 2100 rows take the first pass.
+    let index = build(2100, 1500);
+    let q = data(1500, 8);
+    let single = index.search(&q, 5, &Filter::default()).unwrap();
+    assert_close(&single, &reference(&index, &q, 5, None));
+    let full = index.search_batch(&q, 5, &Filter::default()).unwrap();
+    assert_eq!(single, Hits { queries: 1, ..full });
+}
+
+#[test]
+fn opened_index_uses_the_saved_8_bit_copy_and_keeps_it_current() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.swv");
+    let index = build(3000, 24);
+    index.save(&path).unwrap();
+    let mut opened = VectorIndex::open(&path).unwrap();
+    for seed in 0..5 {
+        let q = data(24, 300 + seed);
+        let hits = opened.search(&q, 7, &Filter::default()).unwrap();
+        assert_eq!(hits, index.search(&q, 7, &Filter::default()).unwrap());
+    }
+    let first: Vec<i64> = opened.ids().iter().take(500).copied().collect();
+    opened.remove(&first).unwrap();
+    opened
+        .add(
+            &[-1, -2],
+            &data(48, 5),
+            Tags::Same("action"),
+            Tags::Same("s"),
+        )
+        .unwrap();
+    let update_id = opened.ids()[10];
+    opened
+        .update(&[update_id], Some(&data(24, 6)), None, None)
+        .unwrap();
+    for seed in 0..5 {
+        let q = data(24, 400 + seed);
+        let single = opened.search(&q, 7, &Filter::default()).unwrap();
+        let full = opened.search_batch(&q, 7, &Filter::default()).unwrap();
+        assert_eq!(single, full);
+        assert_close(&single, &reference(&opened, &q, 7, None));
+    }
+}
