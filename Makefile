@@ -44,13 +44,21 @@ test-python: setup ## Run the Python test suite
 
 test: setup test-rust test-python ## Set up, then run every test (Rust and Python)
 
-bench: setup ## Run the benchmarks in bench/ (prints timings and ratios)
+$(VENV)/.skillwright-bench: $(STAMP)
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev,bench]'
+	touch $@
+
+bench: $(VENV)/.skillwright-bench ## Run the benchmarks in bench/ (prints timings and ratios)
 	@for script in bench/bench_*.py; do echo "== $$script"; $(BIN)/python $$script || exit 1; done
 
-demo: setup ## Set up, then run skillwright on the shipped capabilities
+demo: setup ## Set up, then run skillwright on the shipped capabilities and recording
 	@for model in capabilities/*.ttl; do $(BIN)/skillwright capability show "$$model" || exit 1; echo; done
+	$(BIN)/skillwright discover capabilities/recordings/mr1
+	$(BIN)/skillwright check python/skillwright/generation/examples/skills/navigate_to_point.py \
+		--capability capabilities/navigate-to-point.ttl --spec capabilities/navigate-to-point.spec.yaml \
+		--interfaces capabilities/recordings/mr1
 
-lock: setup ## Re-pin constraints.txt from the current .venv
+lock: $(VENV)/.skillwright-bench ## Re-pin constraints.txt from the current .venv
 	$(BIN)/python -m pip freeze --exclude-editable --disable-pip-version-check | grep -v '^skillwright' > constraints.txt
 
 clean: ## Remove .venv and build products
