@@ -9,7 +9,7 @@ if TYPE_CHECKING:
     from pydantic import BaseModel
     from rich.console import Console
 
-__all__ = ["err_console", "out_console", "print_model_json"]
+__all__ = ["err_console", "human_size", "out_console", "print_model_json"]
 
 
 @cache
@@ -33,3 +33,13 @@ def print_model_json(model: BaseModel) -> None:
     import sys
 
     sys.stdout.write(model.model_dump_json(indent=2) + "\n")
+
+
+def human_size(size: int) -> str:
+    """``372409`` -> ``363.7 KiB`` (binary units)."""
+    value = float(size)
+    for unit in ("B", "KiB", "MiB", "GiB"):
+        if value < 1024:
+            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.1f} {unit}"
+        value /= 1024
+    return f"{value:.1f} TiB"

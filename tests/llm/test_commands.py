@@ -49,7 +49,7 @@ def test_list_reads_size_quantisation_and_context_from_the_header(
     assert "present (no sha256 set)" in line
     assert "F32" in line
     assert "768 / 8192" in line
-    assert "KB" in line
+    assert "KiB" in line
 
 
 def test_list_reports_a_checksum_mismatch(tiny_gguf: Path, tmp_path: Path) -> None:

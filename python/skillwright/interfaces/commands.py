@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING, cast
 
 import click
 
+from skillwright.console import human_size
+
 if TYPE_CHECKING:
     from rich.console import Console
 
@@ -73,15 +75,6 @@ def _time(ns: int | None) -> str:
     return datetime.fromtimestamp(ns / 1e9, tz=UTC).isoformat(timespec="milliseconds")
 
 
-def _size(size: int) -> str:
-    value = float(size)
-    for unit in ("B", "KiB", "MiB", "GiB"):
-        if value < 1024 or unit == "GiB":
-            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.1f} {unit}"
-        value /= 1024
-    return f"{size} B"  # pragma: no cover - the loop always returns
-
-
 def _chunks(files: list[SourceFile]) -> str:
     count = sum(f.chunk_count for f in files)
     kinds = sorted({c or "none" for f in files for c in f.compressions})
@@ -99,7 +92,10 @@ def render_summary(inventory: Inventory, console: Console) -> None:
         duration = source.duration_ns
         lines = [
             ("Recording", f"{escape(source.location)} ({source.kind})"),
-            ("Files", f"{len(source.files)}, {_size(total_size)}, read by {', '.join(methods)}"),
+            (
+                "Files",
+                f"{len(source.files)}, {human_size(total_size)}, read by {', '.join(methods)}",
+            ),
             ("Duration", f"{duration / 1e9:.3f} s" if duration is not None else "-"),
             ("Start", _time(source.start_time_ns)),
             ("End", _time(source.end_time_ns)),

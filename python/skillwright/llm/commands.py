@@ -12,19 +12,12 @@ from typing import TYPE_CHECKING
 
 import click
 
+from skillwright.console import human_size
+
 if TYPE_CHECKING:
     from skillwright.llm.config import EmbeddingModel, LlamaCppModel, OpenAIModel, Registry
 
 __all__ = ["models"]
-
-
-def _size(count: int) -> str:
-    value = float(count)
-    for unit in ("B", "KB", "MB", "GB"):
-        if value < 1024 or unit == "GB":
-            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.1f} {unit}"
-        value /= 1024
-    return f"{value:.1f} GB"  # pragma: no cover - the loop always returns
 
 
 @click.group("models")
@@ -75,7 +68,7 @@ def _llm_row(
             "ModelChecksumError": "checksum mismatch",
             "ModelFormatError": "damaged / not GGUF",
         }.get(type(error).__name__, "error")
-        size = _size(path.stat().st_size) if path.is_file() else "-"
+        size = human_size(path.stat().st_size) if path.is_file() else "-"
         return [state, size, "-", f"{entry.context_length}", str(path)], str(error)
     state = {
         "verified": "present, sha256 ok",
@@ -86,7 +79,7 @@ def _llm_row(
     trained = f" / {info.context_length}" if info.context_length else ""
     return [
         state,
-        _size(info.file_size),
+        human_size(info.file_size),
         info.quantisation,
         f"{entry.context_length}{trained}",
         str(checked.path),
@@ -111,7 +104,7 @@ def _embedding_row(entry: EmbeddingModel, registry: Registry) -> tuple[list[str]
             context = str(json.loads(config.read_text(encoding="utf-8"))["max_seq_length"])
         except (ValueError, KeyError, OSError):
             context = "?"
-    return ["present", _size(size), "float32", context, str(folder)], None
+    return ["present", human_size(size), "float32", context, str(folder)], None
 
 
 @models.command("list")
