@@ -31,12 +31,13 @@
 //! from the row count, dimension and tag length (so truncation and foreign files are
 //! caught before anything is mapped as data), the checksum table, and the checksums of
 //! every block holding tags, ids or tag codes, then the tags and codes themselves. That
-//! is a few MB even for a million rows, so opening stays cheap. The vector payload
-//! and its 8-bit copy (1.9 GB for a million 384-d rows) are verified on first use instead, once, in parallel,
-//! before the first search, `get`, save or change reads it (`VectorIndex::verify` forces
-//! it): hashing it on open would read the whole file and defeat the memory map, while a
-//! search reads every vector anyway, so corruption is still reported (with the offset of
-//! the bad block) before any result is computed from it.
+//! is a few MB even for a million rows, so opening stays cheap. The vectors and their
+//! 8-bit copy (1.9 GB for a million 384-d rows) are verified on first use instead: once,
+//! in parallel, before the first search, `get`, save or change reads them
+//! (`VectorIndex::verify` forces it). Hashing them on open would read the whole file and
+//! defeat the memory map; deferring it keeps opening cheap at the price of one pass on
+//! first use, and corruption is still reported (with the offset of the bad block) before
+//! any result is computed from it.
 //!
 //! The format does not protect against another program rewriting the file in place while
 //! it is mapped. `save` never does that: it writes a temporary file and renames it, so a
