@@ -718,7 +718,7 @@ impl VectorIndex {
     pub fn search_batch(&self, queries: &[f32], k: usize, filter: &Filter<'_>) -> CoreResult<Hits> {
         Self::check_k(k)?;
         let dim = self.dim;
-        if queries.len() % dim != 0 {
+        if !queries.len().is_multiple_of(dim) {
             return Err(CoreError::InvalidArgument(format!(
                 "the queries have {} values, not a whole number of vectors of dimension {dim}; \
                  embed them with the same model as the index",
