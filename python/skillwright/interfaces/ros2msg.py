@@ -14,6 +14,7 @@ constants, ``#`` comments (not inside quoted strings), bounded strings
 from __future__ import annotations
 
 import ast
+import itertools
 import re
 from dataclasses import dataclass, field
 
@@ -120,11 +121,12 @@ def parse_blocks(type_name: str, text: str) -> tuple[Block, dict[str, Block]]:
     return main, dependencies
 
 
-def _strip_comment(line: str) -> str:
-    """Removes a ``#`` comment, leaving ``#`` inside quoted strings alone."""
+def _unquoted_positions(text: str, targets: str) -> list[int]:
+    """Indexes of the characters in ``targets`` that stand outside quoted strings."""
+    found: list[int] = []
     quote: str | None = None
     escaped = False
-    for index, char in enumerate(line):
+    for index, char in enumerate(text):
         if escaped:
             escaped = False
         elif char == "\\":
@@ -134,9 +136,15 @@ def _strip_comment(line: str) -> str:
                 quote = None
         elif char in "'\"":
             quote = char
-        elif char == "#":
-            return line[:index]
-    return line
+        elif char in targets:
+            found.append(index)
+    return found
+
+
+def _strip_comment(line: str) -> str:
+    """Removes a ``#`` comment, leaving ``#`` inside quoted strings alone."""
+    hashes = _unquoted_positions(line, "#")
+    return line[: hashes[0]] if hashes else line
 
 
 def _parse_block(type_name: str, text: str) -> Block:
@@ -210,29 +218,10 @@ def _split_array_literal(text: str) -> list[str]:
     inner = text.strip()
     if inner.startswith("[") and inner.endswith("]"):
         inner = inner[1:-1]
-    items: list[str] = []
-    current: list[str] = []
-    quote: str | None = None
-    escaped = False
-    for char in inner:
-        if escaped:
-            escaped = False
-        elif char == "\\":
-            escaped = True
-        elif quote is not None:
-            if char == quote:
-                quote = None
-        elif char in "'\"":
-            quote = char
-        elif char == ",":
-            items.append("".join(current).strip())
-            current = []
-            continue
-        current.append(char)
-    tail = "".join(current).strip()
-    if tail or items:
-        items.append(tail)
-    return items
+    if not inner.strip():
+        return []
+    bounds = [-1, *_unquoted_positions(inner, ","), len(inner)]
+    return [inner[a + 1 : b].strip() for a, b in itertools.pairwise(bounds)]
 
 
 def _field(
