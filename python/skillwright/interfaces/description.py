@@ -14,7 +14,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from pydantic import BaseModel, ConfigDict, Field
+from skillwright.interfaces.inventory import Description
 
 __all__ = ["MODULES", "Description", "describe_by_rules"]
 
@@ -32,30 +32,6 @@ MODULES = (
     "other",
 )
 """Modules of a resource an interface can belong to."""
-
-
-class Description(BaseModel):
-    """What an interface is for, in a fixed structure."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    purpose: str = Field(description="One sentence: what the interface does.")
-    module: str = Field(description="Module of the resource, one of MODULES.")
-    tasks: list[str] = Field(default_factory=list, description="Tasks it serves.")
-    used_by: list[str] = Field(default_factory=list, description="Who publishes or calls it.")
-    key_fields: list[str] = Field(default_factory=list, description="Its most telling fields.")
-    engine: str = Field(description="What wrote it: 'rules' or a model id.")
-
-    def text(self) -> str:
-        """The description as one paragraph (what retrieval embeds)."""
-        parts = [self.purpose, f"Module: {self.module}."]
-        if self.tasks:
-            parts.append(f"Tasks: {', '.join(self.tasks)}.")
-        if self.used_by:
-            parts.append(f"Used by: {', '.join(self.used_by)}.")
-        if self.key_fields:
-            parts.append(f"Key fields: {', '.join(self.key_fields)}.")
-        return " ".join(parts)
 
 
 @dataclass(frozen=True)

@@ -115,6 +115,11 @@ class MessageDefinition(_Model):
         default=None, description="Parsed field tree; null when the encoding is not ros2msg."
     )
     constants: list[Constant] = Field(default_factory=list, description="Top-level constants.")
+    origin: Literal["source", "type_store"] = Field(
+        default="source",
+        description="`source` when the source carried the definition; `type_store` when the "
+        "source named the type only and the standard definition was filled in offline.",
+    )
     notes: list[str] = Field(
         default_factory=list, description="What could not be parsed or resolved, and why."
     )
@@ -173,14 +178,37 @@ class InfrastructureFlag(_Model):
     reason: str = Field(description="Why such interfaces are infrastructure.")
 
 
+class Description(_Model):
+    """What an interface is for, in a fixed structure."""
+
+    purpose: str = Field(description="One sentence: what the interface does.")
+    module: str = Field(
+        description="Module of the resource, e.g. `base motion` (see description.MODULES)."
+    )
+    tasks: list[str] = Field(default_factory=list, description="Tasks it serves.")
+    used_by: list[str] = Field(default_factory=list, description="Who publishes or calls it.")
+    key_fields: list[str] = Field(default_factory=list, description="Its most telling fields.")
+    engine: str = Field(description="What wrote it: `rules`, `report` or a model id.")
+
+    def text(self) -> str:
+        """The description as one paragraph (what retrieval embeds)."""
+        parts = [self.purpose, f"Module: {self.module}."]
+        if self.tasks:
+            parts.append(f"Tasks: {', '.join(self.tasks)}.")
+        if self.used_by:
+            parts.append(f"Used by: {', '.join(self.used_by)}.")
+        if self.key_fields:
+            parts.append(f"Key fields: {', '.join(self.key_fields)}.")
+        return " ".join(parts)
+
+
 class Relevance(_Model):
     """A relevance verdict for skill generation (filled by enrichment)."""
 
     relevant: bool = Field(description="Whether skills may use this interface.")
-    category: str | None = Field(
-        default=None,
-        description="e.g. `control`, `sensing`, `debugging`, `logging`, `introspection`, "
-        "`metadata`.",
+    category: Literal["control", "infrastructure"] = Field(
+        description="`control`: commands, senses or plans for the resource; `infrastructure`: "
+        "ROS 2 or tooling plumbing (parameters, logging, introspection, clock, ...)."
     )
     reason: str = Field(description="Why, in one sentence.")
     engine: str | None = Field(
@@ -211,8 +239,8 @@ class Interface(_Model):
     infrastructure: InfrastructureFlag | None = Field(
         default=None, description="Set when the interface is ROS 2 / tooling infrastructure."
     )
-    description: str | None = Field(
-        default=None, description="Natural-language description (filled by enrichment)."
+    description: Description | None = Field(
+        default=None, description="Uniform description (filled by enrichment or a report)."
     )
     relevance: Relevance | None = Field(
         default=None, description="Relevance verdict (filled by enrichment)."

@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Iterable, Sequence
 
-from skillwright.interfaces.description import Description, describe_by_rules
-from skillwright.interfaces.inventory import Interface, MessageField
+from skillwright.interfaces.description import describe_by_rules
+from skillwright.interfaces.inventory import Description, Interface, MessageField
 from skillwright.retrieval.text import tokens
 
 __all__ = ["describe", "field_paths", "interface_terms", "interface_text"]
@@ -39,8 +39,8 @@ def field_paths(interface: Interface, depth: int = 3) -> list[str]:
 
 def describe(interface: Interface) -> Description:
     """The interface's description: the one enrichment stored, else the rules engine's."""
-    if interface.description:
-        return Description(purpose=interface.description, module="other", engine="stored")
+    if interface.description is not None:
+        return interface.description
     return describe_by_rules(
         interface.kind, interface.name, interface.type_name, field_paths(interface, depth=2)
     )
