@@ -26,6 +26,7 @@ COMMANDS: dict[str, str] = {
     "discover": "skillwright.interfaces.commands:discover",
     "models": "skillwright.llm.commands:models",
     "spec": "skillwright.spec.commands:spec",
+    "tui": "skillwright.tui.commands:tui",
 }
 
 

@@ -1,0 +1,177 @@
+"""The Capability tab: the workspace's capability models and the summary of the chosen one."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+from typing import ClassVar
+
+from textual import on, work
+from textual.app import ComposeResult, SystemCommand
+from textual.binding import Binding, BindingType
+from textual.containers import Horizontal, Vertical, VerticalScroll
+from textual.widgets import Button, Input, Label, LoadingIndicator, OptionList, Static
+from textual.widgets.option_list import Option
+from textual.worker import Worker, get_current_worker
+
+from skillwright.errors import SkillwrightError
+from skillwright.tui.messages import CapabilityLoaded, JobFailed
+from skillwright.tui.screens.base import Pane
+from skillwright.tui.screens.open_path import OpenPathScreen
+
+__all__ = ["CapabilityPane"]
+
+
+class CapabilityPane(Pane):
+    """Browse capability models; the engine's summary of the selected one."""
+
+    job = "capability"
+    primary = "#capability-list"
+    BINDINGS: ClassVar[list[BindingType]] = [
+        Binding("ctrl+o", "open_file", "Open file"),
+        Binding("ctrl+r", "reload", "Reload"),
+    ]
+
+    def __init__(self) -> None:
+        super().__init__(id="capability-pane")
+        self._worker: Worker[None] | None = None
+
+    def compose(self) -> ComposeResult:
+        with Horizontal():
+            with Vertical(id="capability-side"):
+                yield Label("Capabilities in the workspace", classes="section")
+                yield OptionList(id="capability-list")
+                yield Input(
+                    placeholder="IRI, if the file has several",
+                    id="capability-iri",
+                    compact=True,
+                )
+                yield Button("Open file… ^O", id="capability-open", compact=True)
+            with VerticalScroll(id="capability-view"):
+                yield LoadingIndicator(id="capability-loading")
+                yield Static("", id="capability-status")
+                yield Static(
+                    "Choose a capability model on the left (Enter), or open any file with Ctrl+O.",
+                    id="capability-summary",
+                )
+
+    def on_mount(self) -> None:
+        self.query_one("#capability-loading").display = False
+        self.query_one("#capability-iri", Input).value = self.sw.session.capability_iri or ""
+        self.refresh_list()
+        stored = self.sw.session.capability
+        if stored:
+            self.load(self.sw.workspace.absolute(stored))
+
+    def refresh_list(self) -> None:
+        """Lists the workspace's capability models again."""
+        options = self.query_one("#capability-list", OptionList)
+        options.clear_options()
+        workspace = self.sw.workspace
+        paths = workspace.capabilities()
+        options.add_options(Option(workspace.relative(p), id=str(p)) for p in paths)
+        if not paths:
+            options.add_option(Option(f"(no .ttl files in {workspace.root})", disabled=True))
+        stored = self.sw.session.capability
+        if stored:
+            chosen = str(workspace.absolute(stored))
+            for index, path in enumerate(paths):
+                if str(path) == chosen:
+                    options.highlighted = index
+
+    # --- actions ------------------------------------------------------------------------------
+    @on(OptionList.OptionSelected, "#capability-list")
+    def _selected(self, event: OptionList.OptionSelected) -> None:
+        if event.option.id:
+            self.load(Path(event.option.id))
+
+    @on(Input.Submitted, "#capability-iri")
+    def _iri_submitted(self) -> None:
+        self.action_reload()
+
+    @on(Input.Changed, "#capability-iri")
+    def _iri_changed(self, event: Input.Changed) -> None:
+        self.sw.update_session(capability_iri=event.value.strip() or None)
+
+    @on(Button.Pressed, "#capability-open")
+    def action_open_file(self) -> None:
+        """Asks for any capability file."""
+        current = self.sw.loaded.capability_path or self.sw.workspace.root
+
+        def chosen(path: Path | None) -> None:
+            if path is not None:
+                self.load(path)
+
+        self.app.push_screen(OpenPathScreen("Open a capability model", current), chosen)
+
+    def action_reload(self) -> None:
+        """Reads the selected file again (after editing it, or with another IRI)."""
+        path = self.sw.loaded.capability_path
+        if path is None and self.sw.session.capability:
+            path = self.sw.workspace.absolute(self.sw.session.capability)
+        if path is not None:
+            self.load(path)
+
+    def load(self, path: Path) -> None:
+        """Reads ``path`` in a worker; the summary follows when it is done."""
+        self.sw.update_session(capability=self.sw.workspace.relative(path))
+        self.query_one("#capability-loading").display = True
+        self.query_one("#capability-status", Static).update(f"reading {path} …")
+        self._worker = self._read(path, self.sw.session.capability_iri)
+
+    @work(thread=True, exclusive=True, group="capability", exit_on_error=False)
+    def _read(self, path: Path, iri: str | None) -> None:
+        # rdflib and pydantic load here, in the worker, on first use.
+        from skillwright.capability.reader import load_capability
+        from skillwright.capability.render import render_capability
+
+        try:
+            load = load_capability(path, capability_iri=iri)
+        except SkillwrightError as error:
+            self.fail(str(error))
+            return
+        if not get_current_worker().is_cancelled:
+            self.post_message(CapabilityLoaded(path, load, render_capability(load)))
+
+    def cancel_job(self) -> bool:
+        if self._worker is not None and self._worker.is_running:
+            self._worker.cancel()
+            self.query_one("#capability-loading").display = False
+            self.query_one("#capability-status", Static).update("cancelled")
+            return True
+        return False
+
+    # --- results ------------------------------------------------------------------------------
+    def on_capability_loaded(self, message: CapabilityLoaded) -> None:
+        self.query_one("#capability-loading").display = False
+        status = self.query_one("#capability-status", Static)
+        status.set_class(False, "error")
+        warnings = [f"warning: {w}" for w in message.load.warnings]
+        status.update("\n".join(warnings))
+        status.set_class(bool(warnings), "warning")
+        self.query_one("#capability-summary", Static).update(message.summary)
+        self.sw.loaded.capability_path = message.path
+        self.sw.loaded.capability = message.load
+        self.sw.capability_changed()
+
+    def on_job_failed(self, message: JobFailed) -> None:
+        if message.job != self.job:
+            return
+        self.query_one("#capability-loading").display = False
+        status = self.query_one("#capability-status", Static)
+        status.set_class(False, "warning")
+        status.set_class(True, "error")
+        status.update(message.message)
+        self.query_one("#capability-summary", Static).update("")
+        self.sw.loaded.capability = None
+        self.sw.loaded.capability_path = None
+
+    def commands(self) -> Iterable[SystemCommand]:
+        yield SystemCommand(
+            "Open capability file", "Read any capability model (Ctrl+O)", self._open_from_palette
+        )
+        yield SystemCommand("Reload capability", "Read the file again", self.action_reload)
+
+    def _open_from_palette(self) -> None:
+        self.sw.action_show_tab("capability")
+        self.action_open_file()

@@ -1,0 +1,207 @@
+"""The History tab: earlier generations in the workspace, read from their records."""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any, ClassVar
+
+from textual import on, work
+from textual.app import ComposeResult, SystemCommand
+from textual.binding import Binding, BindingType
+from textual.containers import Horizontal, VerticalScroll
+from textual.widgets import Button, ContentSwitcher, DataTable, Static
+
+from skillwright.errors import SkillwrightError
+from skillwright.tui.messages import HistoryLoaded
+from skillwright.tui.screens.base import Pane
+from skillwright.tui.widgets.code_view import CodeView
+
+__all__ = ["HistoryPane", "diff_results"]
+
+
+def _skill_text(folder: Path, record: Any) -> tuple[str, str]:
+    """(file name, text) of the skill in a result folder."""
+    names = [f for f in getattr(record, "files", []) if str(f).endswith(".py")] or ["skill.py"]
+    path = folder / Path(str(names[0])).name
+    try:
+        return path.name, path.read_text(encoding="utf-8")
+    except OSError as error:
+        return path.name, f"# {path}: cannot be read ({error.strerror or error})\n"
+
+
+def summary_lines(folder: Path, record: Any) -> list[str]:
+    """What a record says, in a few lines: when, how, with what, and the verdict."""
+    model = record.model.id if record.model is not None else "none (skeleton)"
+    retrieval = record.retrieval
+    hits = ", ".join(h.name for h in retrieval.hits) or "none"
+    lines = [
+        f"{folder.name}: {record.mode}, model {model}, created {record.created}",
+        f"capability {record.inputs.capability.path}  spec {record.inputs.spec.path}",
+        f"interfaces {record.inputs.interfaces.location}  k={retrieval.k}: {hits}",
+    ]
+    if retrieval.pinned or retrieval.dropped:
+        lines.append(
+            f"pinned: {', '.join(retrieval.pinned) or '-'}  dropped: {', '.join(retrieval.dropped) or '-'}"
+        )
+    findings = record.checks.findings
+    verdict = "passed" if record.checks.passed else "FAILED"
+    lines.append(f"checks {verdict} ({len(findings)} findings)")
+    return lines
+
+
+def diff_results(old: tuple[Path, Any], new: tuple[Path, Any]) -> str:
+    """A unified diff of two results: their summaries, then their skill code."""
+    (old_dir, old_record), (new_dir, new_record) = old, new
+    old_name, old_text = _skill_text(old_dir, old_record)
+    new_name, new_text = _skill_text(new_dir, new_record)
+    parts = list(
+        difflib.unified_diff(
+            [line + "\n" for line in summary_lines(old_dir, old_record)],
+            [line + "\n" for line in summary_lines(new_dir, new_record)],
+            f"{old_dir.name}/record.json",
+            f"{new_dir.name}/record.json",
+            n=0,
+        )
+    )
+    parts += difflib.unified_diff(
+        old_text.splitlines(keepends=True),
+        new_text.splitlines(keepends=True),
+        f"{old_dir.name}/{old_name}",
+        f"{new_dir.name}/{new_name}",
+    )
+    return "".join(parts) or "The two results are identical.\n"
+
+
+class HistoryPane(Pane):
+    """Earlier results, newest first; Enter opens one, ``m`` marks, ``d`` diffs."""
+
+    job = "history"
+    primary = "#history-table"
+    BINDINGS: ClassVar[list[BindingType]] = [
+        Binding("m", "mark", "Mark"),
+        Binding("d", "diff", "Diff with mark"),
+        Binding("ctrl+r", "reload", "Reload"),
+    ]
+
+    def __init__(self) -> None:
+        super().__init__(id="history-pane")
+        self.entries: list[tuple[Path, Any]] = []
+        self.marked: Path | None = None
+
+    def compose(self) -> ComposeResult:
+        with Horizontal(id="history-bar", classes="bar"):
+            yield Button("Reload ^R", id="history-reload", compact=True)
+            yield Button("Mark m", id="history-mark", compact=True)
+            yield Button("Diff d", id="history-diff-button", compact=True)
+        yield Static("", id="history-status")
+        yield DataTable(id="history-table", cursor_type="row", zebra_stripes=True)
+        yield Static("", id="history-summary")
+        with ContentSwitcher(initial="history-code", id="history-view"):
+            yield CodeView(id="history-code")
+            with VerticalScroll(id="history-diff"):
+                yield Static("", id="history-diff-text")
+
+    def on_mount(self) -> None:
+        self.query_one("#history-table", DataTable).add_columns(
+            "", "result", "mode", "model", "checks", "pins"
+        )
+        self.reload()
+
+    @on(Button.Pressed, "#history-reload")
+    def action_reload(self) -> None:
+        """Reads the workspace's records again."""
+        self.reload()
+
+    def reload(self) -> None:
+        """Lists ``generated/`` (in a worker: records are pydantic documents)."""
+        self._read(self.sw.workspace.results())
+
+    @work(thread=True, exclusive=True, group="history", exit_on_error=False)
+    def _read(self, folders: list[Path]) -> None:
+        if not folders:
+            self.post_message(HistoryLoaded([], []))
+            return
+        from skillwright.pipeline.record import GenerationRecord
+
+        entries, problems = [], []
+        for folder in folders:
+            try:
+                entries.append((folder, GenerationRecord.load(folder / "record.json")))
+            except SkillwrightError as error:
+                problems.append(str(error))
+        self.post_message(HistoryLoaded(entries, problems))
+
+    def on_history_loaded(self, message: HistoryLoaded) -> None:
+        self.entries = message.entries
+        table = self.query_one("#history-table", DataTable)
+        table.clear()
+        for folder, record in self.entries:
+            model = record.model.id if record.model is not None else "-"
+            pins = len(record.retrieval.pinned) + len(record.retrieval.dropped)
+            table.add_row(
+                "*" if folder == self.marked else "",
+                folder.name,
+                record.mode,
+                model,
+                "passed" if record.checks.passed else "FAILED",
+                str(pins) if pins else "",
+            )
+        status = f"{len(self.entries)} results in {self.sw.workspace.relative(self.sw.workspace.generated_dir)}"
+        if not self.entries:
+            status = "No results yet: generate one (Ctrl+G)."
+        for problem in message.problems:
+            status += f"\n✗ {problem}"
+        self.query_one("#history-status", Static).update(status)
+        self._open_highlighted()
+
+    def highlighted(self) -> tuple[Path, Any] | None:
+        """The result under the cursor."""
+        table = self.query_one("#history-table", DataTable)
+        if not self.entries or not 0 <= table.cursor_row < len(self.entries):
+            return None
+        return self.entries[table.cursor_row]
+
+    @on(DataTable.RowHighlighted, "#history-table")
+    @on(DataTable.RowSelected, "#history-table")
+    def _open_highlighted(self) -> None:
+        entry = self.highlighted()
+        if entry is None:
+            self.query_one("#history-summary", Static).update("")
+            return
+        folder, record = entry
+        self.query_one("#history-summary", Static).update("\n".join(summary_lines(folder, record)))
+        self.query_one(CodeView).show(_skill_text(folder, record)[1])
+        self.query_one("#history-view", ContentSwitcher).current = "history-code"
+
+    @on(Button.Pressed, "#history-mark")
+    def action_mark(self) -> None:
+        """Marks the highlighted result as the old side of a diff."""
+        entry = self.highlighted()
+        if entry is None:
+            return
+        self.marked = None if self.marked == entry[0] else entry[0]
+        table = self.query_one("#history-table", DataTable)
+        for row, (folder, _record) in enumerate(self.entries):
+            table.update_cell_at((row, 0), "*" if folder == self.marked else "")
+
+    @on(Button.Pressed, "#history-diff-button")
+    def action_diff(self) -> None:
+        """Shows the difference between the marked result and the highlighted one."""
+        from rich.syntax import Syntax
+
+        entry = self.highlighted()
+        marked = next((e for e in self.entries if e[0] == self.marked), None)
+        if entry is None or marked is None:
+            self.notify("mark a result with m, then highlight another and press d", title="History")
+            return
+        text = diff_results(marked, entry)
+        self.query_one("#history-diff-text", Static).update(
+            Syntax(text, "diff", theme="ansi_dark", word_wrap=False)
+        )
+        self.query_one("#history-view", ContentSwitcher).current = "history-diff"
+
+    def commands(self) -> Iterable[SystemCommand]:
+        yield SystemCommand("Reload history", "Read generated/ again", self.reload)
+        yield SystemCommand("Diff results", "Marked result against the highlighted one", self.action_diff)

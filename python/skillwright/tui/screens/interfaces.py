@@ -1,0 +1,346 @@
+"""The Interfaces tab: load an interface source, browse and search it, describe it."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+from typing import TYPE_CHECKING, ClassVar
+
+from textual import on, work
+from textual.app import ComposeResult, SystemCommand
+from textual.binding import Binding, BindingType
+from textual.containers import Horizontal, VerticalScroll
+from textual.widgets import Button, Checkbox, DataTable, Input, ProgressBar, Select, Static
+from textual.worker import Worker, get_current_worker
+
+from skillwright.errors import SkillwrightError
+from skillwright.tui.messages import EnrichProgress, InventoryEnriched, InventoryLoaded, JobFailed
+from skillwright.tui.screens.base import Pane
+from skillwright.tui.screens.open_path import OpenPathScreen
+from skillwright.tui.widgets.interface_detail import mark_of, relevance_of, render_interface
+
+if TYPE_CHECKING:
+    from skillwright.interfaces.inventory import Interface, Inventory
+
+__all__ = ["InterfacesPane", "is_infrastructure", "matches"]
+
+_PROGRESS_STEPS = 50  # progress messages per enrichment run, whatever the inventory's size
+
+
+def is_infrastructure(interface: Interface) -> bool:
+    """True when the engine flagged the interface as ROS 2 or tooling plumbing."""
+    if interface.relevance is not None:
+        return interface.relevance.category == "infrastructure"
+    return interface.infrastructure is not None
+
+
+def matches(interface: Interface, query: str) -> bool:
+    """True when every word of ``query`` occurs in the name, kind, type or description."""
+    haystack = " ".join(
+        [
+            interface.name,
+            interface.kind,
+            interface.type_name,
+            interface.description.text() if interface.description else "",
+        ]
+    ).lower()
+    return all(word in haystack for word in query.lower().split())
+
+
+def inventory_target(workspace_root: Path, source: Path) -> Path:
+    """Where an enriched inventory of ``source`` is saved: ``<workspace>/<name>.inventory.json``."""
+    name = source.name
+    for suffix in (".inventory.json", ".json", ".mcap"):
+        if name.lower().endswith(suffix):
+            name = name[: -len(suffix)]
+            break
+    return workspace_root / f"{name or 'interfaces'}.inventory.json"
+
+
+class InterfacesPane(Pane):
+    """A table of the inventory's interfaces with a detail pane; pins and drops."""
+
+    job = "interfaces"
+    primary = "#interfaces-table"
+    BINDINGS: ClassVar[list[BindingType]] = [
+        Binding("ctrl+o", "open_source", "Open source"),
+        Binding("ctrl+e", "enrich", "Describe"),
+        Binding("slash", "filter", "Filter"),
+        Binding("p", "pin", "Pin"),
+        Binding("x", "drop", "Drop"),
+    ]
+
+    def __init__(self) -> None:
+        super().__init__(id="interfaces-pane")
+        self._load_worker: Worker[None] | None = None
+        self._enrich_worker: Worker[None] | None = None
+        self.shown: list[Interface] = []
+        """The interfaces in the table, in table order."""
+
+    def compose(self) -> ComposeResult:
+        with Horizontal(id="interfaces-bar", classes="bar"):
+            yield Select[str]([], prompt="interface source", id="interfaces-source", compact=True)
+            yield Button("Open… ^O", id="interfaces-open", compact=True)
+            yield Button("Describe ^E", id="interfaces-enrich", compact=True)
+            yield Checkbox("infrastructure", id="interfaces-infra", compact=True)
+        yield Input(
+            placeholder="/ filter: words in name, type or description",
+            id="interfaces-filter",
+            compact=True,
+        )
+        yield Static("No interfaces loaded: choose a source above.", id="interfaces-status")
+        yield ProgressBar(id="interfaces-progress", show_eta=False)
+        yield DataTable(id="interfaces-table", cursor_type="row", zebra_stripes=True)
+        with VerticalScroll(id="interfaces-detail"):
+            yield Static("", id="interfaces-detail-text")
+
+    def on_mount(self) -> None:
+        self.query_one("#interfaces-progress").display = False
+        table = self.query_one("#interfaces-table", DataTable)
+        table.add_columns("mark", "kind", "name", "type", "relevance", "description")
+        self.query_one("#interfaces-infra", Checkbox).value = self.sw.session.show_infrastructure
+        self.refresh_sources()
+        stored = self.sw.session.interfaces
+        if stored:
+            self.load(self.sw.workspace.absolute(stored))
+
+    def refresh_sources(self) -> None:
+        """Lists the workspace's interface sources in the selector."""
+        workspace = self.sw.workspace
+        select = self.query_one("#interfaces-source", Select)
+        paths = workspace.interface_sources()
+        current = self.sw.loaded.inventory_source
+        if current is not None and current not in paths:
+            paths.append(current)
+        with self.prevent(Select.Changed):
+            select.set_options((workspace.relative(p), str(p)) for p in paths)
+            if current is not None:
+                select.value = str(current)
+
+    # --- loading ------------------------------------------------------------------------------
+    @on(Select.Changed, "#interfaces-source")
+    def _source_chosen(self, event: Select.Changed) -> None:
+        if isinstance(event.value, str):
+            self.load(Path(event.value))
+
+    @on(Button.Pressed, "#interfaces-open")
+    def action_open_source(self) -> None:
+        """Asks for an inventory, an .mcap file, a rosbag2 folder or a report."""
+
+        def chosen(path: Path | None) -> None:
+            if path is not None:
+                self.load(path)
+
+        self.app.push_screen(
+            OpenPathScreen(
+                "Open an interface source (inventory .json, .mcap, rosbag2 folder)",
+                self.sw.workspace.root,
+            ),
+            chosen,
+        )
+
+    def load(self, source: Path) -> None:
+        """Reads ``source`` in a worker."""
+        self.query_one("#interfaces-status", Static).update(f"reading {source} …")
+        self._load_worker = self._read(source)
+
+    @work(thread=True, exclusive=True, group="interfaces", exit_on_error=False)
+    def _read(self, source: Path) -> None:
+        from skillwright.interfaces.load import load_inventory
+
+        try:
+            inventory = load_inventory(source)
+        except SkillwrightError as error:
+            self.fail(str(error))
+            return
+        if not get_current_worker().is_cancelled:
+            self.post_message(InventoryLoaded(source, inventory))
+
+    def on_inventory_loaded(self, message: InventoryLoaded) -> None:
+        self.sw.update_session(interfaces=self.sw.workspace.relative(message.source))
+        self.sw.loaded.inventory_source = message.source
+        self.sw.loaded.inventory = message.inventory
+        self.refresh_sources()
+        self.show_table()
+        self.sw.inventory_changed()
+
+    # --- table ----------------------------------------------------------------------------------
+    def show_table(self) -> None:
+        """Fills the table with the interfaces that pass the filter."""
+        inventory = self.sw.loaded.inventory
+        table = self.query_one("#interfaces-table", DataTable)
+        table.clear()
+        self.shown = []
+        if inventory is None:
+            return
+        query = self.query_one("#interfaces-filter", Input).value
+        show_infra = self.sw.session.show_infrastructure
+        hidden = 0
+        for interface in inventory.interfaces:
+            if not show_infra and is_infrastructure(interface):
+                hidden += 1
+                continue
+            if not matches(interface, query):
+                continue
+            self.shown.append(interface)
+            table.add_row(*self._cells(interface), key=f"{interface.kind} {interface.name}")
+        source = self.sw.loaded.inventory_source
+        where = self.sw.workspace.relative(source) if source else "?"
+        counts = f"{len(self.shown)} of {len(inventory.interfaces)} interfaces shown"
+        if hidden:
+            counts += f", {hidden} infrastructure hidden"
+        status = self.query_one("#interfaces-status", Static)
+        status.set_class(False, "error")
+        status.update(f"{inventory.resource.name} from {where}: {counts}")
+        self._show_detail()
+
+    def _cells(self, interface: Interface) -> tuple[str, ...]:
+        session = self.sw.session
+        return (
+            mark_of(interface.name, session.pinned, session.dropped),
+            interface.kind,
+            interface.name,
+            interface.type_name,
+            relevance_of(interface),
+            interface.description.purpose if interface.description else "",
+        )
+
+    def show_marks(self) -> None:
+        """Redraws the mark column after pins or drops changed."""
+        table = self.query_one("#interfaces-table", DataTable)
+        session = self.sw.session
+        for row, interface in enumerate(self.shown):
+            table.update_cell_at((row, 0), mark_of(interface.name, session.pinned, session.dropped))
+
+    @on(Input.Changed, "#interfaces-filter")
+    def _filter_changed(self) -> None:
+        self.show_table()
+
+    @on(Checkbox.Changed, "#interfaces-infra")
+    def _infra_toggled(self, event: Checkbox.Changed) -> None:
+        self.sw.update_session(show_infrastructure=event.value)
+        self.show_table()
+
+    def action_filter(self) -> None:
+        """Puts the cursor in the filter field."""
+        self.query_one("#interfaces-filter", Input).focus()
+
+    @on(DataTable.RowHighlighted, "#interfaces-table")
+    def _highlighted(self) -> None:
+        self._show_detail()
+
+    def highlighted(self) -> Interface | None:
+        """The interface under the table's cursor."""
+        table = self.query_one("#interfaces-table", DataTable)
+        if not self.shown or table.cursor_row < 0 or table.cursor_row >= len(self.shown):
+            return None
+        return self.shown[table.cursor_row]
+
+    def _show_detail(self) -> None:
+        interface = self.highlighted()
+        text = self.query_one("#interfaces-detail-text", Static)
+        text.update(render_interface(interface) if interface is not None else "")
+
+    def action_pin(self) -> None:
+        """Forces the highlighted interface into generation (again: undoes it)."""
+        interface = self.highlighted()
+        if interface is not None:
+            self.sw.toggle_mark(interface.name, "pinned")
+
+    def action_drop(self) -> None:
+        """Keeps the highlighted interface out of generation (again: undoes it)."""
+        interface = self.highlighted()
+        if interface is not None:
+            self.sw.toggle_mark(interface.name, "dropped")
+
+    # --- enrichment -----------------------------------------------------------------------------
+    @on(Button.Pressed, "#interfaces-enrich")
+    def action_enrich(self) -> None:
+        """Describes every interface that has no description yet; saves the inventory."""
+        inventory, source = self.sw.loaded.inventory, self.sw.loaded.inventory_source
+        if inventory is None or source is None:
+            self.fail("load an interface source first (Ctrl+O)")
+            return
+        if self._enrich_worker is not None and self._enrich_worker.is_running:
+            return
+        progress = self.query_one("#interfaces-progress", ProgressBar)
+        progress.update(total=len(inventory.interfaces), progress=0)
+        progress.display = True
+        target = inventory_target(self.sw.workspace.root, source)
+        self._enrich_worker = self._enrich(inventory, target)
+
+    @work(thread=True, exclusive=True, group="enrich", exit_on_error=False)
+    def _enrich(self, inventory: Inventory, target: Path) -> None:
+        # The rules engine describes without a model; it is what enrichment falls back to.
+        from skillwright.fileio import write_atomic
+        from skillwright.interfaces.description import describe_by_rules
+        from skillwright.retrieval.documents import field_paths
+
+        worker = get_current_worker()
+        total = len(inventory.interfaces)
+        step = max(1, total // _PROGRESS_STEPS)
+        described: list[Interface] = []
+        for index, interface in enumerate(inventory.interfaces, start=1):
+            if worker.is_cancelled:
+                self.fail("enrichment cancelled; the inventory is unchanged", cancelled=True)
+                return
+            if interface.description is None:
+                description = describe_by_rules(
+                    interface.kind, interface.name, interface.type_name, field_paths(interface, 2)
+                )
+                interface = interface.model_copy(update={"description": description})
+            described.append(interface)
+            if index % step == 0 or index == total:
+                self.post_message(EnrichProgress(index, total, interface.name))
+        enriched = inventory.model_copy(update={"interfaces": described})
+        try:
+            write_atomic(target, enriched.model_dump_json(indent=2) + "\n")
+        except SkillwrightError as error:
+            self.fail(str(error))
+            return
+        self.post_message(InventoryEnriched(enriched, target))
+
+    def on_enrich_progress(self, message: EnrichProgress) -> None:
+        self.query_one("#interfaces-progress", ProgressBar).update(
+            total=message.total, progress=message.done
+        )
+
+    def on_inventory_enriched(self, message: InventoryEnriched) -> None:
+        self.query_one("#interfaces-progress").display = False
+        self.sw.loaded.inventory = message.inventory
+        self.sw.loaded.inventory_source = message.saved_to
+        self.sw.update_session(interfaces=self.sw.workspace.relative(message.saved_to))
+        self.refresh_sources()
+        self.show_table()
+        self.notify(f"described; saved as {message.saved_to}", title="Interfaces")
+        self.sw.inventory_changed()
+
+    def on_job_failed(self, message: JobFailed) -> None:
+        if message.job != self.job:
+            return
+        self.query_one("#interfaces-progress").display = False
+        status = self.query_one("#interfaces-status", Static)
+        status.update(f"✗ {message.message}")
+        status.set_class(not message.cancelled, "error")
+
+    def cancel_job(self) -> bool:
+        for worker in (self._enrich_worker, self._load_worker):
+            if worker is not None and worker.is_running:
+                worker.cancel()
+                self.query_one("#interfaces-progress").display = False
+                return True
+        return False
+
+    def commands(self) -> Iterable[SystemCommand]:
+        yield SystemCommand(
+            "Open interface source", "Inventory, .mcap or rosbag2 folder (Ctrl+O)",
+            self._open_from_palette,
+        )
+        yield SystemCommand(
+            "Describe interfaces", "Enrich the inventory with descriptions (Ctrl+E)",
+            self.action_enrich,
+        )
+
+    def _open_from_palette(self) -> None:
+        self.sw.action_show_tab("interfaces")
+        self.action_open_source()

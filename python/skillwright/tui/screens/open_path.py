@@ -1,0 +1,90 @@
+"""A dialog that asks for a file or folder: type a path or pick it in a folder tree."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import ClassVar
+
+from textual import on
+from textual.app import ComposeResult
+from textual.binding import Binding, BindingType
+from textual.containers import Horizontal, Vertical
+from textual.screen import ModalScreen
+from textual.widgets import Button, DirectoryTree, Input, Label, Static
+
+__all__ = ["OpenPathScreen"]
+
+
+class OpenPathScreen(ModalScreen[Path | None]):
+    """Returns the chosen path, or None when cancelled.
+
+    ``must_exist`` refuses paths that do not exist (opening); without it any path in an
+    existing folder is accepted (saving).
+    """
+
+    BINDINGS: ClassVar[list[BindingType]] = [
+        Binding("escape", "cancel", "Cancel"),
+        Binding("ctrl+u", "up", "Parent folder"),
+    ]
+
+    def __init__(self, title: str, start: Path, *, value: str = "", must_exist: bool = True) -> None:
+        super().__init__()
+        self.title_text = title
+        self.start = start if start.is_dir() else start.parent
+        self.value = value
+        self.must_exist = must_exist
+
+    def compose(self) -> ComposeResult:
+        with Vertical(id="open-dialog"):
+            yield Label(self.title_text, id="open-title")
+            yield Input(value=self.value, placeholder="path (Enter to confirm)", id="open-path")
+            yield Static("", id="open-error")
+            yield DirectoryTree(self.start, id="open-tree")
+            with Horizontal(id="open-buttons"):
+                yield Button("OK", variant="primary", id="open-ok", compact=True)
+                yield Button("Parent folder ^U", id="open-up", compact=True)
+                yield Button("Cancel Esc", id="open-cancel", compact=True)
+
+    def on_mount(self) -> None:
+        self.query_one("#open-path", Input).focus()
+
+    def action_cancel(self) -> None:
+        """Closes the dialog without a path."""
+        self.dismiss(None)
+
+    def action_up(self) -> None:
+        """Shows the parent of the folder in the tree."""
+        tree = self.query_one(DirectoryTree)
+        tree.path = Path(tree.path).resolve().parent
+
+    @on(DirectoryTree.FileSelected)
+    @on(DirectoryTree.DirectorySelected)
+    def _picked(self, event: DirectoryTree.FileSelected | DirectoryTree.DirectorySelected) -> None:
+        self.query_one("#open-path", Input).value = str(event.path)
+
+    @on(Input.Submitted, "#open-path")
+    @on(Button.Pressed, "#open-ok")
+    def _confirm(self) -> None:
+        text = self.query_one("#open-path", Input).value.strip()
+        error = self.query_one("#open-error", Static)
+        if not text:
+            error.update("type a path or pick one in the tree")
+            return
+        path = Path(text).expanduser()
+        if not path.is_absolute():
+            path = self.start / path
+        if self.must_exist and not path.exists():
+            error.update(f"{path}: no such file or folder")
+            return
+        if not self.must_exist and not path.parent.is_dir():
+            error.update(f"{path.parent}: no such folder")
+            return
+        self.dismiss(path)
+
+    @on(Button.Pressed, "#open-up")
+    def _up(self) -> None:
+        self.action_up()
+
+    @on(Button.Pressed, "#open-cancel")
+    def _cancel(self) -> None:
+        self.dismiss(None)
