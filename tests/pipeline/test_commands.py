@@ -85,3 +85,16 @@ def test_the_default_output_folder_is_named_after_the_skill(
     result = CliRunner().invoke(main, command)
     assert result.exit_code == 1, result.output
     assert (tmp_path / "generated" / "set_velocity" / "record.json").is_file()
+
+
+def test_line_numbers_in_findings_are_printed_as_numbers_not_emoji(tmp_path: Path) -> None:
+    from skillwright.console import out_console
+    from skillwright.validation.commands import print_findings
+    from skillwright.validation.model import Finding
+
+    console = out_console()
+    with console.capture() as captured:
+        print_findings(
+            console, "skill.py", [Finding(check="x", severity="error", line=100, message="m")]
+        )
+    assert captured.get().startswith("skill.py:100:0: error [x] m")
