@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import pytest
 
 from skillwright.errors import ContextOverflowError
 from skillwright.generation.examples import few_shot_examples
 from skillwright.generation.model import Skeleton
 from skillwright.generation.prompt import (
+    PromptBuild,
     build_prompt,
     capability_text,
     fit_prompt,
@@ -40,6 +43,30 @@ def skeleton() -> Skeleton:
 
 def characters(prompt: Prompt) -> int:
     return sum(len(m.content) for m in prompt.messages)
+
+
+def fit(
+    chosen: list[tuple[Interface, str]],
+    skeleton: Skeleton,
+    *,
+    context_length: int,
+    answer_tokens: int = 100,
+    examples: int = 3,
+    count_tokens: Callable[[Prompt], int | None] = characters,
+    model_id: str = "m",
+) -> PromptBuild:
+    capability, spec = shipped("move-forward")
+    return fit_prompt(
+        capability,
+        spec,
+        chosen,
+        skeleton,
+        few_shot_examples()[:examples],
+        count_tokens=count_tokens,
+        context_length=context_length,
+        answer_tokens=answer_tokens,
+        model_id=model_id,
+    )
 
 
 def test_the_capability_text_has_inputs_with_units_constraints_and_limits() -> None:
@@ -97,18 +124,7 @@ def test_the_example_turns_list_the_interfaces_their_code_uses(
 def test_a_prompt_that_fits_is_not_shortened(
     chosen: list[tuple[Interface, str]], skeleton: Skeleton
 ) -> None:
-    capability, spec = shipped("move-forward")
-    build = fit_prompt(
-        capability,
-        spec,
-        chosen,
-        skeleton,
-        few_shot_examples(),
-        count_tokens=characters,
-        context_length=10**6,
-        answer_tokens=100,
-        model_id="m",
-    )
+    build = fit(chosen, skeleton, context_length=10**6)
     assert build.shortened == ()
     assert build.definition_style == "raw"
     assert build.examples == 3
@@ -120,33 +136,13 @@ def test_definitions_are_shortened_before_examples_go_and_the_task_is_never_cut(
     capability, spec = shipped("move-forward")
     examples = few_shot_examples()
     full = characters(build_prompt(capability, spec, chosen, skeleton, examples))
-    build = fit_prompt(
-        capability,
-        spec,
-        chosen,
-        skeleton,
-        examples,
-        count_tokens=characters,
-        context_length=full + 100 - 1,
-        answer_tokens=100,
-        model_id="m",
-    )
+    build = fit(chosen, skeleton, context_length=full + 100 - 1)
     assert build.definition_style == "uncommented"
     assert build.shortened == ("definitions without comments",)
     assert build.tokens is not None
     assert build.tokens < full
 
-    small = fit_prompt(
-        capability,
-        spec,
-        chosen,
-        skeleton,
-        examples,
-        count_tokens=characters,
-        context_length=full // 2,
-        answer_tokens=100,
-        model_id="m",
-    )
+    small = fit(chosen, skeleton, context_length=full // 2)
     assert small.examples < 3
     assert small.definition_style == "fields2"
     task = small.prompt.messages[-1].content
@@ -158,19 +154,8 @@ def test_definitions_are_shortened_before_examples_go_and_the_task_is_never_cut(
 def test_a_task_that_cannot_fit_is_refused_with_what_to_change(
     chosen: list[tuple[Interface, str]], skeleton: Skeleton
 ) -> None:
-    capability, spec = shipped("move-forward")
     with pytest.raises(ContextOverflowError) as caught:
-        fit_prompt(
-            capability,
-            spec,
-            chosen,
-            skeleton,
-            few_shot_examples(),
-            count_tokens=characters,
-            context_length=1000,
-            answer_tokens=500,
-            model_id="small-model",
-        )
+        fit(chosen, skeleton, context_length=1000, answer_tokens=500, model_id="small-model")
     message = str(caught.value)
     assert "'small-model'" in message
     assert "context_length" in message
@@ -180,18 +165,7 @@ def test_a_task_that_cannot_fit_is_refused_with_what_to_change(
 def test_backends_that_cannot_count_get_a_cautious_estimate(
     chosen: list[tuple[Interface, str]], skeleton: Skeleton
 ) -> None:
-    capability, spec = shipped("move-forward")
-    build = fit_prompt(
-        capability,
-        spec,
-        chosen,
-        skeleton,
-        few_shot_examples(),
-        count_tokens=lambda _prompt: None,
-        context_length=10**6,
-        answer_tokens=100,
-        model_id="m",
-    )
+    build = fit(chosen, skeleton, context_length=10**6, count_tokens=lambda _prompt: None)
     assert build.tokens is not None
     assert build.tokens > characters(build.prompt) // 4
 
@@ -199,18 +173,7 @@ def test_backends_that_cannot_count_get_a_cautious_estimate(
 def test_the_transcript_marks_the_cached_prefix(
     chosen: list[tuple[Interface, str]], skeleton: Skeleton
 ) -> None:
-    capability, spec = shipped("move-forward")
-    build = fit_prompt(
-        capability,
-        spec,
-        chosen,
-        skeleton,
-        few_shot_examples()[:1],
-        count_tokens=characters,
-        context_length=10**6,
-        answer_tokens=1,
-        model_id="m",
-    )
+    build = fit(chosen, skeleton, context_length=10**6, answer_tokens=1, examples=1)
     text = build.text()
     assert text.startswith("===== system (cached prefix) =====\n")
     assert text.count("(cached prefix)") == 3
