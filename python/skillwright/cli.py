@@ -24,6 +24,7 @@ COMMANDS: dict[str, str] = {
     "capability": "skillwright.capability.commands:capability",
     "check": "skillwright.validation.commands:check",
     "discover": "skillwright.interfaces.commands:discover",
+    "generate": "skillwright.pipeline.commands:generate",
     "models": "skillwright.llm.commands:models",
     "spec": "skillwright.spec.commands:spec",
     "tui": "skillwright.tui.commands:tui",

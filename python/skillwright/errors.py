@@ -17,6 +17,7 @@ __all__ = [
     "ConfigError",
     "ContextOverflowError",
     "FileFormatError",
+    "GenerationCancelledError",
     "InputFileError",
     "InputFileNotFoundError",
     "InvalidArgumentError",
@@ -87,3 +88,9 @@ class ContextOverflowError(ModelError, ValueError):
 
 class ModelServerError(ModelError, ConnectionError):
     """A configured model server (OpenAI-compatible HTTP) failed or could not be reached."""
+
+
+class GenerationCancelledError(SkillwrightError):
+    """The user cancelled a generation; nothing was written."""
+
+    exit_code = 130
