@@ -12,8 +12,7 @@ first needs it.
 
 from __future__ import annotations
 
-import threading
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -35,7 +34,7 @@ from skillwright.tui.screens.history import HistoryPane
 from skillwright.tui.screens.interfaces import InterfacesPane
 from skillwright.tui.screens.retrieval import RetrievalPane
 from skillwright.tui.screens.spec import SpecPane
-from skillwright.tui.session import TABS, SessionState, load_session, save_session
+from skillwright.tui.session import TABS, load_session, save_session
 from skillwright.tui.workspace import Workspace
 
 if TYPE_CHECKING:
@@ -73,10 +72,6 @@ class SkillwrightApp(App[None]):
 
     CSS_PATH = "app.tcss"
     TITLE = "skillwright"
-    HORIZONTAL_BREAKPOINTS: ClassVar[list[tuple[int, str]] | None] = [
-        (0, "-narrow"),
-        (120, "-wide"),
-    ]
     BINDINGS: ClassVar[list[BindingType]] = [
         Binding("f1", "help", "Help"),
         *(
@@ -104,9 +99,9 @@ class SkillwrightApp(App[None]):
         self.loaded = Loaded()
         self._save_timer: Timer | None = None
         self._save_failed = False
-        self._embedder: Callable[[Sequence[str]], Any] | None = None
-        self._embedder_lock = threading.Lock()
-        self.sub_title = str(self.workspace.root)
+        self.sub_title = f"workspace {self.workspace.root.name}"
+        # Wider terminals (>= 120 columns) put findings beside the code (see app.tcss).
+        self.HORIZONTAL_BREAKPOINTS = [(0, "-narrow"), (120, "-wide")]
 
     # --- layout -----------------------------------------------------------------------------
     def compose(self) -> ComposeResult:
@@ -128,7 +123,9 @@ class SkillwrightApp(App[None]):
 
     def on_mount(self) -> None:
         if self._session_problem:
-            self.notify(self._session_problem, title="Session", severity="warning", timeout=10)
+            self.notify(
+                self._session_problem, title="Session", severity="warning", timeout=10, markup=False
+            )
 
     # --- session ----------------------------------------------------------------------------
     def update_session(self, **changes: Any) -> None:
@@ -148,7 +145,9 @@ class SkillwrightApp(App[None]):
             save_session(self.workspace.session_path, self.session)
         except SkillwrightError as error:
             if not self._save_failed:  # say it once, not on every keystroke
-                self.notify(f"{error}; your session is not being saved", severity="error")
+                self.notify(
+                    f"{error}; your session is not being saved", severity="error", markup=False
+                )
             self._save_failed = True
         else:
             self._save_failed = False
@@ -234,16 +233,6 @@ class SkillwrightApp(App[None]):
         self.update_session(pinned=tuple(pinned), dropped=tuple(dropped))
         self.pins_changed()
 
-    def embedder(self) -> Callable[[Sequence[str]], Any]:
-        """The embedding model's ``embed``, loaded once per session (call it in a worker)."""
-        with self._embedder_lock:
-            if self._embedder is None:
-                from skillwright.llm.config import load_registry
-                from skillwright.llm.embeddings import load_embedder
-
-                self._embedder = load_embedder(load_registry(self.models_file)).embed
-            return self._embedder
-
     def spec_pane(self) -> SpecPane:
         """The Specification tab (the draft and its file)."""
         return self.query_one(SpecPane)
@@ -253,8 +242,13 @@ class SkillwrightApp(App[None]):
         self.query_one(HistoryPane).reload()
 
     def on_job_failed(self, message: JobFailed) -> None:
-        severity = "warning" if message.cancelled else "error"
-        self.notify(message.message, title=message.job.capitalize(), severity=severity, timeout=8)
+        self.notify(
+            message.message,
+            title=message.job.capitalize(),
+            severity="warning" if message.cancelled else "error",
+            timeout=8,
+            markup=False,
+        )
 
     def on_worker_state_changed(self, event: Worker.StateChanged) -> None:
         # Engine errors arrive as JobFailed; an exception here is a bug. Show it as a
@@ -267,6 +261,7 @@ class SkillwrightApp(App[None]):
                 title="Internal error",
                 severity="error",
                 timeout=15,
+                markup=False,
             )
 
     # --- command palette --------------------------------------------------------------------
@@ -276,11 +271,12 @@ class SkillwrightApp(App[None]):
             yield SystemCommand(
                 f"Go to {title}",
                 f"Show the {title} tab ({TAB_KEYS[tab].upper()})",
-                lambda tab=tab: self.action_show_tab(tab),  # type: ignore[misc]
+                lambda tab=tab: self.action_show_tab(tab),
             )
         yield SystemCommand("Help", "Keys and flow of the TUI (F1)", self.action_help)
         yield SystemCommand(
-            "Generate skill", "Run the pipeline with the current inputs (Ctrl+G)",
+            "Generate skill",
+            "Run the pipeline with the current inputs (Ctrl+G)",
             self.action_generate,
         )
         yield SystemCommand("Cancel job", "Stop the running job (Esc)", self.action_cancel)

@@ -33,7 +33,6 @@ __all__ = [
     "JobFailed",
     "ModelsListed",
     "RetrievalFinished",
-    "RetrievalProgress",
     "SpecFileLoaded",
     "SpecFormReady",
 ]
@@ -105,19 +104,13 @@ class InventoryEnriched(Message):
 
 
 @dataclass
-class RetrievalProgress(Message):
-    """What retrieval is doing now (loading the embedder, ranking)."""
-
-    detail: str
-
-
-@dataclass
 class RetrievalFinished(Message):
     """Retrieval ranked the interfaces."""
 
     hits: list[Hit]
     seconds: float
     dense: bool
+    """True when the embedding model took part (hybrid), False for BM25 alone."""
 
 
 @dataclass

@@ -98,7 +98,9 @@ class SessionState:
             raise ValueError("not a JSON object")
         version = data.pop("version", None)
         if version != SESSION_VERSION:
-            raise ValueError(f"layout version {version!r}, this skillwright reads {SESSION_VERSION}")
+            raise ValueError(
+                f"layout version {version!r}, this skillwright reads {SESSION_VERSION}"
+            )
         known = {f.name for f in fields(cls)}
         values = {k: v for k, v in data.items() if k in known}
         draft = values.pop("spec_draft", {}) or {}

@@ -43,7 +43,7 @@ _MAX_DEPTH = 6
 
 
 def resolve_workspace(explicit: Path | None, cwd: Path) -> Path:
-    """The workspace folder: ``explicit`` if given, else ``cwd/capabilities`` if present, else cwd."""
+    """The workspace: ``explicit`` if given, else ``cwd/capabilities`` if present, else cwd."""
     if explicit is not None:
         return explicit.expanduser().resolve()
     shipped = cwd / "capabilities"
@@ -90,9 +90,7 @@ class Workspace:
         base_depth = len(self.root.parts)
         for top, dirs, files in os.walk(self.root):
             folder = Path(top)
-            dirs[:] = sorted(
-                d for d in dirs if d not in _SKIPPED_DIRS and not d.startswith(".")
-            )
+            dirs[:] = sorted(d for d in dirs if d not in _SKIPPED_DIRS and not d.startswith("."))
             if len(folder.parts) - base_depth >= _MAX_DEPTH:
                 dirs[:] = []
             yield folder, dirs, sorted(files)
@@ -137,7 +135,7 @@ class Workspace:
                 continue
             for name in files:
                 lower = name.lower()
-                if lower.endswith(INVENTORY_SUFFIX) or lower.endswith(".mcap"):
+                if lower.endswith((INVENTORY_SUFFIX, ".mcap")):
                     found.append(folder / name)
         return sorted(found)
 

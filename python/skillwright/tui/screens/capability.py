@@ -6,6 +6,8 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import ClassVar
 
+from rich.console import RenderableType
+from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult, SystemCommand
 from textual.binding import Binding, BindingType
@@ -35,6 +37,8 @@ class CapabilityPane(Pane):
     def __init__(self) -> None:
         super().__init__(id="capability-pane")
         self._worker: Worker[None] | None = None
+        self.summary: RenderableType = ""
+        """The engine's summary of the loaded capability, as shown."""
 
     def compose(self) -> ComposeResult:
         with Horizontal():
@@ -49,10 +53,11 @@ class CapabilityPane(Pane):
                 yield Button("Open file… ^O", id="capability-open", compact=True)
             with VerticalScroll(id="capability-view"):
                 yield LoadingIndicator(id="capability-loading")
-                yield Static("", id="capability-status")
+                yield Static("", id="capability-status", markup=False)
                 yield Static(
                     "Choose a capability model on the left (Enter), or open any file with Ctrl+O.",
                     id="capability-summary",
+                    markup=False,
                 )
 
     def on_mount(self) -> None:
@@ -69,9 +74,9 @@ class CapabilityPane(Pane):
         options.clear_options()
         workspace = self.sw.workspace
         paths = workspace.capabilities()
-        options.add_options(Option(workspace.relative(p), id=str(p)) for p in paths)
+        options.add_options(Option(Text(workspace.relative(p)), id=str(p)) for p in paths)
         if not paths:
-            options.add_option(Option(f"(no .ttl files in {workspace.root})", disabled=True))
+            options.add_option(Option(Text(f"(no .ttl files in {workspace.root})"), disabled=True))
         stored = self.sw.session.capability
         if stored:
             chosen = str(workspace.absolute(stored))
@@ -130,6 +135,8 @@ class CapabilityPane(Pane):
         except SkillwrightError as error:
             self.fail(str(error))
             return
+        # Show where the file is relative to the workspace, as everywhere in the TUI.
+        load = load.model_copy(update={"source": self.sw.workspace.relative(path)})
         if not get_current_worker().is_cancelled:
             self.post_message(CapabilityLoaded(path, load, render_capability(load)))
 
@@ -149,6 +156,7 @@ class CapabilityPane(Pane):
         warnings = [f"warning: {w}" for w in message.load.warnings]
         status.update("\n".join(warnings))
         status.set_class(bool(warnings), "warning")
+        self.summary = message.summary
         self.query_one("#capability-summary", Static).update(message.summary)
         self.sw.loaded.capability_path = message.path
         self.sw.loaded.capability = message.load
@@ -162,6 +170,7 @@ class CapabilityPane(Pane):
         status.set_class(False, "warning")
         status.set_class(True, "error")
         status.update(message.message)
+        self.summary = ""
         self.query_one("#capability-summary", Static).update("")
         self.sw.loaded.capability = None
         self.sw.loaded.capability_path = None

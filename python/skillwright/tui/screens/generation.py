@@ -13,6 +13,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult, SystemCommand
 from textual.containers import Horizontal, Vertical
@@ -33,6 +34,7 @@ __all__ = ["SKELETON", "GenerationPane"]
 SKELETON = "skeleton"
 """Value of the model selector that asks for the deterministic skeleton only."""
 
+_IDLE = "Ctrl+G generates a skill from the current inputs."
 _ICONS = {"pending": "·", "running": "…", "done": "✓"}
 
 
@@ -62,12 +64,12 @@ class GenerationPane(Pane):
             yield Button("Cancel Esc", id="generation-cancel", compact=True)
         with Horizontal(id="generation-body"):
             with Vertical(id="generation-side"):
-                yield Static("Ctrl+G generates a skill from the current inputs.", id="generation-stages")
-                yield Static("", id="generation-stats")
+                yield Static(_IDLE, id="generation-stages", markup=False)
+                yield Static("", id="generation-stats", markup=False)
             with Vertical(id="generation-main"):
                 yield CodeView(id="generation-code")
                 yield OptionList(id="generation-findings")
-        yield Static("", id="generation-status")
+        yield Static("", id="generation-status", markup=False)
 
     def on_mount(self) -> None:
         self.query_one("#generation-cancel").disabled = True
@@ -122,7 +124,7 @@ class GenerationPane(Pane):
     def start(self) -> None:
         """Checks the inputs are there, then runs the pipeline in a worker."""
         if self.running:
-            self.notify("a generation is running; Esc cancels it", title="Generation")
+            self.notify("a generation is running; Esc cancels it", title="Generation", markup=False)
             return
         loaded, session = self.sw.loaded, self.sw.session
         if loaded.capability_path is None or loaded.capability is None:
@@ -135,18 +137,28 @@ class GenerationPane(Pane):
         spec = self.sw.spec_pane().spec
         if spec_path is None or spec is None:
             return
+        known = {i.name for i in loaded.inventory.interfaces} if loaded.inventory else set()
+        stale = [n for n in (*session.pinned, *session.dropped) if n not in known]
+        if stale:
+            self.notify(
+                f"not in this inventory, so not pinned or dropped: {', '.join(stale)}",
+                title="Generation",
+                severity="warning",
+                markup=False,
+            )
+        out_dir = self.sw.workspace.new_result_dir(spec.name)
         request = {
             "capability": loaded.capability_path,
             "spec": spec_path,
             "interfaces": loaded.inventory_source,
-            "out_dir": self.sw.workspace.new_result_dir(spec.name),
+            "out_dir": out_dir,
             "capability_iri": session.capability_iri,
             "model": None if session.skeleton else session.model,
             "skeleton": session.skeleton,
             "k": session.k,
             "include_infrastructure": session.show_infrastructure,
-            "pinned": session.pinned,
-            "dropped": session.dropped,
+            "pinned": tuple(n for n in session.pinned if n in known),
+            "dropped": tuple(n for n in session.dropped if n in known),
             "models_file": self.sw.models_file,
             "dense": session.dense,
         }
@@ -155,7 +167,7 @@ class GenerationPane(Pane):
         self.query_one("#generation-start").disabled = True
         self.query_one("#generation-cancel").disabled = False
         self.query_one("#generation-status", Static).update(
-            f"generating {spec.name} into {self.sw.workspace.relative(request['out_dir'])} …"
+            f"generating {spec.name} into {self.sw.workspace.relative(out_dir)} …"
         )
         self._worker = self._generate(request, self._cancel)
 
@@ -163,13 +175,13 @@ class GenerationPane(Pane):
     def _generate(self, request: dict[str, Any], cancel: threading.Event) -> None:
         # The whole pipeline (rdflib, NumPy, the embedder, llama.cpp) loads here.
         from skillwright.pipeline import GenerationRequest, run_generation
+        from skillwright.pipeline.events import Event
+
+        def on_event(event: Event) -> None:
+            self.post_message(GenerationEvent(event))
 
         try:
-            outcome = run_generation(
-                GenerationRequest(**request),
-                on_event=lambda event: self.post_message(GenerationEvent(event)),
-                cancel=cancel,
-            )
+            outcome = run_generation(GenerationRequest(**request), on_event=on_event, cancel=cancel)
         except SkillwrightError as error:
             self.fail(str(error), cancelled=cancel.is_set())
             return
@@ -213,12 +225,17 @@ class GenerationPane(Pane):
             return
         if isinstance(event, events.StageStarted):
             if not self.stages:
-                self.stages = {stage: ("pending", "") for stage in events.STAGES}
+                self.stages = dict.fromkeys(events.STAGES, ("pending", ""))
             self.stages[event.stage] = ("running", event.detail)
         elif isinstance(event, events.StageFinished):
             self.stages[event.stage] = ("done", f"{event.seconds:.2f} s {event.detail}".strip())
         elif isinstance(event, events.Notice):
-            self.notify(event.message, title="Generation", severity=event.level)
+            self.notify(
+                event.message,
+                title="Generation",
+                severity="warning" if event.level == "warning" else "information",
+                markup=False,
+            )
             self._stats.append(event.message)
         elif isinstance(event, events.PrefixCacheStatus):
             self._stats.append(f"prefix cache: {event.status}")
@@ -238,9 +255,7 @@ class GenerationPane(Pane):
         lines = [
             f"{_ICONS[state]} {stage:<10} {text}" for stage, (state, text) in self.stages.items()
         ]
-        self.query_one("#generation-stages", Static).update(
-            "\n".join(lines) or "Ctrl+G generates a skill from the current inputs."
-        )
+        self.query_one("#generation-stages", Static).update("\n".join(lines) or _IDLE)
         self.query_one("#generation-stats", Static).update("\n".join(self._stats))
 
     def on_generation_finished(self, message: GenerationFinished) -> None:
@@ -254,7 +269,7 @@ class GenerationPane(Pane):
         findings = self.query_one("#generation-findings", OptionList)
         findings.clear_options()
         findings.add_options(
-            Option(f"{f.line}:{f.column} {f.severity} [{f.check}] {f.message}", id=str(i))
+            Option(Text(f"{f.line}:{f.column} {f.severity} [{f.check}] {f.message}"), id=str(i))
             for i, f in enumerate(self.findings)
         )
         findings.display = bool(self.findings)
@@ -264,7 +279,7 @@ class GenerationPane(Pane):
             f"{outcome.mode}: {verdict} ({errors} errors, {len(self.findings) - errors} warnings)"
             f" — written to {self.sw.workspace.relative(Path(outcome.out_dir))}"
         )
-        self.notify(f"{verdict}; record in {outcome.record_path}", title="Generation")
+        self.notify(f"{verdict}; record in {outcome.record_path}", title="Generation", markup=False)
         self.sw.history_changed()
 
     @on(OptionList.OptionSelected, "#generation-findings")

@@ -7,16 +7,19 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any, ClassVar
 
+from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult, SystemCommand
 from textual.binding import Binding, BindingType
 from textual.containers import Horizontal, VerticalScroll
+from textual.coordinate import Coordinate
 from textual.widgets import Button, ContentSwitcher, DataTable, Static
 
 from skillwright.errors import SkillwrightError
 from skillwright.tui.messages import HistoryLoaded
 from skillwright.tui.screens.base import Pane
 from skillwright.tui.widgets.code_view import CodeView
+from skillwright.tui.workspace import Workspace
 
 __all__ = ["HistoryPane", "diff_results"]
 
@@ -31,35 +34,43 @@ def _skill_text(folder: Path, record: Any) -> tuple[str, str]:
         return path.name, f"# {path}: cannot be read ({error.strerror or error})\n"
 
 
-def summary_lines(folder: Path, record: Any) -> list[str]:
+def _shown(workspace: Workspace | None, path: str) -> str:
+    return workspace.relative(Path(path)) if workspace is not None else path
+
+
+def summary_lines(folder: Path, record: Any, workspace: Workspace | None = None) -> list[str]:
     """What a record says, in a few lines: when, how, with what, and the verdict."""
     model = record.model.id if record.model is not None else "none (skeleton)"
     retrieval = record.retrieval
     hits = ", ".join(h.name for h in retrieval.hits) or "none"
+    inputs = record.inputs
     lines = [
-        f"{folder.name}: {record.mode}, model {model}, created {record.created}",
-        f"capability {record.inputs.capability.path}  spec {record.inputs.spec.path}",
-        f"interfaces {record.inputs.interfaces.location}  k={retrieval.k}: {hits}",
+        f"{folder.name}: {record.mode}, model {model}",
+        f"capability {_shown(workspace, inputs.capability.path)}"
+        f"  spec {_shown(workspace, inputs.spec.path)}",
+        f"interfaces {_shown(workspace, inputs.interfaces.location)}  k={retrieval.k}: {hits}",
     ]
     if retrieval.pinned or retrieval.dropped:
-        lines.append(
-            f"pinned: {', '.join(retrieval.pinned) or '-'}  dropped: {', '.join(retrieval.dropped) or '-'}"
-        )
+        pinned = ", ".join(retrieval.pinned) or "-"
+        dropped = ", ".join(retrieval.dropped) or "-"
+        lines.append(f"pinned: {pinned}  dropped: {dropped}")
     findings = record.checks.findings
     verdict = "passed" if record.checks.passed else "FAILED"
     lines.append(f"checks {verdict} ({len(findings)} findings)")
     return lines
 
 
-def diff_results(old: tuple[Path, Any], new: tuple[Path, Any]) -> str:
+def diff_results(
+    old: tuple[Path, Any], new: tuple[Path, Any], workspace: Workspace | None = None
+) -> str:
     """A unified diff of two results: their summaries, then their skill code."""
     (old_dir, old_record), (new_dir, new_record) = old, new
     old_name, old_text = _skill_text(old_dir, old_record)
     new_name, new_text = _skill_text(new_dir, new_record)
     parts = list(
         difflib.unified_diff(
-            [line + "\n" for line in summary_lines(old_dir, old_record)],
-            [line + "\n" for line in summary_lines(new_dir, new_record)],
+            [line + "\n" for line in summary_lines(old_dir, old_record, workspace)],
+            [line + "\n" for line in summary_lines(new_dir, new_record, workspace)],
             f"{old_dir.name}/record.json",
             f"{new_dir.name}/record.json",
             n=0,
@@ -95,13 +106,13 @@ class HistoryPane(Pane):
             yield Button("Reload ^R", id="history-reload", compact=True)
             yield Button("Mark m", id="history-mark", compact=True)
             yield Button("Diff d", id="history-diff-button", compact=True)
-        yield Static("", id="history-status")
+        yield Static("", id="history-status", markup=False)
         yield DataTable(id="history-table", cursor_type="row", zebra_stripes=True)
-        yield Static("", id="history-summary")
+        yield Static("", id="history-summary", markup=False)
         with ContentSwitcher(initial="history-code", id="history-view"):
             yield CodeView(id="history-code")
             with VerticalScroll(id="history-diff"):
-                yield Static("", id="history-diff-text")
+                yield Static("", id="history-diff-text", markup=False)
 
     def on_mount(self) -> None:
         self.query_one("#history-table", DataTable).add_columns(
@@ -140,7 +151,7 @@ class HistoryPane(Pane):
         for folder, record in self.entries:
             model = record.model.id if record.model is not None else "-"
             pins = len(record.retrieval.pinned) + len(record.retrieval.dropped)
-            table.add_row(
+            cells = (
                 "*" if folder == self.marked else "",
                 folder.name,
                 record.mode,
@@ -148,7 +159,9 @@ class HistoryPane(Pane):
                 "passed" if record.checks.passed else "FAILED",
                 str(pins) if pins else "",
             )
-        status = f"{len(self.entries)} results in {self.sw.workspace.relative(self.sw.workspace.generated_dir)}"
+            table.add_row(*(Text(c) for c in cells))
+        where = self.sw.workspace.relative(self.sw.workspace.generated_dir)
+        status = f"{len(self.entries)} results in {where}"
         if not self.entries:
             status = "No results yet: generate one (Ctrl+G)."
         for problem in message.problems:
@@ -171,7 +184,8 @@ class HistoryPane(Pane):
             self.query_one("#history-summary", Static).update("")
             return
         folder, record = entry
-        self.query_one("#history-summary", Static).update("\n".join(summary_lines(folder, record)))
+        lines = summary_lines(folder, record, self.sw.workspace)
+        self.query_one("#history-summary", Static).update("\n".join(lines))
         self.query_one(CodeView).show(_skill_text(folder, record)[1])
         self.query_one("#history-view", ContentSwitcher).current = "history-code"
 
@@ -184,7 +198,7 @@ class HistoryPane(Pane):
         self.marked = None if self.marked == entry[0] else entry[0]
         table = self.query_one("#history-table", DataTable)
         for row, (folder, _record) in enumerate(self.entries):
-            table.update_cell_at((row, 0), "*" if folder == self.marked else "")
+            table.update_cell_at(Coordinate(row, 0), "*" if folder == self.marked else "")
 
     @on(Button.Pressed, "#history-diff-button")
     def action_diff(self) -> None:
@@ -194,9 +208,13 @@ class HistoryPane(Pane):
         entry = self.highlighted()
         marked = next((e for e in self.entries if e[0] == self.marked), None)
         if entry is None or marked is None:
-            self.notify("mark a result with m, then highlight another and press d", title="History")
+            self.notify(
+                "mark a result with m, then highlight another and press d",
+                title="History",
+                markup=False,
+            )
             return
-        text = diff_results(marked, entry)
+        text = diff_results(marked, entry, self.sw.workspace)
         self.query_one("#history-diff-text", Static).update(
             Syntax(text, "diff", theme="ansi_dark", word_wrap=False)
         )
@@ -204,4 +222,6 @@ class HistoryPane(Pane):
 
     def commands(self) -> Iterable[SystemCommand]:
         yield SystemCommand("Reload history", "Read generated/ again", self.reload)
-        yield SystemCommand("Diff results", "Marked result against the highlighted one", self.action_diff)
+        yield SystemCommand(
+            "Diff results", "Marked result against the highlighted one", self.action_diff
+        )

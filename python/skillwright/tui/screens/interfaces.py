@@ -6,10 +6,12 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
+from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult, SystemCommand
 from textual.binding import Binding, BindingType
 from textual.containers import Horizontal, VerticalScroll
+from textual.coordinate import Coordinate
 from textual.widgets import Button, Checkbox, DataTable, Input, ProgressBar, Select, Static
 from textual.worker import Worker, get_current_worker
 
@@ -88,11 +90,13 @@ class InterfacesPane(Pane):
             id="interfaces-filter",
             compact=True,
         )
-        yield Static("No interfaces loaded: choose a source above.", id="interfaces-status")
+        yield Static(
+            "No interfaces loaded: choose a source above.", id="interfaces-status", markup=False
+        )
         yield ProgressBar(id="interfaces-progress", show_eta=False)
         yield DataTable(id="interfaces-table", cursor_type="row", zebra_stripes=True)
         with VerticalScroll(id="interfaces-detail"):
-            yield Static("", id="interfaces-detail-text")
+            yield Static("", id="interfaces-detail-text", markup=False)
 
     def on_mount(self) -> None:
         self.query_one("#interfaces-progress").display = False
@@ -113,7 +117,7 @@ class InterfacesPane(Pane):
         if current is not None and current not in paths:
             paths.append(current)
         with self.prevent(Select.Changed):
-            select.set_options((workspace.relative(p), str(p)) for p in paths)
+            select.set_options((Text(workspace.relative(p)), str(p)) for p in paths)
             if current is not None:
                 select.value = str(current)
 
@@ -194,15 +198,18 @@ class InterfacesPane(Pane):
         status.update(f"{inventory.resource.name} from {where}: {counts}")
         self._show_detail()
 
-    def _cells(self, interface: Interface) -> tuple[str, ...]:
+    def _cells(self, interface: Interface) -> tuple[Text, ...]:
         session = self.sw.session
-        return (
-            mark_of(interface.name, session.pinned, session.dropped),
-            interface.kind,
-            interface.name,
-            interface.type_name,
-            relevance_of(interface),
-            interface.description.purpose if interface.description else "",
+        return tuple(
+            Text(cell)
+            for cell in (
+                mark_of(interface.name, session.pinned, session.dropped),
+                interface.kind,
+                interface.name,
+                interface.type_name,
+                relevance_of(interface),
+                interface.description.purpose if interface.description else "",
+            )
         )
 
     def show_marks(self) -> None:
@@ -210,7 +217,8 @@ class InterfacesPane(Pane):
         table = self.query_one("#interfaces-table", DataTable)
         session = self.sw.session
         for row, interface in enumerate(self.shown):
-            table.update_cell_at((row, 0), mark_of(interface.name, session.pinned, session.dropped))
+            mark = mark_of(interface.name, session.pinned, session.dropped)
+            table.update_cell_at(Coordinate(row, 0), mark)
 
     @on(Input.Changed, "#interfaces-filter")
     def _filter_changed(self) -> None:
@@ -288,8 +296,9 @@ class InterfacesPane(Pane):
                 description = describe_by_rules(
                     interface.kind, interface.name, interface.type_name, field_paths(interface, 2)
                 )
-                interface = interface.model_copy(update={"description": description})
-            described.append(interface)
+                described.append(interface.model_copy(update={"description": description}))
+            else:
+                described.append(interface)
             if index % step == 0 or index == total:
                 self.post_message(EnrichProgress(index, total, interface.name))
         enriched = inventory.model_copy(update={"interfaces": described})
@@ -312,7 +321,7 @@ class InterfacesPane(Pane):
         self.sw.update_session(interfaces=self.sw.workspace.relative(message.saved_to))
         self.refresh_sources()
         self.show_table()
-        self.notify(f"described; saved as {message.saved_to}", title="Interfaces")
+        self.notify(f"described; saved as {message.saved_to}", title="Interfaces", markup=False)
         self.sw.inventory_changed()
 
     def on_job_failed(self, message: JobFailed) -> None:
@@ -333,11 +342,13 @@ class InterfacesPane(Pane):
 
     def commands(self) -> Iterable[SystemCommand]:
         yield SystemCommand(
-            "Open interface source", "Inventory, .mcap or rosbag2 folder (Ctrl+O)",
+            "Open interface source",
+            "Inventory, .mcap or rosbag2 folder (Ctrl+O)",
             self._open_from_palette,
         )
         yield SystemCommand(
-            "Describe interfaces", "Enrich the inventory with descriptions (Ctrl+E)",
+            "Describe interfaces",
+            "Enrich the inventory with descriptions (Ctrl+E)",
             self.action_enrich,
         )
 

@@ -27,7 +27,9 @@ class OpenPathScreen(ModalScreen[Path | None]):
         Binding("ctrl+u", "up", "Parent folder"),
     ]
 
-    def __init__(self, title: str, start: Path, *, value: str = "", must_exist: bool = True) -> None:
+    def __init__(
+        self, title: str, start: Path, *, value: str = "", must_exist: bool = True
+    ) -> None:
         super().__init__()
         self.title_text = title
         self.start = start if start.is_dir() else start.parent
@@ -38,7 +40,7 @@ class OpenPathScreen(ModalScreen[Path | None]):
         with Vertical(id="open-dialog"):
             yield Label(self.title_text, id="open-title")
             yield Input(value=self.value, placeholder="path (Enter to confirm)", id="open-path")
-            yield Static("", id="open-error")
+            yield Static("", id="open-error", markup=False)
             yield DirectoryTree(self.start, id="open-tree")
             with Horizontal(id="open-buttons"):
                 yield Button("OK", variant="primary", id="open-ok", compact=True)

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
+from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult, SystemCommand
 from textual.binding import Binding, BindingType
@@ -14,16 +15,18 @@ from textual.widgets import Button, Checkbox, DataTable, Input, Label, Static
 from textual.worker import Worker, get_current_worker
 
 from skillwright.errors import SkillwrightError
-from skillwright.tui.messages import JobFailed, RetrievalFinished, RetrievalProgress
+from skillwright.tui.messages import JobFailed, RetrievalFinished
 from skillwright.tui.screens.base import Pane
 from skillwright.tui.widgets.interface_detail import mark_of
 
-if TYPE_CHECKING:
-    from skillwright.capability.model import CapabilityLoad
-    from skillwright.interfaces.inventory import Inventory
-    from skillwright.spec.model import SkillSpec
+__all__ = ["COLUMNS", "RetrievalPane"]
 
-__all__ = ["RetrievalPane"]
+COLUMNS = ("mark", "#", "name", "kind", "type", "score", "dense", "lexical", "reason")
+
+
+def _row(mark: str, name: str, reason: str) -> list[Text]:
+    """A table row for an interface retrieval did not rank."""
+    return [Text(c) for c in (mark, "", name, "", "", "", "", "", reason)]
 
 
 class RetrievalPane(Pane):
@@ -40,6 +43,7 @@ class RetrievalPane(Pane):
     def __init__(self) -> None:
         super().__init__(id="retrieval-pane")
         self._worker: Worker[None] | None = None
+        self._without_spec = False
         self.rows: list[str] = []
         """Interface names in table order."""
 
@@ -50,14 +54,16 @@ class RetrievalPane(Pane):
             yield Input(str(self.sw.session.k), id="retrieval-k", type="integer", compact=True)
             yield Checkbox("embeddings", self.sw.session.dense, id="retrieval-dense", compact=True)
         yield Static(
-            "Load a capability and interfaces, then rank them (Ctrl+R).", id="retrieval-status"
+            "Load a capability and interfaces, then rank them (Ctrl+R).",
+            id="retrieval-status",
+            markup=False,
         )
         yield DataTable(id="retrieval-table", cursor_type="row", zebra_stripes=True)
-        yield Static("", id="retrieval-marks")
+        yield Static("", id="retrieval-marks", markup=False)
 
     def on_mount(self) -> None:
         table = self.query_one("#retrieval-table", DataTable)
-        table.add_columns("mark", "#", "name", "kind", "type", "score", "dense", "lexical", "reason")
+        table.add_columns(*COLUMNS)
         self.show_marks()
 
     # --- settings -----------------------------------------------------------------------------
@@ -79,63 +85,58 @@ class RetrievalPane(Pane):
     def action_rank(self) -> None:
         """Ranks the inventory's interfaces for the capability (and the specification)."""
         loaded = self.sw.loaded
-        if loaded.capability is None:
+        if loaded.capability_path is None:
             self.fail("load a capability first (Capability tab, F2)")
             return
-        if loaded.inventory is None:
+        if loaded.inventory_source is None:
             self.fail("load the robot's interfaces first (Interfaces tab, F4)")
             return
-        spec = self.sw.spec_pane().spec
+        spec_path = self.sw.spec_pane().saved_path(required=False)
         session = self.sw.session
-        self.query_one("#retrieval-status", Static).update("ranking …")
-        self._worker = self._rank(
-            loaded.capability,
-            spec,
-            loaded.inventory,
-            session.k,
-            session.show_infrastructure,
-            session.dense,
+        request = {
+            "capability": loaded.capability_path,
+            "spec": spec_path,
+            "interfaces": loaded.inventory_source,
+            "capability_iri": session.capability_iri,
+            "k": session.k,
+            "include_infrastructure": session.show_infrastructure,
+            "dense": session.dense,
+            "models_file": self.sw.models_file,
+            "dropped": tuple(name for name in session.dropped if name in self._known_names()),
+        }
+        status = self.query_one("#retrieval-status", Static)
+        status.update(
+            "ranking …" if session.dense is False else "loading the embedding model and ranking …"
         )
+        self._without_spec = spec_path is None
+        self._worker = self._rank(request)
+
+    def _known_names(self) -> set[str]:
+        inventory = self.sw.loaded.inventory
+        return {i.name for i in inventory.interfaces} if inventory is not None else set()
 
     @work(thread=True, exclusive=True, group="retrieval", exit_on_error=False)
-    def _rank(
-        self,
-        capability: CapabilityLoad,
-        spec: SkillSpec | None,
-        inventory: Inventory,
-        k: int,
-        include_infrastructure: bool,
-        dense: bool,
-    ) -> None:
-        from skillwright.retrieval.retrieve import rank_interfaces
+    def _rank(self, request: dict[str, Any]) -> None:
+        from skillwright.pipeline import retrieve
 
         started = time.perf_counter()
         try:
-            embed: Any = None
-            if dense:
-                self.post_message(RetrievalProgress("loading the embedding model …"))
-                embed = self.sw.embedder()
-                self.post_message(RetrievalProgress("ranking …"))
-            hits = rank_interfaces(
-                inventory,
-                capability.capability,
-                spec,
-                k=k,
-                include_infrastructure=include_infrastructure,
-                embed=embed,
-            )
+            result = retrieve(**request)
         except SkillwrightError as error:
             self.fail(str(error))
             return
         if not get_current_worker().is_cancelled:
-            self.post_message(RetrievalFinished(hits, time.perf_counter() - started, dense))
-
-    def on_retrieval_progress(self, message: RetrievalProgress) -> None:
-        self.query_one("#retrieval-status", Static).update(message.detail)
+            self.post_message(
+                RetrievalFinished(
+                    result.hits, time.perf_counter() - started, result.method == "hybrid"
+                )
+            )
 
     def on_retrieval_finished(self, message: RetrievalFinished) -> None:
         self.sw.loaded.hits = message.hits
         how = "embeddings + BM25" if message.dense else "BM25 only"
+        if self._without_spec:
+            how += "; the specification is not valid, so it was left out"
         self.query_one("#retrieval-status", Static).update(
             f"{len(message.hits)} interfaces ranked for "
             f"{self.sw.loaded.capability.capability.label if self.sw.loaded.capability else '?'}"
@@ -151,7 +152,7 @@ class RetrievalPane(Pane):
         session = self.sw.session
         for rank, hit in enumerate(self.sw.loaded.hits, start=1):
             dense = "" if hit.dense is None else f"{hit.dense:.2f}"
-            table.add_row(
+            cells = (
                 mark_of(hit.name, session.pinned, session.dropped),
                 str(rank),
                 hit.name,
@@ -162,16 +163,20 @@ class RetrievalPane(Pane):
                 f"{hit.lexical:.2f}",
                 hit.reason,
             )
+            table.add_row(*(Text(c) for c in cells))
             self.rows.append(hit.name)
         for name in session.pinned:
             if name not in self.rows:
-                table.add_row("pin", "", name, "", "", "", "", "", "pinned by you")
+                table.add_row(*_row("pin", name, "pinned by you"))
+                self.rows.append(name)
+        for name in session.dropped:
+            if name not in self.rows:
+                table.add_row(*_row("drop", name, "dropped by you: not ranked"))
                 self.rows.append(name)
 
     def show_marks(self) -> None:
         """Redraws marks and the pin/drop summary."""
-        if self.sw.loaded.hits or self.sw.session.pinned:
-            self.show_table()
+        self.show_table()
         session = self.sw.session
         parts = []
         if session.pinned:
@@ -222,7 +227,9 @@ class RetrievalPane(Pane):
         return False
 
     def commands(self) -> Iterable[SystemCommand]:
-        yield SystemCommand("Rank interfaces", "Retrieval for the capability (Ctrl+R)", self._rank_cmd)
+        yield SystemCommand(
+            "Rank interfaces", "Retrieval for the capability (Ctrl+R)", self._rank_cmd
+        )
 
     def _rank_cmd(self) -> None:
         self.sw.action_show_tab("retrieval")

@@ -12,6 +12,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
+from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult, SystemCommand
 from textual.binding import Binding, BindingType
@@ -79,7 +80,7 @@ class SpecPane(Pane):
         self.states = message.states
         draft = self.sw.session.spec_draft
         form = self.query_one("#spec-form", VerticalScroll)
-        options = [(self.sw.workspace.relative(p), str(p)) for p in self.sw.workspace.specs()]
+        options = [(Text(self.sw.workspace.relative(p)), str(p)) for p in self.sw.workspace.specs()]
         form.mount_all(
             [
                 Horizontal(
@@ -89,7 +90,7 @@ class SpecPane(Pane):
                     Button("Save as…", id="spec-save-as", compact=True),
                     id="spec-bar",
                 ),
-                Static("", id="spec-status"),
+                Static("", id="spec-status", markup=False),
                 Label("Name (a Python identifier, e.g. move_forward)"),
                 Input(draft.name, id="spec-name", compact=True),
                 Label("Description"),
@@ -220,7 +221,7 @@ class SpecPane(Pane):
         if message.fill:
             self.sw.update_session(spec_path=self.sw.workspace.relative(message.path))
             self.fill(message.spec)
-            self.notify(f"loaded {message.path}", title="Specification")
+            self.notify(f"loaded {message.path}", title="Specification", markup=False)
         elif self.ready:
             self.validate()
 
@@ -268,20 +269,23 @@ class SpecPane(Pane):
             return None
         self.sw.update_session(spec_path=self.sw.workspace.relative(path))
         self.validate()
-        self.notify(f"saved {path}", title="Specification")
+        self.notify(f"saved {path}", title="Specification", markup=False)
         return path
 
-    def saved_path(self) -> Path | None:
+    def saved_path(self, *, required: bool = True) -> Path | None:
         """The specification as a file for the engine, saving the draft first if it changed.
 
-        None when the draft is invalid (the user is told why and shown the form).
+        None when the draft is invalid; with ``required`` the user is told why and shown the
+        form, without it (retrieval can do without a specification) nothing is said.
         """
-        if not self.ready:
-            self.fail("the specification form is still loading; try again in a moment")
-            return None
-        if self.spec is None:
-            self.fail(f"specification: {self.problem}")
-            self.sw.action_show_tab("specification")
+        if not self.ready or self.spec is None:
+            if required:
+                self.fail(
+                    "the specification form is still loading; try again in a moment"
+                    if not self.ready
+                    else f"specification: {self.problem}"
+                )
+                self.sw.action_show_tab("specification")
             return None
         if self.sw.session.spec_path:
             path = self.sw.workspace.absolute(self.sw.session.spec_path)
@@ -308,7 +312,8 @@ class SpecPane(Pane):
     def commands(self) -> Iterable[SystemCommand]:
         yield SystemCommand("Save specification", "Save the form (Ctrl+S)", self.action_save)
         yield SystemCommand(
-            "Save specification as…", "Save the form to a new .json or .yaml file",
+            "Save specification as…",
+            "Save the form to a new .json or .yaml file",
             self.action_save_as,
         )
         yield SystemCommand(

@@ -18,7 +18,7 @@ _FLUSH_SECONDS = 0.05
 class CodeView(TextArea):
     """Python source, read-only, with line numbers; :meth:`append` streams into it."""
 
-    def __init__(self, *, id: str | None = None) -> None:  # noqa: A002 - Textual's name
+    def __init__(self, *, id: str | None = None) -> None:
         super().__init__(
             "",
             read_only=True,

@@ -1,0 +1,143 @@
+"""Fixtures of the TUI tests: a workspace copied from the shipped capabilities, an isolated
+configuration, the tiny GGUF model, and helpers to wait for workers and read the screen."""
+
+from __future__ import annotations
+
+import io
+import shutil
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from textual.app import App
+from textual.pilot import Pilot
+from textual.widgets import OptionList
+
+from skillwright.tui.app import SkillwrightApp, make_app
+from skillwright.tui.session import SessionState, save_session
+from skillwright.tui.workspace import Workspace
+from tests.conftest import SHIPPED_CAPABILITIES
+from tests.llm.conftest import isolated_config, tiny_gguf
+
+__all__ = ["choose", "isolated_config", "screen_text", "tiny_gguf", "wait_until"]
+
+
+@pytest.fixture
+def anyio_backend() -> str:
+    """Pilot tests run on asyncio (Textual's loop); anyio's plugin runs ``async def`` tests."""
+    return "asyncio"
+
+
+@pytest.fixture(autouse=True)
+def _config(isolated_config: Path) -> Path:
+    """Every TUI test gets its own configuration, data and cache folders."""
+    return isolated_config
+
+
+@pytest.fixture
+def workspace(tmp_path: Path) -> Path:
+    """A copy of the shipped ``capabilities/`` folder (a workspace as it is) at ``.../workspace``."""
+    root = tmp_path / "workspace"
+    shutil.copytree(SHIPPED_CAPABILITIES, root)
+    return root
+
+
+def write_models(path: Path, model_file: Path, *, max_tokens: int = 32) -> Path:
+    """A models.toml whose default generation model is ``tiny`` (room for the long prompt:
+    the tiny model's tokenizer spends about one token per character)."""
+    path.write_text(
+        f"""
+[defaults]
+generation = "tiny"
+
+[[llm]]
+id = "tiny"
+file = "{model_file.as_posix()}"
+context_length = 16384
+batch_size = 512
+threads = 1
+
+[llm.sampling]
+max_tokens = {max_tokens}
+
+[[llm]]
+id = "ghost"
+file = "{(path.parent / "ghost.gguf").as_posix()}"
+""",
+        encoding="utf-8",
+    )
+    return path
+
+
+@pytest.fixture
+def models_file(tmp_path: Path, tiny_gguf: Path) -> Path:
+    """The tiny model as default (32 tokens) and ``ghost``, a model whose file is missing."""
+    return write_models(tmp_path / "models.toml", tiny_gguf)
+
+
+def preset_session(workspace: Path, **values: object) -> SessionState:
+    """Writes a session into the workspace as if a previous run had left it."""
+    state = SessionState(**values)  # type: ignore[arg-type]
+    save_session(Workspace(workspace).session_path, state)
+    return state
+
+
+def app_for(workspace: Path, models_file: Path | None = None) -> SkillwrightApp:
+    """The app as the CLI builds it, saving the session quickly for the tests."""
+    app = make_app(workspace, models_file=models_file)
+    app.save_delay = 0.05
+    return app
+
+
+async def wait_until(
+    pilot: Pilot[object], condition: Callable[[], object], timeout: float = 30.0
+) -> None:
+    """Lets the app run until ``condition()`` is true; fails the test after ``timeout``."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f"timed out after {timeout} s waiting for {condition.__doc__ or condition}")
+        await pilot.pause(0.05)
+    await pilot.pause()  # let the screen catch up with what the condition saw
+
+
+async def choose(pilot: Pilot[object], options: OptionList, label: str) -> None:
+    """Moves to the option ``label`` with the arrow keys and presses Enter, as a user would."""
+    labels = [str(options.get_option_at_index(i).prompt) for i in range(options.option_count)]
+    options.focus()
+    await pilot.press("home", *["down"] * labels.index(label), "enter")
+
+
+def screen_text(app: App[object]) -> str:
+    """The visible screen as plain text (what a user reads), for assertions and notes."""
+    from rich.console import Console
+
+    width, height = app.size
+    console = Console(
+        width=width,
+        height=height,
+        file=io.StringIO(),
+        force_terminal=True,
+        record=True,
+        legacy_windows=False,
+        safe_box=False,
+    )
+    console.print(
+        app.screen._compositor.render_update(full=True, screen_stack=app._background_screens)
+    )
+    return console.export_text()
+
+
+def rich_text(renderable: object, width: int = 120) -> str:
+    """A rich renderable as the plain text it prints."""
+    from rich.console import Console
+
+    console = Console(width=width, file=io.StringIO(), record=True)
+    console.print(renderable)
+    return console.export_text()
+
+
+def notifications(app: App[object]) -> list[str]:
+    """Messages of the notifications currently shown."""
+    return [n.message for n in app._notifications]

@@ -1,0 +1,105 @@
+"""The Capability tab: browse the workspace's models, read one, open any file, bad files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from textual.widgets import Input, OptionList, Static
+
+from skillwright.tui.screens.capability import CapabilityPane
+from skillwright.tui.screens.open_path import OpenPathScreen
+from tests.tui.conftest import (
+    app_for,
+    choose,
+    notifications,
+    rich_text,
+    screen_text,
+    wait_until,
+)
+
+pytestmark = pytest.mark.anyio
+
+
+async def test_choosing_a_model_shows_its_inputs_outputs_and_limits(workspace: Path) -> None:
+    app = app_for(workspace)
+    async with app.run_test(size=(120, 40)) as pilot:
+        options = app.query_one("#capability-list", OptionList)
+        assert app.focused is options
+        await choose(pilot, options, "move-forward.ttl")
+        await wait_until(pilot, lambda: app.loaded.capability is not None)
+        assert "Move forward" in screen_text(app)
+        summary = rich_text(app.query_one(CapabilityPane).summary)
+        assert "inDistance" in summary
+        assert "linearVelocity <= 0.8 m/s" in summary
+        assert "from move-forward.ttl" in summary  # workspace-relative, wherever it is
+        assert "owl:imports" in str(app.query_one("#capability-status", Static).render())
+        assert app.session.capability == "move-forward.ttl"
+
+
+async def test_a_file_outside_the_workspace_opens_from_the_dialog(
+    workspace: Path, tmp_path: Path
+) -> None:
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "turn.ttl").write_bytes((workspace / "rotate.ttl").read_bytes())
+    app = app_for(workspace)
+    async with app.run_test(size=(100, 30)) as pilot:
+        await pilot.press("ctrl+o")
+        assert isinstance(app.screen, OpenPathScreen)
+        field = app.screen.query_one("#open-path", Input)
+        field.value = str(elsewhere / "nothing.ttl")
+        await pilot.press("enter")
+        assert "no such file or folder" in screen_text(app)
+        field.value = str(elsewhere / "turn.ttl")
+        await pilot.press("enter")
+        await wait_until(pilot, lambda: app.loaded.capability is not None)
+        assert app.loaded.capability_path == elsewhere / "turn.ttl"
+        assert app.session.capability == str(elsewhere / "turn.ttl")
+        assert "Rotate" in screen_text(app)
+
+
+async def test_a_broken_capability_file_is_reported_in_words_and_the_app_goes_on(
+    workspace: Path,
+) -> None:
+    (workspace / "broken.ttl").write_text(
+        "@prefix : <http://example.org/> .\n:a :b :c ;\n  :d \n", encoding="utf-8"
+    )
+    app = app_for(workspace)
+    async with app.run_test(size=(100, 30)) as pilot:
+        options = app.query_one("#capability-list", OptionList)
+        await choose(pilot, options, "broken.ttl")
+        status = app.query_one("#capability-status", Static)
+        await wait_until(pilot, lambda: "broken.ttl" in str(status.render()))
+        assert status.has_class("error")
+        assert any("broken.ttl" in n for n in notifications(app))
+        assert app.loaded.capability is None
+        assert "Traceback" not in screen_text(app)
+        # The app is still alive: another file loads.
+        await pilot.press("up", "enter")
+        await wait_until(pilot, lambda: app.loaded.capability is not None)
+        assert not status.has_class("error")
+
+
+async def test_a_file_with_several_capabilities_is_read_with_the_iri_given(
+    workspace: Path,
+) -> None:
+    both = workspace / "both.ttl"
+    both.write_text(
+        (workspace / "rotate.ttl").read_text(encoding="utf-8")
+        + "\n"
+        + (workspace / "move-forward.ttl").read_text(encoding="utf-8"),
+        encoding="utf-8",
+    )
+    app = app_for(workspace)
+    async with app.run_test(size=(100, 30)) as pilot:
+        options = app.query_one("#capability-list", OptionList)
+        await choose(pilot, options, "both.ttl")
+        status = app.query_one("#capability-status", Static)
+        await wait_until(pilot, lambda: "holds 2 capabilities" in str(status.render()))
+        app.query_one("#capability-iri", Input).focus()
+        await pilot.press(*"rotate", "enter")
+        await wait_until(pilot, lambda: app.loaded.capability is not None)
+        assert app.loaded.capability is not None
+        assert app.loaded.capability.capability.name == "rotate"
+        assert app.session.capability_iri == "rotate"
