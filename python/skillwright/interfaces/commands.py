@@ -1,4 +1,4 @@
-"""``skillwright discover``: the interfaces recorded in an MCAP file or rosbag2 folder.
+"""``skillwright discover``: the interfaces of a recording, a report or the live ROS 2 graph.
 
 Only click is imported at module level; the Rust core, pydantic and rich load inside
 the command.
@@ -16,20 +16,29 @@ from skillwright.console import human_size
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from skillwright.interfaces.inventory import Inventory, SourceFile
+    from skillwright.interfaces.inventory import Inventory, Source, SourceFile
     from skillwright.interfaces.sources.bag import ReadMode
 
 __all__ = ["discover", "render_summary"]
 
 
 @click.command()
-@click.argument("path", type=click.Path(path_type=Path))
-@click.option("--json", "as_json", is_flag=True, help="Print the inventory as JSON only.")
+@click.argument("source", type=click.Path(path_type=Path))
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON only.")
 @click.option(
     "-o",
     "--output",
     type=click.Path(dir_okay=False, path_type=Path),
-    help="Write the inventory (JSON) to this file.",
+    help="Write the result (JSON) to this file.",
+)
+@click.option(
+    "--format",
+    "output_format",
+    type=click.Choice(["inventory", "report"]),
+    default="inventory",
+    show_default=True,
+    help="What -o and --json write: a skillwright inventory, or the reference tool's "
+    "(LLMCap2Skill) report JSON.",
 )
 @click.option(
     "--read",
@@ -37,34 +46,62 @@ __all__ = ["discover", "render_summary"]
     type=click.Choice(["auto", "scan", "full"]),
     default="auto",
     show_default=True,
-    help="auto: summary section when complete, else scan; scan: ignore the summary; "
-    "full: also decompress every chunk.",
+    help="Recordings only. auto: summary section when complete, else scan; scan: ignore "
+    "the summary; full: also decompress every chunk.",
 )
-@click.option("--name", "resource_name", help="Resource name (default: the recording's name).")
+@click.option(
+    "--name",
+    "--resource",
+    "resource_name",
+    help="Resource name (default: the recording's or report's name).",
+)
 def discover(
-    path: Path, as_json: bool, output: Path | None, mode: str, resource_name: str | None
+    source: Path,
+    as_json: bool,
+    output: Path | None,
+    output_format: str,
+    mode: str,
+    resource_name: str | None,
 ) -> None:
-    """Discover the ROS 2 topics, services and actions recorded in PATH.
+    """Discover the ROS 2 topics, services and actions in SOURCE.
 
-    PATH is an .mcap file or a rosbag2 folder (metadata.yaml plus split .mcap files).
-    Prints a summary in the spirit of `ros2 bag info`; the inventory, with every
-    interface's full message definition, goes to -o FILE and/or stdout with --json.
+    SOURCE is an .mcap file, a rosbag2 folder (metadata.yaml plus split .mcap files), or
+    a report of the reference tool (JSON, told apart by content). Prints a summary in the
+    spirit of `ros2 bag info`; the inventory, with every interface's full message
+    definition, goes to -o FILE and/or stdout with --json (--format report writes the
+    reference tool's report instead).
     """
-    from skillwright.console import err_console, out_console, print_model_json
-    from skillwright.fileio import write_atomic
-    from skillwright.interfaces.sources.bag import discover_bag
+    from skillwright.interfaces.load import discover_path
 
-    inventory = discover_bag(path, cast("ReadMode", mode), resource_name)
+    inventory = discover_path(source, cast("ReadMode", mode), resource_name)
+    _emit(inventory, as_json=as_json, output=output, output_format=output_format)
+
+
+def _emit(inventory: Inventory, *, as_json: bool, output: Path | None, output_format: str) -> None:
+    """Writes and prints a discovered inventory as the options ask."""
+    import sys
+
+    from skillwright.console import err_console, out_console
+    from skillwright.fileio import write_atomic
+
+    notes: list[str] = []
+    if output_format == "report":
+        from skillwright.interfaces.sources.report import report_text
+
+        text, notes = report_text(inventory)
+        text += "\n"
+    else:
+        text = inventory.model_dump_json(indent=2) + "\n"
     if output is not None:
-        write_atomic(output, inventory.model_dump_json(indent=2) + "\n")
+        write_atomic(output, text)
     if as_json:
-        print_model_json(inventory)
-        _warn_partial(inventory, err_console())
-        return
-    render_summary(inventory, out_console())
-    _warn_partial(inventory, err_console())
-    if output is not None:
-        out_console().print(f"inventory written to {output}", soft_wrap=True)
+        sys.stdout.write(text)
+    else:
+        render_summary(inventory, out_console())
+    _warn_partial(inventory, err_console(), notes)
+    if output is not None and not as_json:
+        what = "report" if output_format == "report" else "inventory"
+        out_console().print(f"{what} written to {output}", soft_wrap=True)
 
 
 def _time(ns: int | None) -> str:
@@ -81,12 +118,29 @@ def _chunks(files: list[SourceFile]) -> str:
     return f"{count} ({', '.join(kinds)})" if kinds else str(count)
 
 
+def _render_other_source(source: Source, console: Console) -> None:
+    """Source lines of a report or the live graph: no files, durations or chunks."""
+    from rich.markup import escape
+
+    kinds = {"report": "report", "ros2_live": "live ROS 2 graph"}
+    lines = [("Source", f"{escape(source.location)} ({kinds.get(source.kind, source.kind)})")]
+    if source.captured_at:
+        lines.append(("Captured", escape(source.captured_at)))
+    if source.ros_distro:
+        lines.append(("ROS distro", escape(source.ros_distro)))
+    for label, value in lines:
+        console.print(f"[bold]{label + ':':<12}[/bold]{value}", soft_wrap=True)
+
+
 def render_summary(inventory: Inventory, console: Console) -> None:
     """Prints duration, counts and a table of the interfaces, like ``ros2 bag info``."""
     from rich.markup import escape
     from rich.table import Table
 
     for source in inventory.sources:
+        if source.kind not in ("mcap", "rosbag2"):
+            _render_other_source(source, console)
+            continue
         total_size = sum(f.size_bytes for f in source.files)
         methods = sorted({f.read_method for f in source.files})
         duration = source.duration_ns
@@ -164,7 +218,7 @@ def render_summary(inventory: Inventory, console: Console) -> None:
             console.print(f"  {name}: {note}", markup=False, soft_wrap=True)
 
 
-def _warn_partial(inventory: Inventory, console: Console) -> None:
+def _warn_partial(inventory: Inventory, console: Console, notes: list[str]) -> None:
     from rich.markup import escape
 
     def say(label: str, text: str) -> None:
@@ -184,3 +238,5 @@ def _warn_partial(inventory: Inventory, console: Console) -> None:
                 say("warning", f"{file.path}: byte {damage.offset}: {damage.message}")
         for note in source.notes:
             say("note", note)
+    for note in notes:
+        say("note", note)

@@ -298,6 +298,11 @@ class Source(_Model):
     end_time_ns: int | None = Field(default=None, description="Last message time (ns).")
     message_count: int | None = Field(default=None, description="Messages in the source.")
     ros_distro: str | None = Field(default=None, description="ROS distribution, when recorded.")
+    captured_at: str | None = Field(
+        default=None,
+        description="When the source was captured, as it says: a report's `timestamp`, or "
+        "the time of live discovery (ISO 8601).",
+    )
     notes: list[str] = Field(default_factory=list, description="Remarks about the source.")
 
     @property
