@@ -48,6 +48,7 @@ from skillwright.interfaces.ros2msg import (
     parse_blocks,
 )
 from skillwright.interfaces.sources import InterfaceSource
+from skillwright.interfaces.typestore import fill_missing_definitions, filled_note
 
 __all__ = [
     "DESCRIPTION_HEADINGS",
@@ -572,11 +573,15 @@ def inventory_from_report(
         interfaces.extend(_interfaces_of(entry, kind, name, where, path))
     # Stable: types of one name keep the report's order, so export gives them back as read.
     interfaces.sort(key=lambda i: (_KIND_ORDER[i.kind], i.name))
+    # Entries without details still name their type; the report says nothing of the distro.
+    filled = fill_missing_definitions(interfaces)
     timestamp = document.get("timestamp")
     described = sum(i.description is not None for i in interfaces)
     notes = []
     if described:
         notes.append(f"{described} description(s) from the report (engine `report`)")
+    if filled:
+        notes.append(filled_note(filled))
     return Inventory(
         resource=Resource(name=resource_name or Path(where).stem),
         sources=[
