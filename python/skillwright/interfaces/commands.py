@@ -16,14 +16,26 @@ from skillwright.console import human_size
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from skillwright.interfaces.inventory import Inventory, Source, SourceFile
+    from skillwright.interfaces.inventory import Endpoints, Inventory, Source, SourceFile
     from skillwright.interfaces.sources.bag import ReadMode
 
 __all__ = ["discover", "render_summary"]
 
 
 @click.command()
-@click.argument("source", type=click.Path(path_type=Path))
+@click.argument("source", required=False, type=click.Path(path_type=Path))
+@click.option(
+    "--live",
+    is_flag=True,
+    help="Discover the running ROS 2 graph instead (needs ROS 2 sourced in this shell).",
+)
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=10.0,
+    show_default=True,
+    help="--live: seconds to wait for two consecutive snapshots of the graph to agree.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON only.")
 @click.option(
     "-o",
@@ -56,24 +68,45 @@ __all__ = ["discover", "render_summary"]
     help="Resource name (default: the recording's or report's name).",
 )
 def discover(
-    source: Path,
+    source: Path | None,
+    live: bool,
+    timeout: float,
     as_json: bool,
     output: Path | None,
     output_format: str,
     mode: str,
     resource_name: str | None,
 ) -> None:
-    """Discover the ROS 2 topics, services and actions in SOURCE.
+    """Discover the ROS 2 topics, services and actions in SOURCE, or on the live graph.
 
     SOURCE is an .mcap file, a rosbag2 folder (metadata.yaml plus split .mcap files), or
-    a report of the reference tool (JSON, told apart by content). Prints a summary in the
-    spirit of `ros2 bag info`; the inventory, with every interface's full message
+    a report of the reference tool (JSON, told apart by content). With --live, a
+    short-lived node lists the running graph until two snapshots agree. Prints a summary
+    in the spirit of `ros2 bag info`; the inventory, with every interface's full message
     definition, goes to -o FILE and/or stdout with --json (--format report writes the
     reference tool's report instead).
     """
-    from skillwright.interfaces.load import discover_path
+    from skillwright.errors import InvalidArgumentError
 
-    inventory = discover_path(source, cast("ReadMode", mode), resource_name)
+    if live == (source is not None):
+        raise InvalidArgumentError(
+            "give either a SOURCE (.mcap file, rosbag2 folder, report .json) or --live, not both"
+            if live
+            else "give a SOURCE (.mcap file, rosbag2 folder, report "
+            ".json) or --live for the running ROS 2 graph"
+        )
+    if source is None:
+        from skillwright.console import err_console
+        from skillwright.interfaces.sources.live import LiveSource
+
+        err_console().print(
+            f"discovering the live ROS 2 graph (up to {timeout:g} s) ...", soft_wrap=True
+        )
+        inventory = LiveSource(timeout=timeout, resource_name=resource_name).discover()
+    else:
+        from skillwright.interfaces.load import discover_path
+
+        inventory = discover_path(source, cast("ReadMode", mode), resource_name)
     _emit(inventory, as_json=as_json, output=output, output_format=output_format)
 
 
@@ -118,6 +151,39 @@ def _chunks(files: list[SourceFile]) -> str:
     return f"{count} ({', '.join(kinds)})" if kinds else str(count)
 
 
+def _endpoints(endpoints: Endpoints | None) -> str:
+    if endpoints is None:
+        return "-"
+    if endpoints.servers is not None or endpoints.clients is not None:
+        return f"{endpoints.servers or 0} srv / {endpoints.clients or 0} cli"
+    return f"{endpoints.publishers or 0} pub / {endpoints.subscribers or 0} sub"
+
+
+def _render_recording_source(source: Source, console: Console) -> None:
+    """Source lines of a recording, like ``ros2 bag info``."""
+    from rich.markup import escape
+
+    total_size = sum(f.size_bytes for f in source.files)
+    methods = sorted({f.read_method for f in source.files})
+    duration = source.duration_ns
+    lines = [
+        ("Recording", f"{escape(source.location)} ({source.kind})"),
+        (
+            "Files",
+            f"{len(source.files)}, {human_size(total_size)}, read by {', '.join(methods)}",
+        ),
+        ("Duration", f"{duration / 1e9:.3f} s" if duration is not None else "-"),
+        ("Start", _time(source.start_time_ns)),
+        ("End", _time(source.end_time_ns)),
+        ("Messages", str(source.message_count or 0)),
+        ("Chunks", _chunks(source.files)),
+    ]
+    if source.ros_distro:
+        lines.append(("ROS distro", source.ros_distro))
+    for label, value in lines:
+        console.print(f"[bold]{label + ':':<12}[/bold]{value}", soft_wrap=True)
+
+
 def _render_other_source(source: Source, console: Console) -> None:
     """Source lines of a report or the live graph: no files, durations or chunks."""
     from rich.markup import escape
@@ -138,28 +204,10 @@ def render_summary(inventory: Inventory, console: Console) -> None:
     from rich.table import Table
 
     for source in inventory.sources:
-        if source.kind not in ("mcap", "rosbag2"):
+        if source.kind in ("mcap", "rosbag2"):
+            _render_recording_source(source, console)
+        else:
             _render_other_source(source, console)
-            continue
-        total_size = sum(f.size_bytes for f in source.files)
-        methods = sorted({f.read_method for f in source.files})
-        duration = source.duration_ns
-        lines = [
-            ("Recording", f"{escape(source.location)} ({source.kind})"),
-            (
-                "Files",
-                f"{len(source.files)}, {human_size(total_size)}, read by {', '.join(methods)}",
-            ),
-            ("Duration", f"{duration / 1e9:.3f} s" if duration is not None else "-"),
-            ("Start", _time(source.start_time_ns)),
-            ("End", _time(source.end_time_ns)),
-            ("Messages", str(source.message_count or 0)),
-            ("Chunks", _chunks(source.files)),
-        ]
-        if source.ros_distro:
-            lines.append(("ROS distro", source.ros_distro))
-        for label, value in lines:
-            console.print(f"[bold]{label + ':':<12}[/bold]{value}", soft_wrap=True)
     counts = {
         kind: sum(i.kind == kind for i in inventory.interfaces)
         for kind in ("topic", "service", "action")
@@ -173,8 +221,14 @@ def render_summary(inventory: Inventory, console: Console) -> None:
     table.add_column("Kind")
     table.add_column("Name", overflow="fold")
     table.add_column("Type", overflow="fold")
-    table.add_column("Messages", justify="right")
-    table.add_column("Rate (Hz)", justify="right")
+    # Recordings have messages and rates, a live graph has endpoints, a report neither.
+    recorded = any(source.kind in ("mcap", "rosbag2") for source in inventory.sources)
+    live = any(entry.endpoints is not None for entry in inventory.interfaces)
+    if recorded:
+        table.add_column("Messages", justify="right")
+        table.add_column("Rate (Hz)", justify="right")
+    if live:
+        table.add_column("Endpoints")
     table.add_column("Infrastructure")
     approximate = False
     for entry in inventory.interfaces:
@@ -183,12 +237,16 @@ def render_summary(inventory: Inventory, console: Console) -> None:
         if traffic is not None and traffic.rate_hz is not None:
             rate = f"{traffic.rate_hz:.2f}" if traffic.times_exact else f"~{traffic.rate_hz:.2f}"
             approximate = approximate or not traffic.times_exact
+        columns = []
+        if recorded:
+            columns += [str(traffic.message_count) if traffic is not None else "-", rate]
+        if live:
+            columns.append(_endpoints(entry.endpoints))
         table.add_row(
             entry.kind,
             escape(entry.name),
             escape(entry.type_name or "?"),
-            str(traffic.message_count) if traffic is not None else "-",
-            rate,
+            *columns,
             entry.infrastructure.rule if entry.infrastructure is not None else "",
         )
     # Piped output is not cut to 80 columns: type names stay whole for grep and diff.
@@ -221,6 +279,8 @@ def render_summary(inventory: Inventory, console: Console) -> None:
 def _warn_partial(inventory: Inventory, console: Console, notes: list[str]) -> None:
     from rich.markup import escape
 
+    from skillwright.interfaces.sources.live import NOT_SETTLED
+
     def say(label: str, text: str) -> None:
         console.print(f"[yellow]{label}:[/yellow] {escape(text)}", soft_wrap=True)
 
@@ -237,6 +297,6 @@ def _warn_partial(inventory: Inventory, console: Console, notes: list[str]) -> N
             for damage in file.damaged:
                 say("warning", f"{file.path}: byte {damage.offset}: {damage.message}")
         for note in source.notes:
-            say("note", note)
+            say("warning" if note.startswith(NOT_SETTLED) else "note", note)
     for note in notes:
         say("note", note)

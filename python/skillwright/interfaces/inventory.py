@@ -25,6 +25,7 @@ __all__ = [
     "ChannelRef",
     "Constant",
     "Damage",
+    "Endpoints",
     "InfrastructureFlag",
     "Interface",
     "InterfaceKind",
@@ -171,6 +172,19 @@ class ChannelRef(_Model):
     message_count: int = Field(description="Messages recorded on this topic.")
 
 
+class Endpoints(_Model):
+    """Who offered or used an interface on the live graph when it was discovered."""
+
+    publishers: int | None = Field(default=None, description="Publishers of a topic.")
+    subscribers: int | None = Field(default=None, description="Subscribers of a topic.")
+    servers: int | None = Field(
+        default=None, description="Servers of an action (publishers of its status topic)."
+    )
+    clients: int | None = Field(
+        default=None, description="Clients of an action (subscribers of its status topic)."
+    )
+
+
 class InfrastructureFlag(_Model):
     """Marks an interface that belongs to ROS 2 or tooling plumbing, not the robot's task."""
 
@@ -235,6 +249,9 @@ class Interface(_Model):
     traffic: Traffic | None = Field(default=None, description="Message statistics, where known.")
     channels: list[ChannelRef] = Field(
         default_factory=list, description="Recorded topics this interface was built from."
+    )
+    endpoints: Endpoints | None = Field(
+        default=None, description="Publishers, subscribers, servers, clients (live graph)."
     )
     infrastructure: InfrastructureFlag | None = Field(
         default=None, description="Set when the interface is ROS 2 / tooling infrastructure."
