@@ -147,7 +147,8 @@ def test_definitions_that_cannot_be_shown_leave_details_empty_with_a_note() -> N
         },
     )
     missing = Interface(name="/s", kind="service", type_name="p/srv/S")
-    inventory = Inventory(resource=Resource(name="r"), interfaces=[idl, missing])
+    untyped = Interface(name="/a", kind="action", type_name="")
+    inventory = Inventory(resource=Resource(name="r"), interfaces=[idl, missing, untyped])
     document, notes = report_from_inventory(inventory)
     details = [
         entry["interfaces"][0]["details"]
@@ -158,7 +159,9 @@ def test_definitions_that_cannot_be_shown_leave_details_empty_with_a_note() -> N
     assert notes == [
         "topic /idl: no complete ros2msg definition of p/msg/I; its details are left empty",
         "service /s: no complete ros2msg definition of p/srv/S; its details are left empty",
+        "action /a: type unknown; left out",
     ]
+    assert document["ros2_control_entities"]["actions"] == []
 
 
 def test_timestamp_comes_from_the_capture_time_or_the_first_message() -> None:

@@ -57,6 +57,7 @@ __all__ = [
     "description_from_text",
     "description_to_text",
     "details_from_definitions",
+    "interface_type_name",
     "inventory_from_report",
     "is_report",
     "read_report",
@@ -657,6 +658,10 @@ def report_from_inventory(inventory: Inventory) -> tuple[dict[str, Any], list[st
     entries: dict[tuple[str, str], dict[str, Any]] = {}
     notes: list[str] = []
     for interface in inventory.interfaces:
+        if not interface.type_name:
+            # A report entry needs a type name; an empty one would not read back.
+            notes.append(f"{interface.kind} {interface.name}: type unknown; left out")
+            continue
         key = (interface.kind, interface.name)
         entry = entries.get(key)
         if entry is None:
