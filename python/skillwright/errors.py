@@ -26,6 +26,7 @@ __all__ = [
     "ModelFileMissingError",
     "ModelFormatError",
     "ModelServerError",
+    "Ros2UnavailableError",
     "SkillwrightError",
     "SpecError",
 ]
@@ -94,3 +95,8 @@ class GenerationCancelledError(SkillwrightError):
     """The user cancelled a generation; nothing was written."""
 
     exit_code = 130
+
+
+class Ros2UnavailableError(SkillwrightError):
+    """The live ROS 2 graph cannot be reached: rclpy is not importable (ROS 2 not sourced
+    in this shell, or built for another Python) or no node could be started."""
