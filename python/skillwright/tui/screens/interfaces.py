@@ -83,6 +83,7 @@ class InterfacesPane(Pane):
         with Horizontal(id="interfaces-bar", classes="bar"):
             yield Select[str]([], prompt="interface source", id="interfaces-source", compact=True)
             yield Button("Open… ^O", id="interfaces-open", compact=True)
+            yield Button("Live ROS 2", id="interfaces-live", compact=True)
             yield Button("Describe ^E", id="interfaces-enrich", compact=True)
             yield Checkbox("infrastructure", id="interfaces-infra", compact=True)
         yield Input(
@@ -137,7 +138,7 @@ class InterfacesPane(Pane):
 
         self.app.push_screen(
             OpenPathScreen(
-                "Open an interface source (inventory .json, .mcap, rosbag2 folder)",
+                "Open an interface source (inventory or report .json, .mcap, rosbag2 folder)",
                 self.sw.workspace.root,
             ),
             chosen,
@@ -159,6 +160,30 @@ class InterfacesPane(Pane):
             return
         if not get_current_worker().is_cancelled:
             self.post_message(InventoryLoaded(source, inventory))
+
+    @on(Button.Pressed, "#interfaces-live")
+    def action_live(self) -> None:
+        """Discovers the running ROS 2 graph (needs rclpy) and saves it as an inventory."""
+        self.query_one("#interfaces-status", Static).update(
+            "discovering the live ROS 2 graph (until two snapshots agree, at most 10 s) …"
+        )
+        self._load_worker = self._discover_live(self.sw.workspace.root)
+
+    @work(thread=True, exclusive=True, group="interfaces", exit_on_error=False)
+    def _discover_live(self, root: Path) -> None:
+        from skillwright.fileio import write_atomic
+        from skillwright.interfaces.sources.live import LiveSource
+
+        try:
+            inventory = LiveSource().discover()
+            target = root / f"{inventory.resource.name}.inventory.json"
+            # Generation reads its interfaces from a file, and the next start finds it there.
+            write_atomic(target, inventory.model_dump_json(indent=2) + "\n")
+        except SkillwrightError as error:
+            self.fail(str(error))
+            return
+        if not get_current_worker().is_cancelled:
+            self.post_message(InventoryLoaded(target, inventory))
 
     def on_inventory_loaded(self, message: InventoryLoaded) -> None:
         self.sw.update_session(interfaces=self.sw.workspace.relative(message.source))
@@ -345,6 +370,9 @@ class InterfacesPane(Pane):
             "Open interface source",
             "Inventory, .mcap or rosbag2 folder (Ctrl+O)",
             self._open_from_palette,
+        )
+        yield SystemCommand(
+            "Discover the live ROS 2 graph", "Needs ROS 2 sourced (rclpy)", self.action_live
         )
         yield SystemCommand(
             "Describe interfaces",

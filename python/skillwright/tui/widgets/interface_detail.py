@@ -34,7 +34,8 @@ def mark_of(name: str, pinned: tuple[str, ...], dropped: tuple[str, ...]) -> str
 def _field_lines(fields: list[MessageField], depth: int, out: list[str]) -> None:
     for field in fields:
         note = "" if field.resolved else "  (definition not in the source)"
-        out.append(f"{'  ' * depth}{field.name}: {field.type}{note}")
+        full = "" if field.builtin or field.base_type in field.type else f"  ({field.base_type})"
+        out.append(f"{'  ' * depth}{field.name}: {field.type}{full}{note}")
         if field.fields:
             _field_lines(field.fields, depth + 1, out)
 
