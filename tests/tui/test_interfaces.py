@@ -83,7 +83,7 @@ async def test_the_detail_pane_shows_the_expanded_message_definition(workspace: 
         pane = await _loaded(pilot, app)
         table = app.query_one("#interfaces-table", DataTable)
         table.focus()
-        await pilot.press("home", *["down"] * _names(pane).index("/cmd_vel"))
+        await pilot.press("ctrl+home", *["down"] * _names(pane).index("/cmd_vel"))
         await wait_until(
             pilot, lambda: "linear: Vector3  (geometry_msgs/msg/Vector3)" in screen_text(app)
         )
@@ -127,7 +127,7 @@ async def test_pins_and_drops_are_marked_and_kept_in_the_session(workspace: Path
         pane = await _loaded(pilot, app)
         table = app.query_one("#interfaces-table", DataTable)
         table.focus()
-        await pilot.press("home", *["down"] * _names(pane).index("/odom"), "p")
+        await pilot.press("ctrl+home", *["down"] * _names(pane).index("/odom"), "p")
         assert app.session.pinned == ("/odom",)
         assert str(table.get_cell_at(Coordinate(table.cursor_row, 0))) == "pin"
         await pilot.press("x")  # dropping a pinned interface un-pins it
@@ -156,7 +156,8 @@ async def test_the_live_graph_without_ros2_says_how_to_get_it(workspace: Path) -
     app = app_for(workspace)
     async with app.run_test(size=(120, 40)) as pilot:
         await pilot.press("f4")
-        await pilot.click("#interfaces-live")
+        app.query_one("#interfaces-live").focus()
+        await pilot.press("enter")
         await wait_until(pilot, lambda: any("ROS 2" in n for n in notifications(app)))
         assert any("source /opt/ros" in n for n in notifications(app))
 
@@ -176,7 +177,8 @@ async def test_the_live_graph_is_discovered_and_saved_as_an_inventory(
     app = app_for(workspace)
     async with app.run_test(size=(120, 40)) as pilot:
         await pilot.press("f4")
-        await pilot.click("#interfaces-live")
+        app.query_one("#interfaces-live").focus()
+        await pilot.press("enter")
         pane = await _loaded(pilot, app)
         assert "/cmd_vel" in _names(pane)
         assert app.session.interfaces == "ros2_graph.inventory.json"

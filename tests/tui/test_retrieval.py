@@ -1,0 +1,91 @@
+"""The Retrieval tab: ranked interfaces with scores and reasons; pins and drops."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+from textual.widgets import DataTable, Static
+
+from skillwright.pipeline import retrieve
+from skillwright.tui.screens.retrieval import RetrievalPane
+from tests.tui.conftest import app_for, notifications, preset_session, wait_until
+
+pytestmark = pytest.mark.anyio
+
+INPUTS = {
+    "capability": "move-forward.ttl",
+    "spec_path": "move-forward.spec.yaml",
+    "interfaces": "recordings/mr1",
+    "dense": False,
+}
+
+
+def _status(app: Any) -> str:
+    return str(app.query_one("#retrieval-status", Static).render())
+
+
+async def _ready(pilot: Any, app: Any) -> RetrievalPane:
+    await wait_until(
+        pilot,
+        lambda: (
+            app.loaded.capability is not None
+            and app.loaded.inventory is not None
+            and app.spec_pane().spec is not None
+        ),
+    )
+    await pilot.press("f5")
+    return app.query_one(RetrievalPane)
+
+
+async def test_ranking_shows_the_engines_hits_with_scores_and_reasons(workspace: Path) -> None:
+    preset_session(workspace, **INPUTS, k=3)
+    app = app_for(workspace)
+    async with app.run_test(size=(160, 48)) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+r")
+        await wait_until(pilot, lambda: len(app.loaded.hits) == 3)
+        expected = retrieve(
+            workspace / "move-forward.ttl",
+            workspace / "move-forward.spec.yaml",
+            workspace / "recordings" / "mr1",
+            k=3,
+            dense=False,
+        )
+        assert [h.name for h in app.loaded.hits] == [h.name for h in expected.hits]
+        assert pane.rows == [h.name for h in expected.hits]
+        table = app.query_one("#retrieval-table", DataTable)
+        first = [str(cell) for cell in table.get_row_at(0)]
+        hit = expected.hits[0]
+        assert first[2:6] == [hit.name, hit.kind, hit.type_name, f"{hit.score:.2f}"]
+        assert first[8] == hit.reason
+        assert "3 interfaces ranked for Move forward (BM25 only" in _status(app)
+
+
+async def test_pinned_interfaces_are_listed_and_dropped_ones_left_out(workspace: Path) -> None:
+    preset_session(workspace, **INPUTS, k=4, pinned=("/battery_state",), dropped=("/odom",))
+    app = app_for(workspace)
+    async with app.run_test(size=(160, 48)) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+r")
+        await wait_until(pilot, lambda: len(app.loaded.hits) == 4)
+        assert "/odom" not in [h.name for h in app.loaded.hits]
+        assert pane.rows[4:] == ["/battery_state", "/odom"]
+        marks = str(app.query_one("#retrieval-marks", Static).render())
+        assert "pinned: /battery_state" in marks
+        assert "dropped: /odom" in marks
+        # Un-drop /odom from its row, pin the first hit.
+        table = app.query_one("#retrieval-table", DataTable)
+        table.focus()
+        await pilot.press("ctrl+end", "x")
+        assert app.session.dropped == ()
+        await pilot.press("ctrl+home", "p")
+        assert app.session.pinned == ("/battery_state", app.loaded.hits[0].name)
+
+
+async def test_ranking_needs_a_capability_and_interfaces_and_says_so(workspace: Path) -> None:
+    app = app_for(workspace)
+    async with app.run_test(size=(120, 40)) as pilot:
+        await pilot.press("f5", "ctrl+r")
+        await wait_until(pilot, lambda: any("capability first" in n for n in notifications(app)))
