@@ -35,7 +35,7 @@ SKELETON = "skeleton"
 """Value of the model selector that asks for the deterministic skeleton only."""
 
 _IDLE = "Ctrl+G generates a skill from the current inputs."
-_ICONS = {"pending": "·", "running": "…", "done": "✓"}
+_ICONS = {"pending": "·", "running": "…", "done": "✓", "skipped": "-"}
 
 
 class GenerationPane(Pane):
@@ -262,6 +262,11 @@ class GenerationPane(Pane):
         outcome = message.outcome
         self.outcome = outcome
         self._finish_ui()
+        # Stages that never started were not needed (the skeleton has no model stages).
+        for stage, (state, _text) in self.stages.items():
+            if state == "pending":
+                self.stages[stage] = ("skipped", "not needed")
+        self._show_stages()
         code = self.query_one(CodeView)
         code.show(Path(outcome.skill_path).read_text(encoding="utf-8"))
         report = outcome.report

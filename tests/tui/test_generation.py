@@ -1,0 +1,216 @@
+"""The Generation tab: the pipeline runs in a worker, streams, can be cancelled, and writes
+the same result folder and record as the headless command."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+from textual import events
+from textual.widgets import Input, OptionList, Select, Static, TabbedContent
+
+from skillwright.pipeline import GenerationRecord
+from skillwright.tui.screens.generation import SKELETON, GenerationPane
+from skillwright.tui.screens.history import HistoryPane
+from skillwright.tui.session import SpecDraft
+from skillwright.tui.widgets.code_view import CodeView
+from tests.tui.conftest import (
+    app_for,
+    notifications,
+    preset_session,
+    screen_text,
+    wait_until,
+    write_models,
+)
+
+pytestmark = pytest.mark.anyio
+
+# get-position with only /tf keeps the prompt short enough for the tiny model's context.
+INPUTS = {
+    "capability": "get-position.ttl",
+    "spec_path": "get-position.spec.yaml",
+    "interfaces": "recordings/mr1",
+    "k": 0,
+    "pinned": ("/tf",),
+    "dense": False,
+    "active_tab": "generation",
+}
+
+
+def _tab(app: Any) -> str:
+    return str(app.query_one("#tabs", TabbedContent).active)
+
+
+async def _send_keys(app: Any, keys: list[str], done: Any) -> None:
+    """Sends ``keys`` as the terminal driver would and waits until ``done()``.
+
+    (``Pilot.press`` waits for the process to go idle after each key, which a busy worker
+    thread never lets it do.)
+    """
+    started = time.monotonic()
+    for key in keys:
+        app._driver.send_message(events.Key(key, key if len(key) == 1 else None))
+    while not done():
+        assert time.monotonic() - started < 30, f"keys {keys} not handled in 30 s"
+        await asyncio.sleep(0.01)
+
+
+def _status(app: Any) -> str:
+    return str(app.query_one("#generation-status", Static).render())
+
+
+def _results(workspace: Path) -> list[Path]:
+    generated = workspace / "generated"
+    return sorted(generated.iterdir()) if generated.exists() else []
+
+
+async def _ready(pilot: Any, app: Any) -> GenerationPane:
+    pane = app.query_one(GenerationPane)
+    await wait_until(
+        pilot,
+        lambda: (
+            app.loaded.capability is not None
+            and app.loaded.inventory is not None
+            and app.spec_pane().spec is not None
+            and app.query_one("#generation-model", Select).value is not Select.NULL
+        ),
+    )
+    return pane
+
+
+async def test_a_skeleton_run_writes_the_result_and_findings_jump_to_their_lines(
+    workspace: Path,
+) -> None:
+    preset_session(workspace, **INPUTS, skeleton=True)
+    app = app_for(workspace)
+    async with app.run_test(size=(120, 40)) as pilot:
+        pane = await _ready(pilot, app)
+        assert app.query_one("#generation-model", Select).value == SKELETON
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.outcome is not None)
+        [result] = _results(workspace)
+        assert result.name.startswith("get_position-")
+        record = GenerationRecord.load(result / "record.json")
+        assert record.mode == "skeleton"
+        assert record.retrieval.pinned == ["/tf"]
+        code = app.query_one("#generation-code", CodeView)
+        assert code.text == (result / "skill.py").read_text(encoding="utf-8")
+        assert [state for state, _ in pane.stages.values()].count("done") == 5
+        assert pane.stages["model"][0] == "skipped"
+        assert "skeleton: checks FAILED" in _status(app)  # its states still raise
+        findings = app.query_one("#generation-findings", OptionList)
+        assert findings.option_count == len(record.checks.findings) > 0
+        findings.focus()
+        await pilot.press("down", "enter")
+        target = pane.findings[findings.highlighted or 0]
+        assert app.focused is code
+        assert code.cursor_location[0] == target.line - 1
+        # The history lists the new result.
+        history = app.query_one(HistoryPane)
+        await wait_until(pilot, lambda: [f for f, _ in history.entries] == [result])
+
+
+async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
+    workspace: Path, models_file: Path
+) -> None:
+    preset_session(workspace, **INPUTS)
+    app = app_for(workspace, models_file)
+    async with app.run_test(size=(160, 48)) as pilot:
+        pane = await _ready(pilot, app)
+        assert app.query_one("#generation-model", Select).value == "tiny"
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.outcome is not None, timeout=180)
+        [result] = _results(workspace)
+        record = GenerationRecord.load(result / "record.json")
+        assert record.mode == "llm"
+        assert record.model is not None
+        assert record.model.id == "tiny"
+        assert pane.streamed == (result / "response.txt").read_text(encoding="utf-8")
+        assert pane.streamed
+        assert all(state == "done" for state, _ in pane.stages.values())
+        stats = str(app.query_one("#generation-stats", Static).render())
+        assert f"prefix cache: {record.model.prefix_cache}" in stats
+        assert "tokens/s" in stats
+        assert f"wrote {record.model.completion_tokens} tokens" in stats
+        text = screen_text(app)
+        assert "✓ generation" in text
+        assert any("max_tokens" in n for n in notifications(app))
+
+
+async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
+    workspace: Path, tmp_path: Path, tiny_gguf: Path
+) -> None:
+    # Long enough an answer that the run is still going when the test presses Esc.
+    models = write_models(tmp_path / "long.toml", tiny_gguf, max_tokens=1500)
+    preset_session(workspace, **INPUTS)
+    app = app_for(workspace, models)
+    async with app.run_test(size=(120, 40)) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.running and "model" in pane.stages)
+        # While the worker loads the model and evaluates the prompt, keys are answered.
+        options = app.query_one("#capability-list")
+        await _send_keys(app, ["f2"], lambda: app.focused is options)
+        field = app.query_one("#capability-iri", Input)
+        await _send_keys(app, ["tab"], lambda: app.focused is field)
+        await _send_keys(app, list("abc"), lambda: field.value == "abc")
+        await _send_keys(app, ["f6"], lambda: _tab(app) == "generation")
+        assert pane.running, "the keys were handled while the generation worker ran"
+        # Once the model writes, Esc stops it; nothing is written.
+        await wait_until(pilot, lambda: pane.streamed, timeout=120)
+        await pilot.press("escape")
+        await wait_until(pilot, lambda: not pane.running, timeout=60)
+        assert "cancelled: nothing was written" in _status(app)
+        assert any("cancelled" in n for n in notifications(app))
+        assert _results(workspace) == []
+        assert not app.query_one("#generation-start").disabled
+
+
+async def test_a_missing_model_is_named_and_nothing_is_written(
+    workspace: Path, models_file: Path
+) -> None:
+    preset_session(workspace, **INPUTS, model="ghost")
+    app = app_for(workspace, models_file)
+    async with app.run_test(size=(120, 40)) as pilot:
+        pane = await _ready(pilot, app)
+        select = app.query_one("#generation-model", Select)
+        assert select.value == "ghost"
+        assert "ghost (file missing)" in screen_text(app)
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: "✗" in _status(app))
+        assert not pane.running
+        assert "ghost" in _status(app)
+        assert any("ghost.gguf" in n for n in notifications(app))
+        assert _results(workspace) == []
+
+
+async def test_generation_names_the_input_that_is_missing(workspace: Path) -> None:
+    app = app_for(workspace)
+    async with app.run_test(size=(120, 40)) as pilot:
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: any("capability first" in n for n in notifications(app)))
+        assert not app.query_one(GenerationPane).running
+
+
+async def test_an_invalid_specification_stops_generation_and_shows_the_form(
+    workspace: Path,
+) -> None:
+    inputs = {**INPUTS, "spec_path": None, "spec_draft": SpecDraft(name="no_states")}
+    preset_session(workspace, **inputs)
+    app = app_for(workspace)
+    async with app.run_test(size=(120, 40)) as pilot:
+        await wait_until(
+            pilot,
+            lambda: (
+                app.loaded.capability is not None
+                and app.loaded.inventory is not None
+                and app.spec_pane().ready
+            ),
+        )
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: any("'execute' state" in n for n in notifications(app)))
+        assert app.query_one("#tabs", TabbedContent).active == "specification"
+        assert _results(workspace) == []
