@@ -6,7 +6,8 @@ from __future__ import annotations
 import io
 import shutil
 import time
-from collections.abc import Callable
+from collections.abc import AsyncIterator, Callable
+from contextlib import asynccontextmanager
 from pathlib import Path
 
 import pytest
@@ -20,7 +21,7 @@ from skillwright.tui.workspace import Workspace
 from tests.conftest import SHIPPED_CAPABILITIES
 from tests.llm.conftest import isolated_config, tiny_gguf
 
-__all__ = ["choose", "isolated_config", "screen_text", "tiny_gguf", "wait_until"]
+__all__ = ["choose", "isolated_config", "running", "screen_text", "tiny_gguf", "wait_until"]
 
 
 @pytest.fixture
@@ -88,6 +89,18 @@ def app_for(workspace: Path, models_file: Path | None = None) -> SkillwrightApp:
     app = make_app(workspace, models_file=models_file)
     app.save_delay = 0.05
     return app
+
+
+@asynccontextmanager
+async def running(app: App[None], size: tuple[int, int] = (120, 40)) -> AsyncIterator[Pilot[None]]:
+    """Runs ``app`` headless at ``size`` once its widgets have all mounted.
+
+    Keys pressed before the tabs have finished mounting would be overridden by the tabs'
+    own start-up; a user cannot type that fast, a test can.
+    """
+    async with app.run_test(size=size) as pilot:
+        await pilot.pause()
+        yield pilot
 
 
 async def wait_until(

@@ -15,7 +15,7 @@ from textual.widgets import TabbedContent
 from skillwright.cli import main
 from skillwright.tui.screens.help import HelpScreen
 from skillwright.tui.session import load_session
-from tests.tui.conftest import app_for, screen_text, wait_until
+from tests.tui.conftest import app_for, running, screen_text, wait_until
 
 pytestmark = pytest.mark.anyio
 
@@ -49,7 +49,7 @@ def test_building_the_app_loads_no_engine_library() -> None:
 
 async def test_the_tabs_are_shown_and_function_keys_switch_them(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test(size=(80, 24)) as pilot:
+    async with running(app, (80, 24)) as pilot:
         text = screen_text(app)
         for title in ("Capability", "Specification", "Interfaces", "Retrieval", "Generation"):
             assert title in text
@@ -65,17 +65,17 @@ async def test_the_tabs_are_shown_and_function_keys_switch_them(workspace: Path)
 
 async def test_the_session_restores_the_tab_the_user_was_on(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test() as pilot:
+    async with running(app) as pilot:
         await pilot.press("f6")
         await wait_until(pilot, app.workspace.session_path.exists)
     again = app_for(workspace)
-    async with again.run_test():
+    async with running(again):
         assert again.query_one("#tabs", TabbedContent).active == "generation"
 
 
 async def test_f1_shows_the_help_and_escape_closes_it(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test(size=(80, 24)) as pilot:
+    async with running(app, (80, 24)) as pilot:
         await pilot.press("f1")
         assert isinstance(app.screen, HelpScreen)
         assert "command palette" in screen_text(app)
@@ -85,7 +85,7 @@ async def test_f1_shows_the_help_and_escape_closes_it(workspace: Path) -> None:
 
 async def test_every_action_is_in_the_command_palette(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test(size=(100, 30)) as pilot:
+    async with running(app, (100, 30)) as pilot:
         titles = {command.title for command in app.get_system_commands(app.screen)}
         for expected in (
             "Go to Retrieval",

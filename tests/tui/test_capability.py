@@ -14,6 +14,7 @@ from tests.tui.conftest import (
     choose,
     notifications,
     rich_text,
+    running,
     screen_text,
     wait_until,
 )
@@ -23,7 +24,7 @@ pytestmark = pytest.mark.anyio
 
 async def test_choosing_a_model_shows_its_inputs_outputs_and_limits(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         options = app.query_one("#capability-list", OptionList)
         assert app.focused is options
         await choose(pilot, options, "move-forward.ttl")
@@ -44,7 +45,7 @@ async def test_a_file_outside_the_workspace_opens_from_the_dialog(
     elsewhere.mkdir()
     (elsewhere / "turn.ttl").write_bytes((workspace / "rotate.ttl").read_bytes())
     app = app_for(workspace)
-    async with app.run_test(size=(100, 30)) as pilot:
+    async with running(app, (100, 30)) as pilot:
         await pilot.press("ctrl+o")
         assert isinstance(app.screen, OpenPathScreen)
         field = app.screen.query_one("#open-path", Input)
@@ -66,7 +67,7 @@ async def test_a_broken_capability_file_is_reported_in_words_and_the_app_goes_on
         "@prefix : <http://example.org/> .\n:a :b :c ;\n  :d \n", encoding="utf-8"
     )
     app = app_for(workspace)
-    async with app.run_test(size=(100, 30)) as pilot:
+    async with running(app, (100, 30)) as pilot:
         options = app.query_one("#capability-list", OptionList)
         await choose(pilot, options, "broken.ttl")
         status = app.query_one("#capability-status", Static)
@@ -92,7 +93,7 @@ async def test_a_file_with_several_capabilities_is_read_with_the_iri_given(
         encoding="utf-8",
     )
     app = app_for(workspace)
-    async with app.run_test(size=(100, 30)) as pilot:
+    async with running(app, (100, 30)) as pilot:
         options = app.query_one("#capability-list", OptionList)
         await choose(pilot, options, "both.ttl")
         status = app.query_one("#capability-status", Static)

@@ -21,6 +21,7 @@ from tests.tui.conftest import (
     app_for,
     notifications,
     preset_session,
+    running,
     screen_text,
     wait_until,
     write_models,
@@ -86,7 +87,7 @@ async def test_a_skeleton_run_writes_the_result_and_findings_jump_to_their_lines
 ) -> None:
     preset_session(workspace, **INPUTS, skeleton=True)
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         pane = await _ready(pilot, app)
         assert app.query_one("#generation-model", Select).value == SKELETON
         await pilot.press("ctrl+g")
@@ -118,7 +119,7 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
 ) -> None:
     preset_session(workspace, **INPUTS)
     app = app_for(workspace, models_file)
-    async with app.run_test(size=(160, 48)) as pilot:
+    async with running(app, (160, 48)) as pilot:
         pane = await _ready(pilot, app)
         assert app.query_one("#generation-model", Select).value == "tiny"
         await pilot.press("ctrl+g")
@@ -147,7 +148,7 @@ async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
     models = write_models(tmp_path / "long.toml", tiny_gguf, max_tokens=1500)
     preset_session(workspace, **INPUTS)
     app = app_for(workspace, models)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         pane = await _ready(pilot, app)
         await pilot.press("ctrl+g")
         await wait_until(pilot, lambda: pane.running and "model" in pane.stages)
@@ -174,7 +175,7 @@ async def test_a_missing_model_is_named_and_nothing_is_written(
 ) -> None:
     preset_session(workspace, **INPUTS, model="ghost")
     app = app_for(workspace, models_file)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         pane = await _ready(pilot, app)
         select = app.query_one("#generation-model", Select)
         assert select.value == "ghost"
@@ -189,7 +190,7 @@ async def test_a_missing_model_is_named_and_nothing_is_written(
 
 async def test_generation_names_the_input_that_is_missing(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await pilot.press("ctrl+g")
         await wait_until(pilot, lambda: any("capability first" in n for n in notifications(app)))
         assert not app.query_one(GenerationPane).running
@@ -201,7 +202,7 @@ async def test_an_invalid_specification_stops_generation_and_shows_the_form(
     inputs = {**INPUTS, "spec_path": None, "spec_draft": SpecDraft(name="no_states")}
     preset_session(workspace, **inputs)
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await wait_until(
             pilot,
             lambda: (

@@ -18,6 +18,7 @@ from tests.tui.conftest import (
     app_for,
     notifications,
     preset_session,
+    running,
     screen_text,
     wait_until,
 )
@@ -41,7 +42,7 @@ async def _loaded(pilot: Any, app: Any) -> InterfacesPane:
 
 async def test_a_recording_loads_into_a_table_with_infrastructure_hidden(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await pilot.press("f4")
         select = app.query_one("#interfaces-source", Select)
         select.value = str(workspace / "recordings" / "mr1")
@@ -64,7 +65,7 @@ async def test_a_recording_loads_into_a_table_with_infrastructure_hidden(workspa
 async def test_the_filter_searches_names_types_and_descriptions(workspace: Path) -> None:
     preset_session(workspace, interfaces="recordings/mr1")
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await pilot.press("f4")
         pane = await _loaded(pilot, app)
         await pilot.press("slash")
@@ -78,7 +79,7 @@ async def test_the_filter_searches_names_types_and_descriptions(workspace: Path)
 async def test_the_detail_pane_shows_the_expanded_message_definition(workspace: Path) -> None:
     preset_session(workspace, interfaces="recordings/mr1")
     app = app_for(workspace)
-    async with app.run_test(size=(160, 48)) as pilot:
+    async with running(app, (160, 48)) as pilot:
         await pilot.press("f4")
         pane = await _loaded(pilot, app)
         table = app.query_one("#interfaces-table", DataTable)
@@ -98,7 +99,7 @@ async def test_describing_fills_every_description_and_saves_the_inventory(
 ) -> None:
     preset_session(workspace, interfaces="recordings/mr1")
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await pilot.press("f4")
         pane = await _loaded(pilot, app)
         assert all(i.description is None for i in pane.shown)
@@ -122,7 +123,7 @@ async def test_describing_fills_every_description_and_saves_the_inventory(
 async def test_pins_and_drops_are_marked_and_kept_in_the_session(workspace: Path) -> None:
     preset_session(workspace, interfaces="recordings/mr1")
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await pilot.press("f4")
         pane = await _loaded(pilot, app)
         table = app.query_one("#interfaces-table", DataTable)
@@ -141,7 +142,7 @@ async def test_pins_and_drops_are_marked_and_kept_in_the_session(workspace: Path
 async def test_a_source_that_is_not_one_is_reported_in_words(workspace: Path) -> None:
     (workspace / "notes.inventory.json").write_text('{"hello": 1}', encoding="utf-8")
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await pilot.press("f4")
         app.query_one(InterfacesPane).load(workspace / "notes.inventory.json")
         await wait_until(pilot, lambda: "notes.inventory.json" in _status(app))
@@ -154,7 +155,7 @@ async def test_the_live_graph_without_ros2_says_how_to_get_it(workspace: Path) -
     if importlib.util.find_spec("rclpy") is not None:
         pytest.skip("ROS 2 is sourced here; this test is about machines without it")
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await pilot.press("f4")
         app.query_one("#interfaces-live").focus()
         await pilot.press("enter")
@@ -175,7 +176,7 @@ async def test_the_live_graph_is_discovered_and_saved_as_an_inventory(
 
     monkeypatch.setattr(rclpy_graph, "open_graph", recorded)
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await pilot.press("f4")
         app.query_one("#interfaces-live").focus()
         await pilot.press("enter")

@@ -10,7 +10,7 @@ from textual.widgets import DataTable, Static
 
 from skillwright.pipeline import retrieve
 from skillwright.tui.screens.retrieval import RetrievalPane
-from tests.tui.conftest import app_for, notifications, preset_session, wait_until
+from tests.tui.conftest import app_for, notifications, preset_session, running, wait_until
 
 pytestmark = pytest.mark.anyio
 
@@ -42,7 +42,7 @@ async def _ready(pilot: Any, app: Any) -> RetrievalPane:
 async def test_ranking_shows_the_engines_hits_with_scores_and_reasons(workspace: Path) -> None:
     preset_session(workspace, **INPUTS, k=3)
     app = app_for(workspace)
-    async with app.run_test(size=(160, 48)) as pilot:
+    async with running(app, (160, 48)) as pilot:
         pane = await _ready(pilot, app)
         await pilot.press("ctrl+r")
         await wait_until(pilot, lambda: len(app.loaded.hits) == 3)
@@ -66,7 +66,7 @@ async def test_ranking_shows_the_engines_hits_with_scores_and_reasons(workspace:
 async def test_pinned_interfaces_are_listed_and_dropped_ones_left_out(workspace: Path) -> None:
     preset_session(workspace, **INPUTS, k=4, pinned=("/battery_state",), dropped=("/odom",))
     app = app_for(workspace)
-    async with app.run_test(size=(160, 48)) as pilot:
+    async with running(app, (160, 48)) as pilot:
         pane = await _ready(pilot, app)
         await pilot.press("ctrl+r")
         await wait_until(pilot, lambda: len(app.loaded.hits) == 4)
@@ -86,6 +86,6 @@ async def test_pinned_interfaces_are_listed_and_dropped_ones_left_out(workspace:
 
 async def test_ranking_needs_a_capability_and_interfaces_and_says_so(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test(size=(120, 40)) as pilot:
+    async with running(app, (120, 40)) as pilot:
         await pilot.press("f5", "ctrl+r")
         await wait_until(pilot, lambda: any("capability first" in n for n in notifications(app)))

@@ -19,7 +19,7 @@ from skillwright.spec import load_spec
 from skillwright.tui.screens.open_path import OpenPathScreen
 from skillwright.tui.screens.spec import SpecPane
 from skillwright.tui.session import SpecDraft, load_session
-from tests.tui.conftest import app_for, notifications, preset_session, wait_until
+from tests.tui.conftest import app_for, notifications, preset_session, running, wait_until
 
 pytestmark = pytest.mark.anyio
 
@@ -37,7 +37,7 @@ async def _open_form(pilot: object, app: object) -> SpecPane:
 
 async def test_the_form_is_checked_as_you_type(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test(size=(100, 40)) as pilot:
+    async with running(app, (100, 40)) as pilot:
         pane = await _open_form(pilot, app)
         assert "name '' is not a valid identifier" in _status(app)
         assert pane.spec is None
@@ -61,7 +61,7 @@ async def test_choosing_a_capability_fills_an_empty_form_with_its_specification(
 ) -> None:
     preset_session(workspace, capability="rotate.ttl")
     app = app_for(workspace)
-    async with app.run_test(size=(100, 40)) as pilot:
+    async with running(app, (100, 40)) as pilot:
         pane = await _open_form(pilot, app)
         await wait_until(pilot, lambda: pane.spec is not None and pane.spec.name == "rotate")
         assert pane.spec == load_spec(workspace / "rotate.spec.yaml")
@@ -74,7 +74,7 @@ async def test_what_was_typed_wins_over_the_capabilitys_specification(workspace:
     draft = SpecDraft(name="mine", states={"execute": "My own words."})
     preset_session(workspace, capability="rotate.ttl", spec_draft=draft)
     app = app_for(workspace)
-    async with app.run_test(size=(100, 40)) as pilot:
+    async with running(app, (100, 40)) as pilot:
         pane = await _open_form(pilot, app)
         await wait_until(pilot, lambda: app.loaded.capability is not None)
         await pilot.pause(0.3)
@@ -96,7 +96,7 @@ async def test_the_form_saves_to_the_format_the_file_name_asks_for(
     preset_session(workspace, spec_draft=draft)
     target = workspace / f"wave.spec{suffix}"
     app = app_for(workspace)
-    async with app.run_test(size=(100, 40)) as pilot:
+    async with running(app, (100, 40)) as pilot:
         pane = await _open_form(pilot, app)
         await pilot.press("ctrl+s")  # no file yet: asks where
         assert isinstance(app.screen, OpenPathScreen)
@@ -126,7 +126,7 @@ async def test_the_form_saves_to_the_format_the_file_name_asks_for(
 async def test_an_invalid_form_is_not_saved_and_says_why(workspace: Path) -> None:
     preset_session(workspace, spec_draft=SpecDraft(name="x"), spec_path="x.spec.yaml")
     app = app_for(workspace)
-    async with app.run_test(size=(100, 40)) as pilot:
+    async with running(app, (100, 40)) as pilot:
         await _open_form(pilot, app)
         await pilot.press("ctrl+s")
         await pilot.pause(0.2)
@@ -136,7 +136,7 @@ async def test_an_invalid_form_is_not_saved_and_says_why(workspace: Path) -> Non
 
 async def test_a_specification_file_loads_into_the_form(workspace: Path) -> None:
     app = app_for(workspace)
-    async with app.run_test(size=(100, 40)) as pilot:
+    async with running(app, (100, 40)) as pilot:
         pane = await _open_form(pilot, app)
         select = app.query_one("#spec-file", Select)
         select.value = str(workspace / "mapping.spec.yaml")
@@ -151,7 +151,7 @@ async def test_a_broken_specification_file_is_reported_and_the_form_kept(workspa
     draft = SpecDraft(name="kept", states={"execute": "Stay."})
     preset_session(workspace, spec_draft=draft)
     app = app_for(workspace)
-    async with app.run_test(size=(100, 40)) as pilot:
+    async with running(app, (100, 40)) as pilot:
         pane = await _open_form(pilot, app)
         pane.load(workspace / "bad.spec.yaml")
         await wait_until(pilot, lambda: any("bad.spec.yaml" in n for n in notifications(app)))
@@ -170,6 +170,7 @@ _TYPE_AND_WAIT = textwrap.dedent(
         app = make_app(Path(sys.argv[1]))
         app.save_delay = 0.05
         async with app.run_test(size=(100, 40)) as pilot:
+            await pilot.pause()
             await pilot.press("f3")
             pane = app.query_one(SpecPane)
             while not pane.ready:
@@ -205,12 +206,13 @@ async def test_a_draft_typed_before_a_kill_is_back_on_the_next_start(workspace: 
         else:
             pytest.fail("the typed draft never reached the session file")
     finally:
-        os.kill(process.pid, signal.SIGKILL)  # no clean shutdown, no last save
+        if process.poll() is None:
+            os.kill(process.pid, signal.SIGKILL)  # no clean shutdown, no last save
         process.communicate(timeout=30)
     assert process.returncode == -signal.SIGKILL
 
     app = app_for(workspace)
-    async with app.run_test(size=(100, 40)) as pilot:
+    async with running(app, (100, 40)) as pilot:
         pane = app.query_one(SpecPane)
         await wait_until(pilot, lambda: pane.ready)
         assert app.query_one("#spec-name", Input).value == "survivor"

@@ -160,10 +160,13 @@ class SkillwrightApp(App[None]):
 
     # --- navigation -------------------------------------------------------------------------
     def on_tabbed_content_tab_activated(self, event: TabbedContent.TabActivated) -> None:
-        tab = event.pane.id or "capability"
+        # The tab shown now, not the event's: the first activation can arrive after the user
+        # has already switched tabs, and must not pull the focus or the session back.
+        tabs = event.tabbed_content
+        tab = tabs.active
         if tab in TABS:
             self.update_session(active_tab=tab)
-        for pane in event.pane.query(Pane):
+        for pane in tabs.get_pane(tab).query(Pane):
             pane.focus_primary()
 
     def action_show_tab(self, tab: str) -> None:

@@ -100,6 +100,8 @@ class HistoryPane(Pane):
         super().__init__(id="history-pane")
         self.entries: list[tuple[Path, Any]] = []
         self.marked: Path | None = None
+        self.diff_text = ""
+        """The last diff shown (unified diff text)."""
 
     def compose(self) -> ComposeResult:
         with Horizontal(id="history-bar", classes="bar"):
@@ -214,9 +216,9 @@ class HistoryPane(Pane):
                 markup=False,
             )
             return
-        text = diff_results(marked, entry, self.sw.workspace)
+        self.diff_text = diff_results(marked, entry, self.sw.workspace)
         self.query_one("#history-diff-text", Static).update(
-            Syntax(text, "diff", theme="ansi_dark", word_wrap=False)
+            Syntax(self.diff_text, "diff", theme="ansi_dark", word_wrap=False)
         )
         self.query_one("#history-view", ContentSwitcher).current = "history-diff"
 
