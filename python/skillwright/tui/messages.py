@@ -108,7 +108,6 @@ class RetrievalFinished(Message):
     """Retrieval ranked the interfaces."""
 
     hits: list[Hit]
-    seconds: float
     dense: bool
     """True when the embedding model took part (hybrid), False for BM25 alone."""
 

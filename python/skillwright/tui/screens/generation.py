@@ -284,7 +284,11 @@ class GenerationPane(Pane):
             f"{outcome.mode}: {verdict} ({errors} errors, {len(self.findings) - errors} warnings)"
             f" — written to {self.sw.workspace.relative(Path(outcome.out_dir))}"
         )
-        self.notify(f"{verdict}; record in {outcome.record_path}", title="Generation", markup=False)
+        self.notify(
+            f"{verdict}; record in {self.sw.workspace.relative(Path(outcome.record_path))}",
+            title="Generation",
+            markup=False,
+        )
         self.sw.history_changed()
 
     @on(OptionList.OptionSelected, "#generation-findings")

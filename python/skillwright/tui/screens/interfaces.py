@@ -346,7 +346,11 @@ class InterfacesPane(Pane):
         self.sw.update_session(interfaces=self.sw.workspace.relative(message.saved_to))
         self.refresh_sources()
         self.show_table()
-        self.notify(f"described; saved as {message.saved_to}", title="Interfaces", markup=False)
+        self.notify(
+            f"described; saved as {self.sw.workspace.relative(message.saved_to)}",
+            title="Interfaces",
+            markup=False,
+        )
         self.sw.inventory_changed()
 
     def on_job_failed(self, message: JobFailed) -> None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from collections.abc import Iterable
 from typing import Any, ClassVar
 
@@ -119,18 +118,13 @@ class RetrievalPane(Pane):
     def _rank(self, request: dict[str, Any]) -> None:
         from skillwright.pipeline import retrieve
 
-        started = time.perf_counter()
         try:
             result = retrieve(**request)
         except SkillwrightError as error:
             self.fail(str(error))
             return
         if not get_current_worker().is_cancelled:
-            self.post_message(
-                RetrievalFinished(
-                    result.hits, time.perf_counter() - started, result.method == "hybrid"
-                )
-            )
+            self.post_message(RetrievalFinished(result.hits, result.method == "hybrid"))
 
     def on_retrieval_finished(self, message: RetrievalFinished) -> None:
         self.sw.loaded.hits = message.hits
@@ -140,7 +134,7 @@ class RetrievalPane(Pane):
         self.query_one("#retrieval-status", Static).update(
             f"{len(message.hits)} interfaces ranked for "
             f"{self.sw.loaded.capability.capability.label if self.sw.loaded.capability else '?'}"
-            f" ({how}, {message.seconds:.2f} s)"
+            f" ({how})"
         )
         self.show_table()
 

@@ -221,7 +221,11 @@ class SpecPane(Pane):
         if message.fill:
             self.sw.update_session(spec_path=self.sw.workspace.relative(message.path))
             self.fill(message.spec)
-            self.notify(f"loaded {message.path}", title="Specification", markup=False)
+            self.notify(
+                f"loaded {self.sw.workspace.relative(message.path)}",
+                title="Specification",
+                markup=False,
+            )
         elif self.ready:
             self.validate()
 
@@ -269,7 +273,9 @@ class SpecPane(Pane):
             return None
         self.sw.update_session(spec_path=self.sw.workspace.relative(path))
         self.validate()
-        self.notify(f"saved {path}", title="Specification", markup=False)
+        self.notify(
+            f"saved {self.sw.workspace.relative(path)}", title="Specification", markup=False
+        )
         return path
 
     def saved_path(self, *, required: bool = True) -> Path | None:
