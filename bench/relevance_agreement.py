@@ -1,0 +1,154 @@
+"""Relevance verdicts against the Cap2Skill paper's own filter, on the paper's robot.
+
+The paper's raw report lists 107 interfaces of a simulated ROS 2 robot; its filtered report
+(after the paper's GPT-4o relevance check) keeps 33. This script judges the 107 with one
+of our engines and prints precision and recall of our ``control`` set against those 33,
+then every disagreement with our judgement of who is right (from
+``tests/interfaces/labels/paper_relevance.yaml``), and the same figures against the
+judged labels (the paper's selection corrected where we think it was wrong).
+
+    python bench/relevance_agreement.py                        # rules engine, no model
+
+Needs ``../shared`` beside the repository.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import json
+import sys
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parent.parent
+REPORTS = ROOT.parent / "shared" / "data" / "cap2skill" / "interface-reports"
+RAW_REPORT = REPORTS / "ros2_system_report.json"
+FILTERED_REPORT = REPORTS / "ros2_system_report_with_descriptions.json"
+LABELS = ROOT / "tests" / "interfaces" / "labels" / "paper_relevance.yaml"
+
+_KINDS = {"topics": "topic", "services": "service", "actions": "action"}
+
+
+def _entries(path: Path) -> list[dict[str, Any]]:
+    """The report's interface entries, whether grouped by kind (raw) or one list (filtered)."""
+    document = json.loads(path.read_text(encoding="utf-8"))
+    entities = document["ros2_control_entities"]
+    if isinstance(entities, dict):
+        return [entry for group in entities.values() for entry in group]
+    return list(entities)
+
+
+def _type_and_definition(entry: Mapping[str, Any]) -> tuple[str, str]:
+    # The reference script stored the interface list as a Python repr for most entries.
+    interfaces = entry["interfaces"]
+    if isinstance(interfaces, str):
+        interfaces = ast.literal_eval(interfaces)
+    first = interfaces[0]
+    return str(first["name"]), str(first.get("details", ""))
+
+
+def read_report(path: Path = RAW_REPORT) -> list[Any]:
+    """The report's interfaces as inventory entries (name, kind, type, raw definition).
+
+    Only what relevance needs; the full report import (definitions parsed into field
+    trees) is ``skillwright discover``'s job.
+    """
+    from skillwright.interfaces.inventory import Interface, MessageDefinition
+
+    out = []
+    for entry in _entries(path):
+        type_name, details = _type_and_definition(entry)
+        out.append(
+            Interface(
+                name=entry["name"],
+                kind=_KINDS.get(entry["type"], entry["type"]),
+                type_name=type_name,
+                definitions={
+                    "definition": MessageDefinition(
+                        type_name=type_name, encoding="unknown", raw=details
+                    )
+                },
+            )
+        )
+    return out
+
+
+def kept_names(path: Path = FILTERED_REPORT) -> set[str]:
+    """Names of the interfaces the paper's filter kept."""
+    return {entry["name"] for entry in _entries(path)}
+
+
+def load_labels(path: Path = LABELS) -> dict[str, Any]:
+    """The checked-in judgement of every disagreement between the rules engine and the paper."""
+    import yaml
+
+    document = yaml.safe_load(path.read_text(encoding="utf-8"))
+    assert isinstance(document, dict)
+    return document
+
+
+def judged_control(interfaces: list[Any], kept: set[str], labels: Mapping[str, Any]) -> set[str]:
+    """The paper's selection, corrected where the labels say the paper was wrong."""
+    judged = set(kept)
+    for name, label in labels["disagreements"].items():
+        if label["right"] == "rules":
+            if label["rules"] == "control":
+                judged.add(name)
+            else:
+                judged.discard(name)
+    return judged & {i.name for i in interfaces}
+
+
+def verdicts(engine: str, interfaces: list[Any]) -> Any:
+    """Name -> Relevance from the chosen engine."""
+    from skillwright.interfaces.relevance import relevance_by_rules
+
+    return {i.name: relevance_by_rules(i) for i in interfaces}
+
+
+def _print_agreement(title: str, result: Any) -> None:
+    print(
+        f"{title:28} control {len(result.both) + len(result.only_ours):3}  "
+        f"precision {result.precision:.2f}  recall {result.recall:.2f}  "
+        f"disagreements {len(result.disagreements)}"
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--engine", choices=["rules"], default="rules")
+    args = parser.parse_args(argv)
+    if not RAW_REPORT.is_file():
+        print(f"skipped: {RAW_REPORT} not found")
+        return 0
+    from skillwright.interfaces.relevance import agreement
+
+    interfaces = read_report()
+    kept = kept_names()
+    labels = load_labels()
+    judged = verdicts(args.engine, interfaces)
+    against_paper = agreement(judged, kept)
+    against_labels = agreement(judged, judged_control(interfaces, kept, labels))
+    print(f"engine {args.engine}: {len(interfaces)} interfaces, the paper keeps {len(kept)}")
+    _print_agreement("vs the paper's filter", against_paper)
+    _print_agreement("vs the judged labels", against_labels)
+    print()
+    print("disagreements with the paper (ours / paper; who we think is right):")
+    documented = labels["disagreements"]
+    for name in sorted(against_paper.disagreements):
+        ours = "control" if name in against_paper.only_ours else "infrastructure"
+        theirs = "infrastructure" if ours == "control" else "control"
+        label = documented.get(name)
+        if label is not None and label["rules"] == ours:
+            verdict = f"{label['right']} right: {label['why']}"
+        else:
+            verdict = "not judged yet (differs from the rules engine)"
+        print(f"  {name:55} {ours:>14} / {theirs:<14} {verdict}")
+        print(f"  {'':55} reason: {judged[name].reason}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
