@@ -8,8 +8,12 @@ then every disagreement with our judgement of who is right (from
 judged labels (the paper's selection corrected where we think it was wrong).
 
     python bench/relevance_agreement.py                        # rules engine, no model
+    python bench/relevance_agreement.py --engine llm [--model ID] [--models FILE]
 
-Needs ``../shared`` beside the repository.
+The ``llm`` engine needs a generation model's weights in the models directory (see
+``skillwright models list``); nothing is downloaded. Its answers are cached like those of
+``skillwright inventory describe``, so a second run is quick. Needs ``../shared`` beside the
+repository.
 """
 
 from __future__ import annotations
@@ -101,11 +105,32 @@ def judged_control(interfaces: list[Any], kept: set[str], labels: Mapping[str, A
     return judged & {i.name for i in interfaces}
 
 
-def verdicts(engine: str, interfaces: list[Any]) -> Any:
+def verdicts(
+    engine: str, interfaces: list[Any], model: str | None = None, models: Path | None = None
+) -> Any:
     """Name -> Relevance from the chosen engine."""
     from skillwright.interfaces.relevance import relevance_by_rules
 
-    return {i.name: relevance_by_rules(i) for i in interfaces}
+    if engine == "rules":
+        return {i.name: relevance_by_rules(i) for i in interfaces}
+    from skillwright.interfaces.enrich import LlmEngine, default_cache, enrich
+    from skillwright.interfaces.inventory import Inventory, Resource
+    from skillwright.llm import load_generator, load_registry
+
+    generator = load_generator(load_registry(models), model)
+    try:
+        inventory = Inventory(resource=Resource(name="Cap2Skill robot"), interfaces=interfaces)
+        report = enrich(inventory, LlmEngine(generator), cache=default_cache(), progress=_progress)
+    finally:
+        generator.close()
+    print(file=sys.stderr)
+    for note in report.notes:
+        print(f"note: {note}", file=sys.stderr)
+    return {i.name: i.relevance for i in report.inventory.interfaces if i.relevance is not None}
+
+
+def _progress(done: int, total: int, name: str) -> None:
+    print(f"\r{done}/{total} {name:60}", end="", file=sys.stderr, flush=True)
 
 
 def _print_agreement(title: str, result: Any) -> None:
@@ -118,7 +143,9 @@ def _print_agreement(title: str, result: Any) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--engine", choices=["rules"], default="rules")
+    parser.add_argument("--engine", choices=["rules", "llm"], default="rules")
+    parser.add_argument("--model", help="generation model id or alias (llm engine)")
+    parser.add_argument("--models", type=Path, help="a models.toml to use (llm engine)")
     args = parser.parse_args(argv)
     if not RAW_REPORT.is_file():
         print(f"skipped: {RAW_REPORT} not found")
@@ -128,10 +155,19 @@ def main(argv: list[str] | None = None) -> int:
     interfaces = read_report()
     kept = kept_names()
     labels = load_labels()
-    judged = verdicts(args.engine, interfaces)
+    from skillwright.errors import SkillwrightError
+
+    try:
+        judged = verdicts(args.engine, interfaces, args.model, args.models)
+    except SkillwrightError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
     against_paper = agreement(judged, kept)
     against_labels = agreement(judged, judged_control(interfaces, kept, labels))
     print(f"engine {args.engine}: {len(interfaces)} interfaces, the paper keeps {len(kept)}")
+    if args.engine == "llm":
+        fallbacks = sum(v.engine == "rules" for v in judged.values())
+        print(f"verdicts by the model: {len(judged) - fallbacks}, rules fallbacks: {fallbacks}")
     _print_agreement("vs the paper's filter", against_paper)
     _print_agreement("vs the judged labels", against_labels)
     print()

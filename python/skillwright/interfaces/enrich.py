@@ -21,6 +21,7 @@ import hashlib
 import json
 import sqlite3
 import threading
+import unicodedata
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -255,13 +256,19 @@ def trimmed_definition(interface: Interface) -> str:
 
 @dataclass(frozen=True)
 class AnswerLimits:
-    """Bounds on the model's answer, enforced by the JSON schema while it generates."""
+    """Bounds on the model's answer, enforced by the JSON schema while it generates.
 
-    text_chars: int = 200
-    """Longest ``purpose`` and ``reason``."""
-    item_chars: int = 60
-    """Longest entry of ``tasks``, ``used_by`` and ``key_fields``."""
-    items: int = 5
+    String lengths are unbounded by default: a length bound becomes a long chain of
+    optional characters in the llama.cpp grammar, which makes every sampled token several
+    times slower, and a model that writes one sentence ends its strings long before
+    ``max_tokens`` anyway.
+    """
+
+    text_chars: int | None = None
+    """Longest ``purpose`` and ``reason`` (``None``: unbounded)."""
+    item_chars: int | None = None
+    """Longest entry of ``tasks``, ``used_by`` and ``key_fields`` (``None``: unbounded)."""
+    items: int = 6
     """Most entries in each of those lists."""
 
 
@@ -280,8 +287,11 @@ class _Answer(BaseModel):
 def answer_schema(limits: AnswerLimits) -> dict[str, Any]:
     """The JSON schema the model's answer must follow."""
 
-    def text(max_length: int) -> dict[str, Any]:
-        return {"type": "string", "minLength": 1, "maxLength": max_length}
+    def text(max_length: int | None) -> dict[str, Any]:
+        schema: dict[str, Any] = {"type": "string"}
+        if max_length is not None:
+            schema.update(minLength=1, maxLength=max_length)
+        return schema
 
     def items() -> dict[str, Any]:
         return {"type": "array", "items": text(limits.item_chars), "maxItems": limits.items}
@@ -353,6 +363,17 @@ _EXAMPLES: tuple[tuple[str, dict[str, Any]], ...] = (
 )
 
 
+def _clean(value: Any) -> Any:
+    """Strings with control characters removed and whitespace collapsed, recursively."""
+    if isinstance(value, str):
+        return " ".join("".join(c for c in value if unicodedata.category(c) != "Cc").split())
+    if isinstance(value, list):
+        return [_clean(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _clean(v) for k, v in value.items()}
+    return value
+
+
 def _question(interface: Interface) -> str:
     return (
         f"Interface: {interface.name}\nKind: {interface.kind}\nType: {interface.type_name}\n"
@@ -376,14 +397,15 @@ class LlmEngine:
         self,
         generator: TextGenerator,
         *,
-        max_tokens: int = 768,
+        max_tokens: int | None = None,
         limits: AnswerLimits | None = None,
     ) -> None:
         self.generator = generator
         """The loaded model."""
         self.name = generator.model_id
         self.max_tokens = max_tokens
-        """Token budget of one answer; an answer cut off there falls back to the rules."""
+        """Token budget of one answer (``None``: the model's ``max_tokens`` in models.toml);
+        an answer cut off there falls back to the rules."""
         self.limits = limits or AnswerLimits()
         """Bounds on the answer, part of its JSON schema."""
         self.schema = answer_schema(self.limits)
@@ -417,18 +439,18 @@ class LlmEngine:
 
     def _outcome(self, interface: Interface, answer: _Answer) -> Outcome:
         known = _all_paths(interface)
-        key_fields = [f.strip() for f in answer.key_fields if f.strip()]
+        key_fields = [f for f in answer.key_fields if f]
         if known is not None:
             # A key field the definition does not have is an invented one: drop it.
             key_fields = [f for f in key_fields if f in known]
         limit = self.limits.items
 
         def clean(values: Iterable[str]) -> list[str]:
-            return [v.strip() for v in values if v.strip()][:limit]
+            return [v for v in values if v][:limit]
 
         return Outcome(
             description=Description(
-                purpose=answer.purpose.strip(),
+                purpose=answer.purpose,
                 module=answer.module,
                 tasks=clean(answer.tasks),
                 used_by=clean(answer.used_by),
@@ -438,7 +460,7 @@ class LlmEngine:
             relevance=Relevance(
                 relevant=answer.category == "control",
                 category=answer.category,
-                reason=answer.reason.strip(),
+                reason=answer.reason,
                 engine=self.name,
             ),
             answer=answer.model_dump_json(),
@@ -447,13 +469,17 @@ class LlmEngine:
     def _validate(self, text: str) -> _Answer | str:
         """The parsed answer, or what is wrong with it."""
         try:
-            answer = _Answer.model_validate_json(text)
+            # Lenient about raw control characters inside strings: llama.cpp's JSON grammar
+            # lets them through, and they are cleaned out below.
+            document = json.loads(text, strict=False)
+        except json.JSONDecodeError as error:
+            return f"gave an answer that is not JSON ({error.msg} at character {error.pos})"
+        try:
+            answer = _Answer.model_validate(_clean(document))
         except ValidationError as error:
             first = error.errors()[0]
             where = ".".join(str(p) for p in first["loc"]) or "the answer"
             return f"gave an invalid answer ({where}: {first['msg']})"
-        if not answer.purpose.strip() or not answer.reason.strip():
-            return "gave an empty purpose or reason"
         return answer
 
     def from_cache(self, interface: Interface, answer: str) -> Outcome | None:
@@ -475,9 +501,12 @@ class LlmEngine:
         if stream.finish_reason == "cancelled":
             return None
         if stream.finish_reason == "length":
-            return self._fallback(
-                interface, f"stopped at the {self.max_tokens}-token limit before finishing"
+            limit = (
+                f"the {self.max_tokens}-token limit"
+                if self.max_tokens is not None
+                else "its max_tokens limit (models.toml)"
             )
+            return self._fallback(interface, f"stopped at {limit} before finishing its answer")
         parsed = self._validate(text)
         if isinstance(parsed, str):
             return self._fallback(interface, parsed)
