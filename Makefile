@@ -51,12 +51,8 @@ $(VENV)/.skillwright-bench: $(STAMP)
 bench: $(VENV)/.skillwright-bench ## Run the benchmarks in bench/ (prints timings and ratios)
 	@for script in bench/bench_*.py; do echo "== $$script"; $(BIN)/python $$script || exit 1; done
 
-demo: setup ## Set up, then run skillwright on the shipped capabilities and recording
-	@for model in capabilities/*.ttl; do $(BIN)/skillwright capability show "$$model" || exit 1; echo; done
-	$(BIN)/skillwright discover capabilities/recordings/mr1
-	$(BIN)/skillwright check python/skillwright/generation/examples/skills/navigate_to_point.py \
-		--capability capabilities/navigate-to-point.ttl --spec capabilities/navigate-to-point.spec.yaml \
-		--interfaces capabilities/recordings/mr1
+demo: setup ## Set up, then run the whole pipeline on the shipped recording and capabilities
+	BIN=$(BIN) scripts/demo.sh
 
 lock: $(VENV)/.skillwright-bench ## Re-pin constraints.txt from the current .venv
 	$(BIN)/python -m pip freeze --exclude-editable --disable-pip-version-check | grep -v '^skillwright' > constraints.txt

@@ -17,7 +17,8 @@ def out_console() -> Console:
     """The console for results (stdout)."""
     from rich.console import Console
 
-    return Console(highlight=False, soft_wrap=False)
+    # No emoji codes: "skill.py:100:9" would otherwise print a "100" emoji.
+    return Console(highlight=False, soft_wrap=False, emoji=False)
 
 
 @cache
@@ -25,7 +26,7 @@ def err_console() -> Console:
     """The console for progress and warnings (stderr)."""
     from rich.console import Console
 
-    return Console(stderr=True, highlight=False)
+    return Console(stderr=True, highlight=False, emoji=False)
 
 
 def print_model_json(model: BaseModel) -> None:

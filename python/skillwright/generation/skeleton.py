@@ -20,7 +20,13 @@ from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParamet
 from skillwright.generation.names import attribute_name, class_name, python_import, snake_case
 from skillwright.spec.model import SkillSpec
 
-__all__ = ["build_skeleton", "mint_skill_iri", "topic_role"]
+__all__ = ["SKELETON_NOTE", "build_skeleton", "mint_skill_iri", "topic_role"]
+
+SKELETON_NOTE = (
+    "Skeleton written by skillwright: structure, annotations and interface handles.",
+    "States that raise NotImplementedError still need their behaviour.",
+)
+"""The module docstring's account of who wrote what (merging replaces it)."""
 
 PYTHON_TYPES = {"Real": "float", "Integer": "int", "Boolean": "bool", "String": "str"}
 DEFAULTS = {"float": "0.0", "int": "0", "bool": "False", "str": '""'}
@@ -190,8 +196,7 @@ def _module_head(
     if source_note:
         out.add(source_note, "")
     out.add(
-        "Skeleton written by skillwright: structure, annotations and interface handles.",
-        "States that raise NotImplementedError still need their behaviour.",
+        *SKELETON_NOTE,
         '"""',
         "",
         "import rclpy",

@@ -3,11 +3,31 @@
 from __future__ import annotations
 
 import sys
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
-__all__ = ["check"]
+if TYPE_CHECKING:
+    from rich.console import Console
+
+    from skillwright.validation.model import Finding
+
+__all__ = ["check", "print_findings"]
+
+
+def print_findings(console: Console, path: object, findings: Sequence[Finding]) -> None:
+    """Prints findings compiler-style: ``path:line:col: severity [check] message``."""
+    from rich.markup import escape
+
+    for finding in findings:
+        style = "red" if finding.severity == "error" else "yellow"
+        console.print(
+            f"{escape(str(path))}:{finding.line}:{finding.column}: [{style}]{finding.severity}[/] "
+            f"{escape(f'[{finding.check}]')} {escape(finding.message)}",
+            highlight=False,
+        )
 
 
 @click.command("check")
@@ -84,14 +104,7 @@ def check(
         print_model_json(report)
     else:
         console = out_console()
-        for finding in report.findings:
-            style = "red" if finding.severity == "error" else "yellow"
-            console.print(
-                f"{report.path}:{finding.line}:{finding.column}: "
-                f"[{style}]{finding.severity}[/] [{finding.check}] {finding.message}",
-                markup=True,
-                highlight=False,
-            )
+        print_findings(console, report.path, report.findings)
         errors = sum(f.severity == "error" for f in report.findings)
         warnings = len(report.findings) - errors
         verdict = "passed" if report.passed else "failed"

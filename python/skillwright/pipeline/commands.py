@@ -1,0 +1,195 @@
+"""``skillwright generate``: the whole pipeline from the command line."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import click
+
+if TYPE_CHECKING:
+    from rich.console import Console
+
+    from skillwright.pipeline.events import Event
+    from skillwright.pipeline.run import Outcome
+
+__all__ = ["generate"]
+
+
+class _Progress:
+    """Prints the engine's events on stderr: one line per stage, a live token count."""
+
+    def __init__(self, console: Console) -> None:
+        self.console = console
+        self.chunks = 0
+        self.live = console.is_terminal
+
+    def __call__(self, event: Event) -> None:
+        from skillwright.pipeline.events import (
+            GenerationStats,
+            Notice,
+            PrefixCacheStatus,
+            StageFinished,
+            StageStarted,
+            TokenChunk,
+        )
+
+        if isinstance(event, StageStarted):
+            self.console.print(f"[bold]{event.stage}[/]: {event.detail} ...", highlight=False)
+        elif isinstance(event, StageFinished):
+            detail = f" — {event.detail}" if event.detail else ""
+            self.console.print(
+                f"  done in {event.seconds:.2f} s{detail}", style="dim", highlight=False
+            )
+        elif isinstance(event, Notice):
+            style = "yellow" if event.level == "warning" else "cyan"
+            self.console.print(f"[{style}]{event.level}[/]: {event.message}", highlight=False)
+        elif isinstance(event, PrefixCacheStatus):
+            self.console.print(f"  prefix cache: {event.status}", style="dim")
+        elif isinstance(event, TokenChunk):
+            self.chunks += 1
+            if self.live and self.chunks % 16 == 0:
+                self.console.print(f"  {self.chunks} tokens ...", end="\r", style="dim")
+        elif isinstance(event, GenerationStats):
+            rate = f", {event.tokens_per_second:.1f} tokens/s" if event.tokens_per_second else ""
+            self.console.print(
+                f"  prompt {event.prompt_tokens} tokens, answer {event.completion_tokens} "
+                f"tokens{rate}",
+                style="dim",
+                highlight=False,
+            )
+
+
+def _summary(outcome: Outcome) -> None:
+    from rich.table import Table
+
+    from skillwright.console import out_console
+    from skillwright.validation.commands import print_findings
+
+    console = out_console()
+    record = outcome.record
+    table = Table(title="Retrieved interfaces", title_justify="left")
+    for column in ("name", "kind", "type", "score", "reason"):
+        table.add_column(column, overflow="fold")
+    for hit in record.retrieval.hits:
+        score = "pinned" if hit.score is None else f"{hit.score:.3f}"
+        table.add_row(hit.name, hit.kind, hit.type_name, score, hit.reason)
+    console.print(table)
+    print_findings(console, outcome.skill_path, outcome.report.findings)
+    for note in record.notes:
+        console.print(f"note: {note}", style="yellow", highlight=False, markup=False)
+    checks = record.checks
+    verdict = "[green]passed[/]" if checks.passed else "[red]failed[/]"
+    what = "skeleton" if outcome.mode == "skeleton" else f"skill written by {record.model.id}"  # type: ignore[union-attr]
+    console.print(
+        f"{what}: {outcome.skill_path}\nchecks {verdict}: {checks.errors} error(s), "
+        f"{checks.warnings} warning(s)\nrecord: {outcome.record_path}",
+        highlight=False,
+    )
+    for backup in outcome.backups:
+        console.print(f"earlier version kept in {backup}", style="dim", highlight=False)
+
+
+@click.command("generate")
+@click.option(
+    "--capability",
+    "capability_file",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="The capability model (.ttl) to implement.",
+)
+@click.option("--capability-iri", metavar="IRI", help="Which capability, if the file has several.")
+@click.option(
+    "--spec",
+    "spec_file",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="The skill specification (.json or .yaml).",
+)
+@click.option(
+    "--interfaces",
+    "source",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="The robot's interfaces: an .mcap file, a rosbag2 folder, a report or an inventory.",
+)
+@click.option("--model", "model_id", metavar="ID", help="Model id or alias from models.toml.")
+@click.option("--skeleton", is_flag=True, help="Write the skeleton only; no model.")
+@click.option("-k", "k", default=4, show_default=True, help="Interfaces to retrieve.")
+@click.option(
+    "--pin", multiple=True, metavar="NAME", help="Always give this interface (repeatable)."
+)
+@click.option(
+    "--drop", multiple=True, metavar="NAME", help="Never give this interface (repeatable)."
+)
+@click.option("--all", "include_all", is_flag=True, help="Let retrieval pick infrastructure too.")
+@click.option("--no-dense", is_flag=True, help="Lexical retrieval only (no embedding model).")
+@click.option(
+    "-o",
+    "--output",
+    "out_dir",
+    type=click.Path(path_type=Path),
+    help="Output folder (default: generated/<skill name>).",
+)
+@click.option(
+    "--models",
+    "models_file",
+    type=click.Path(path_type=Path),
+    help="A models.toml to use instead of the usual ones.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the record as JSON on stdout.")
+def generate(
+    capability_file: Path,
+    capability_iri: str | None,
+    spec_file: Path,
+    source: Path,
+    model_id: str | None,
+    skeleton: bool,
+    k: int,
+    pin: tuple[str, ...],
+    drop: tuple[str, ...],
+    include_all: bool,
+    no_dense: bool,
+    out_dir: Path | None,
+    models_file: Path | None,
+    as_json: bool,
+) -> None:
+    """Write a skill for a capability and a specification from the robot's interfaces.
+
+    Stages: inputs, retrieval, skeleton, model, prompt, generation, checks, outputs
+    (progress on stderr). Without an installed model the skeleton is written and said so.
+    Exit status 0 when the checks pass, 1 when they find problems, 2 for bad input.
+    """
+    from skillwright.console import err_console, print_model_json
+    from skillwright.errors import InvalidArgumentError
+    from skillwright.pipeline.run import GenerationRequest, run_generation
+
+    if skeleton and model_id is not None:
+        raise InvalidArgumentError("--skeleton and --model exclude each other; choose one")
+    if out_dir is None:
+        from skillwright.spec.loader import load_spec
+
+        out_dir = Path("generated") / load_spec(spec_file).name
+    request = GenerationRequest(
+        capability=capability_file,
+        spec=spec_file,
+        interfaces=source,
+        out_dir=out_dir,
+        capability_iri=capability_iri,
+        model=model_id,
+        skeleton=skeleton,
+        k=k,
+        include_infrastructure=include_all,
+        pinned=pin,
+        dropped=drop,
+        models_file=models_file,
+        dense=not no_dense,
+    )
+    outcome = run_generation(request, on_event=_Progress(err_console()))
+    if as_json:
+        print_model_json(outcome.record)
+    else:
+        _summary(outcome)
+    if not outcome.report.passed:
+        sys.exit(1)

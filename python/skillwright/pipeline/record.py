@@ -1,0 +1,171 @@
+"""``record.json``: how one skill was made, enough to repeat it and to judge it later.
+
+It names every input with its checksum, the inventory's checksum, what retrieval chose
+(and what the user pinned or dropped), the model and its file's checksum, the sampling
+settings, how the prompt was fitted, what the model's answer contributed, the time each
+stage took, and the check results.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Final, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from skillwright.errors import FileFormatError, InputFileError, InputFileNotFoundError
+from skillwright.validation.model import Finding
+
+__all__ = [
+    "RECORD_SCHEMA_VERSION",
+    "ChecksRecord",
+    "FileDigest",
+    "GenerationRecord",
+    "HitRecord",
+    "InputsRecord",
+    "InterfacesRecord",
+    "ModelRecord",
+    "RetrievalRecord",
+    "SkeletonRecord",
+]
+
+RECORD_SCHEMA_VERSION: Final = 1
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class FileDigest(_Model):
+    """An input file and its SHA-256."""
+
+    path: str = Field(description="Path as given.")
+    sha256: str = Field(description="SHA-256 of its bytes.")
+
+
+class InterfacesRecord(_Model):
+    """Where the robot's interfaces came from."""
+
+    location: str = Field(description="The source as given (file, folder or inventory).")
+    kinds: list[str] = Field(description="Source kinds in the inventory (mcap, report, ...).")
+    inventory_sha256: str = Field(description="SHA-256 of the inventory as JSON.")
+    interfaces: int = Field(description="How many interfaces it lists.")
+
+
+class InputsRecord(_Model):
+    """The inputs of the generation."""
+
+    capability: FileDigest
+    capability_iri: str = Field(description="The capability implemented.")
+    spec: FileDigest
+    interfaces: InterfacesRecord
+
+
+class HitRecord(_Model):
+    """One interface given to the generator."""
+
+    name: str
+    kind: str
+    type_name: str
+    score: float | None = Field(description="Retrieval score; null for a pinned extra.")
+    dense: float | None = None
+    lexical: float | None = None
+    reason: str
+    pinned: bool = Field(default=False, description="Forced in by the user.")
+
+
+class RetrievalRecord(_Model):
+    """What retrieval chose."""
+
+    k: int
+    method: Literal["hybrid", "lexical"] = Field(description="Scores used.")
+    include_infrastructure: bool
+    hits: list[HitRecord]
+    pinned: list[str] = Field(default_factory=list, description="Names the user forced in.")
+    dropped: list[str] = Field(default_factory=list, description="Names the user removed.")
+    seconds: float | None = None
+
+
+class SkeletonRecord(_Model):
+    """The deterministic part."""
+
+    class_name: str
+    skill_iri: str
+    unimplemented: list[str] = Field(description="States the skeleton left to be written.")
+    notes: list[str] = Field(default_factory=list)
+
+
+class ModelRecord(_Model):
+    """The model that wrote the behaviour, and how it was asked."""
+
+    id: str
+    backend: str
+    file: str | None = Field(default=None, description="Model file (local models).")
+    sha256: str | None = Field(default=None, description="SHA-256 of the model file.")
+    context_length: int
+    sampling: dict[str, Any] = Field(description="Sampling settings used.")
+    prompt_version: int
+    prompt_tokens: int | None = None
+    completion_tokens: int | None = None
+    tokens_per_second: float | None = None
+    finish_reason: str | None = None
+    prefix_cache: str = Field(description="How the cached prefix was obtained.")
+    definition_style: str = Field(description="How interface definitions were shown.")
+    examples: int = Field(description="Few-shot examples in the prompt.")
+    shortened: list[str] = Field(default_factory=list, description="What was shortened to fit.")
+    extraction: str = Field(description="How the code was found in the answer.")
+    merged: bool = Field(description="Whether the answer was merged into the skeleton.")
+    states_written: list[str] = Field(default_factory=list)
+    states_missing: list[str] = Field(default_factory=list)
+    added: list[str] = Field(default_factory=list, description="Helpers etc. taken.")
+    left_out: list[str] = Field(default_factory=list, description="What was not taken, why.")
+
+
+class ChecksRecord(_Model):
+    """The static checks' verdict."""
+
+    passed: bool
+    errors: int
+    warnings: int
+    findings: list[Finding]
+
+
+class GenerationRecord(_Model):
+    """Everything about one generation."""
+
+    schema_version: Literal[1] = RECORD_SCHEMA_VERSION
+    skillwright_version: str
+    created: str = Field(description="ISO 8601 time the generation finished.")
+    mode: Literal["llm", "skeleton"]
+    skill_name: str
+    inputs: InputsRecord
+    retrieval: RetrievalRecord
+    skeleton: SkeletonRecord
+    model: ModelRecord | None = None
+    timings: dict[str, float] = Field(description="Seconds per stage.")
+    checks: ChecksRecord
+    files: list[str] = Field(description="Files written into the output folder.")
+    notes: list[str] = Field(default_factory=list, description="What the user should know.")
+
+    @classmethod
+    def load(cls, path: Path) -> GenerationRecord:
+        """Reads a ``record.json``; errors name the file and what is wrong."""
+        try:
+            text = path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise InputFileNotFoundError(f"record {path}: no such file") from None
+        except (OSError, UnicodeDecodeError) as error:
+            raise InputFileError(f"record {path}: cannot be read ({error})") from None
+        try:
+            return cls.model_validate(json.loads(text))
+        except json.JSONDecodeError as error:
+            raise FileFormatError(
+                f"{path}:{error.lineno}:{error.colno}: JSON syntax error: {error.msg}"
+            ) from None
+        except ValidationError as error:
+            first = error.errors()[0]
+            where = ".".join(str(p) for p in first["loc"])
+            raise FileFormatError(
+                f"{path}: not a generation record at {where}: {first['msg']}"
+            ) from None

@@ -1,0 +1,100 @@
+"""``skillwright generate`` as a user runs it."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from skillwright.cli import main
+from skillwright.generation.examples import few_shot_examples
+from tests.conftest import SHIPPED_CAPABILITIES
+from tests.pipeline.conftest import RECORDING, ScriptedModel, use_model
+
+
+def args(out: Path, *extra: str, stem: str = "set-velocity") -> list[str]:
+    return [
+        "generate",
+        "--capability",
+        str(SHIPPED_CAPABILITIES / f"{stem}.ttl"),
+        "--spec",
+        str(SHIPPED_CAPABILITIES / f"{stem}.spec.yaml"),
+        "--interfaces",
+        str(RECORDING),
+        "--no-dense",
+        "-o",
+        str(out),
+        *extra,
+    ]
+
+
+def test_the_skeleton_is_written_with_progress_on_stderr_and_exit_1(tmp_path: Path) -> None:
+    result = CliRunner().invoke(main, args(tmp_path / "out", "--skeleton"), terminal_width=200)
+    assert result.exit_code == 1, result.output
+    assert "retrieval: top 4 interfaces (lexical)" in result.stderr
+    assert "checks: static checks" in result.stderr
+    assert "skeleton: " in result.stdout
+    assert "[placeholders] raises NotImplementedError" in result.stdout
+    assert "checks failed: 5 error(s)" in result.stdout
+    assert (tmp_path / "out" / "skill.py").is_file()
+
+
+def test_a_good_skill_from_the_model_exits_0_and_json_prints_the_record(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    code = next(e.code for e in few_shot_examples() if e.code_path.stem == "set_velocity")
+    use_model(monkeypatch, ScriptedModel(f"```python\n{code}```"))
+    result = CliRunner().invoke(
+        main,
+        args(tmp_path / "out", "--models", str(models_file), "--pin", "/odom", "--json"),
+        terminal_width=200,
+    )
+    assert result.exit_code == 0, result.output
+    record = json.loads(result.stdout)
+    assert record["mode"] == "llm"
+    assert record["checks"]["passed"] is True
+    assert record["retrieval"]["pinned"] == ["/odom"]
+
+
+def test_skeleton_and_model_together_are_refused(tmp_path: Path) -> None:
+    result = CliRunner().invoke(main, args(tmp_path / "out", "--skeleton", "--model", "coder"))
+    assert result.exit_code == 2
+    assert "--skeleton and --model exclude each other" in result.stderr
+
+
+def test_bad_input_is_exit_2_with_the_file_named_and_no_output(tmp_path: Path) -> None:
+    broken = tmp_path / "broken.ttl"
+    broken.write_text("@prefix : <http://x#> .\n:a :b\n", encoding="utf-8")
+    command = args(tmp_path / "out", "--skeleton")
+    command[2] = str(broken)
+    result = CliRunner().invoke(main, command)
+    assert result.exit_code == 2
+    assert "broken.ttl:" in result.stderr
+    assert "Traceback" not in result.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_default_output_folder_is_named_after_the_skill(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    command = args(tmp_path / "unused", "--skeleton")
+    command = command[: command.index("-o")]
+    result = CliRunner().invoke(main, command)
+    assert result.exit_code == 1, result.output
+    assert (tmp_path / "generated" / "set_velocity" / "record.json").is_file()
+
+
+def test_line_numbers_in_findings_are_printed_as_numbers_not_emoji(tmp_path: Path) -> None:
+    from skillwright.console import out_console
+    from skillwright.validation.commands import print_findings
+    from skillwright.validation.model import Finding
+
+    console = out_console()
+    with console.capture() as captured:
+        print_findings(
+            console, "skill.py", [Finding(check="x", severity="error", line=100, message="m")]
+        )
+    assert captured.get().startswith("skill.py:100:0: error [x] m")

@@ -1,0 +1,263 @@
+"""The whole pipeline: inputs to a checked skill in a folder, with its record."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import threading
+from pathlib import Path
+
+import pytest
+
+from skillwright.errors import (
+    GenerationCancelledError,
+    InputFileNotFoundError,
+    InvalidArgumentError,
+    ModelFileMissingError,
+)
+from skillwright.generation.examples import few_shot_examples
+from skillwright.pipeline import GenerationRecord, GenerationRequest, retrieve, run_generation
+from skillwright.pipeline.events import (
+    Event,
+    GenerationStats,
+    Notice,
+    PrefixCacheStatus,
+    StageFinished,
+    StageStarted,
+    TokenChunk,
+)
+from tests.conftest import SHIPPED_CAPABILITIES
+from tests.llm.conftest import write_models_toml
+from tests.pipeline.conftest import RECORDING, ScriptedModel, stems, use_model
+
+
+def request(out: Path, stem: str = "set-velocity", **changes: object) -> GenerationRequest:
+    values: dict[str, object] = {
+        "capability": SHIPPED_CAPABILITIES / f"{stem}.ttl",
+        "spec": SHIPPED_CAPABILITIES / f"{stem}.spec.yaml",
+        "interfaces": RECORDING,
+        "out_dir": out,
+        "dense": False,
+        "pinned": ("/cmd_vel", "/odom"),
+    }
+    values.update(changes)
+    return GenerationRequest(**values)  # type: ignore[arg-type]
+
+
+def example_code(stem: str) -> str:
+    return next(e.code for e in few_shot_examples() if e.code_path.stem == stem)
+
+
+def test_the_skeleton_run_writes_the_skill_and_a_complete_record(tmp_path: Path) -> None:
+    events: list[Event] = []
+    outcome = run_generation(request(tmp_path / "out", skeleton=True), on_event=events.append)
+    assert outcome.mode == "skeleton"
+    assert sorted(p.name for p in outcome.out_dir.iterdir()) == ["record.json", "skill.py"]
+    assert stems(events, StageStarted) == ["inputs", "retrieval", "skeleton", "checks", "outputs"]
+    assert stems(events, StageFinished) == stems(events, StageStarted)
+
+    record = GenerationRecord.load(outcome.record_path)
+    capability = SHIPPED_CAPABILITIES / "set-velocity.ttl"
+    assert record.inputs.capability.sha256 == hashlib.sha256(capability.read_bytes()).hexdigest()
+    assert record.inputs.capability_iri.endswith("setVelocity/setVelocity")
+    assert record.inputs.interfaces.interfaces == 77
+    assert record.mode == "skeleton"
+    assert record.model is None
+    assert record.skeleton.unimplemented == [
+        "starting",
+        "execute",
+        "completing",
+        "stopping",
+        "resetting",
+    ]
+    assert set(record.timings) == {"inputs", "retrieval", "skeleton", "checks"}
+    assert not record.checks.passed
+    assert {f.check for f in record.checks.findings} == {"placeholders"}
+    assert any("skeleton only" in note for note in record.notes)
+    assert record.files == ["skill.py", "record.json"]
+    assert (
+        outcome.skill_path.read_text(encoding="utf-8").count("        raise NotImplementedError(")
+        == 5
+    )
+
+
+def test_retrieval_hits_and_the_users_pins_and_drops_are_recorded(tmp_path: Path) -> None:
+    outcome = run_generation(
+        request(tmp_path / "out", skeleton=True, pinned=("/scan",), dropped=("/odom",), k=2)
+    )
+    hits = outcome.record.retrieval.hits
+    assert [h.name for h in hits if h.pinned] == ["/scan"]
+    assert "/odom" not in [h.name for h in hits]
+    assert outcome.record.retrieval.pinned == ["/scan"]
+    assert outcome.record.retrieval.dropped == ["/odom"]
+    assert len([h for h in hits if not h.pinned or h.score is not None]) >= 2
+    assert "/scan" in outcome.skill_path.read_text(encoding="utf-8")
+
+
+def test_an_unknown_pinned_interface_is_refused_before_anything_runs(tmp_path: Path) -> None:
+    with pytest.raises(InvalidArgumentError, match=r"'/cmd_vell'.*did you mean /cmd_vel"):
+        run_generation(request(tmp_path / "out", skeleton=True, pinned=("/cmd_vell",)))
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_missing_capability_file_is_named(tmp_path: Path) -> None:
+    with pytest.raises(InputFileNotFoundError, match=r"nope\.ttl"):
+        run_generation(request(tmp_path / "out", capability=tmp_path / "nope.ttl"))
+
+
+def test_without_an_installed_default_model_the_skeleton_is_written_and_said_so(
+    tmp_path: Path,
+) -> None:
+    events: list[Event] = []
+    outcome = run_generation(request(tmp_path / "out"), on_event=events.append)
+    assert outcome.mode == "skeleton"
+    warnings = [e.message for e in events if isinstance(e, Notice) and e.level == "warning"]
+    assert len(warnings) == 1
+    assert "qwen2.5-coder-1.5b-instruct" in warnings[0]
+    assert "skeleton only" in warnings[0]
+
+
+def test_a_model_asked_for_by_name_must_be_installed(tmp_path: Path) -> None:
+    with pytest.raises(ModelFileMissingError, match=r"qwen2\.5-coder"):
+        run_generation(request(tmp_path / "out", model="coder"))
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_models_complete_skill_is_merged_checked_and_passes(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    answer = f"Here you are.\n```python\n{example_code('set_velocity')}```\n"
+    model = ScriptedModel(answer)
+    use_model(monkeypatch, model)
+    events: list[Event] = []
+    outcome = run_generation(
+        request(tmp_path / "out", models_file=models_file), on_event=events.append
+    )
+    assert outcome.mode == "llm"
+    assert outcome.report.passed, outcome.report.findings
+    assert model.closed
+    assert "".join(e.text for e in events if isinstance(e, TokenChunk)) == answer
+    assert [type(e) for e in events if isinstance(e, PrefixCacheStatus | GenerationStats)] == [
+        PrefixCacheStatus,
+        GenerationStats,
+    ]
+    files = sorted(p.name for p in outcome.out_dir.iterdir())
+    assert files == ["prompt.txt", "record.json", "response.txt", "skill.py"]
+    assert (outcome.out_dir / "response.txt").read_text(encoding="utf-8") == answer
+    prompt_text = (outcome.out_dir / "prompt.txt").read_text(encoding="utf-8")
+    assert prompt_text.startswith("===== system (cached prefix) =====")
+
+    record = outcome.record
+    assert record.model is not None
+    assert record.model.id == "tiny"
+    assert record.model.merged
+    assert record.model.extraction == "fenced"
+    assert record.model.states_written == [
+        "starting",
+        "execute",
+        "completing",
+        "stopping",
+        "resetting",
+    ]
+    assert record.model.finish_reason == "stop"
+    assert record.model.sampling["max_tokens"] == 32
+    assert set(record.timings) >= {"model", "prompt", "generation", "checks"}
+    code = outcome.skill_path.read_text(encoding="utf-8")
+    assert "Behaviour: written by the local model tiny" in code
+    assert json.loads(outcome.record_path.read_text(encoding="utf-8"))["mode"] == "llm"
+
+
+def test_an_answer_that_does_not_parse_leaves_the_skeleton_and_keeps_the_answer(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    use_model(monkeypatch, ScriptedModel("```python\nclass Broken(:\n    pass\n```"))
+    outcome = run_generation(request(tmp_path / "out", models_file=models_file))
+    assert outcome.mode == "llm"
+    assert (outcome.out_dir / "answer.py").read_text(
+        encoding="utf-8"
+    ) == "class Broken(:\n    pass\n"
+    assert "raise NotImplementedError" in outcome.skill_path.read_text(encoding="utf-8")
+    assert any("does not parse (answer.py line 1" in n for n in outcome.record.notes)
+    assert outcome.record.model is not None
+    assert not outcome.record.model.merged
+
+
+def test_cancelling_during_generation_writes_nothing(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    model = ScriptedModel(example_code("set_velocity"))
+    use_model(monkeypatch, model)
+    cancel = threading.Event()
+
+    def on_event(event: Event) -> None:
+        if isinstance(event, TokenChunk):
+            cancel.set()
+
+    with pytest.raises(GenerationCancelledError):
+        run_generation(
+            request(tmp_path / "out", models_file=models_file), on_event=on_event, cancel=cancel
+        )
+    assert model.closed
+    assert not (tmp_path / "out").exists()
+
+
+def test_rerunning_into_the_same_folder_backs_up_what_changed(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    run_generation(request(out, skeleton=True))
+    (out / "skill.py").write_text("# my edits\n", encoding="utf-8")
+    outcome = run_generation(request(out, skeleton=True))
+    backed_up = [p for p in outcome.backups if p.name == "skill.py"]
+    assert len(backed_up) == 1
+    assert backed_up[0].read_text(encoding="utf-8") == "# my edits\n"
+
+
+def test_retrieve_loads_the_inputs_and_ranks(tmp_path: Path) -> None:
+    result = retrieve(
+        SHIPPED_CAPABILITIES / "move-forward.ttl",
+        SHIPPED_CAPABILITIES / "move-forward.spec.yaml",
+        RECORDING,
+        dense=False,
+        k=3,
+        dropped=("/backup",),
+    )
+    assert result.method == "lexical"
+    assert len(result.hits) == 3
+    assert {"/cmd_vel", "/odom"} <= {h.name for h in result.hits}
+    assert "/backup" not in {h.name for h in result.hits}
+
+
+def test_the_tiny_gguf_runs_through_every_stage_with_a_real_llama_cpp(
+    tmp_path: Path, tiny_gguf: Path
+) -> None:
+    # The tiny model's tokenizer is nearly one token per character: the prompt needs room.
+    models_file = write_models_toml(tmp_path / "models.toml", tiny_gguf, context=16384)
+    events: list[Event] = []
+    outcome = run_generation(
+        request(
+            tmp_path / "out", stem="get-position", models_file=models_file, k=0, pinned=("/tf",)
+        ),
+        on_event=events.append,
+    )
+    assert outcome.mode == "llm"
+    record = outcome.record
+    assert record.model is not None
+    assert record.model.file == str(tiny_gguf)
+    assert record.model.sha256 == hashlib.sha256(tiny_gguf.read_bytes()).hexdigest()
+    assert record.model.prompt_tokens is not None
+    assert record.model.prompt_tokens > 1000
+    assert record.model.completion_tokens == 32
+    assert record.model.finish_reason == "length"
+    assert record.model.prefix_cache in {"stored", "evaluated"}
+    assert any(isinstance(e, TokenChunk) for e in events)
+    assert any(isinstance(e, Notice) and "max_tokens" in e.message for e in events)
+    assert (outcome.out_dir / "response.txt").exists()
+    assert stems(events, StageStarted) == [
+        "inputs",
+        "retrieval",
+        "skeleton",
+        "model",
+        "prompt",
+        "generation",
+        "checks",
+        "outputs",
+    ]
