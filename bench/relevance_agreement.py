@@ -19,8 +19,6 @@ repository.
 from __future__ import annotations
 
 import argparse
-import ast
-import json
 import sys
 from collections.abc import Mapping
 from pathlib import Path
@@ -32,56 +30,17 @@ RAW_REPORT = REPORTS / "ros2_system_report.json"
 FILTERED_REPORT = REPORTS / "ros2_system_report_with_descriptions.json"
 LABELS = ROOT / "tests" / "interfaces" / "labels" / "paper_relevance.yaml"
 
-_KINDS = {"topics": "topic", "services": "service", "actions": "action"}
-
-
-def _entries(path: Path) -> list[dict[str, Any]]:
-    """The report's interface entries, whether grouped by kind (raw) or one list (filtered)."""
-    document = json.loads(path.read_text(encoding="utf-8"))
-    entities = document["ros2_control_entities"]
-    if isinstance(entities, dict):
-        return [entry for group in entities.values() for entry in group]
-    return list(entities)
-
-
-def _type_and_definition(entry: Mapping[str, Any]) -> tuple[str, str]:
-    # The reference script stored the interface list as a Python repr for most entries.
-    interfaces = entry["interfaces"]
-    if isinstance(interfaces, str):
-        interfaces = ast.literal_eval(interfaces)
-    first = interfaces[0]
-    return str(first["name"]), str(first.get("details", ""))
-
 
 def read_report(path: Path = RAW_REPORT) -> list[Any]:
-    """The report's interfaces as inventory entries (name, kind, type, raw definition).
+    """The report's interfaces, imported as ``skillwright discover`` imports a report."""
+    from skillwright.interfaces.load import load_inventory
 
-    Only what relevance needs; the full report import (definitions parsed into field
-    trees) is ``skillwright discover``'s job.
-    """
-    from skillwright.interfaces.inventory import Interface, MessageDefinition
-
-    out = []
-    for entry in _entries(path):
-        type_name, details = _type_and_definition(entry)
-        out.append(
-            Interface(
-                name=entry["name"],
-                kind=_KINDS.get(entry["type"], entry["type"]),
-                type_name=type_name,
-                definitions={
-                    "definition": MessageDefinition(
-                        type_name=type_name, encoding="unknown", raw=details
-                    )
-                },
-            )
-        )
-    return out
+    return list(load_inventory(path).interfaces)
 
 
 def kept_names(path: Path = FILTERED_REPORT) -> set[str]:
     """Names of the interfaces the paper's filter kept."""
-    return {entry["name"] for entry in _entries(path)}
+    return {i.name for i in read_report(path)}
 
 
 def load_labels(path: Path = LABELS) -> dict[str, Any]:

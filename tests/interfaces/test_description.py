@@ -180,10 +180,28 @@ def test_the_node_is_named_only_as_the_interface_name_spells_it(
     assert expected in describe_by_rules(kind, name, type_name).purpose
 
 
-def test_header_fields_are_not_key_fields() -> None:
-    paths = ["header", "header.stamp", "header.frame_id", "child_frame_id", "pose", "pose.pose"]
+def test_headers_and_time_halves_are_not_key_fields_and_top_level_fields_come_first() -> None:
+    paths = [
+        "header",
+        "header.stamp",
+        "header.frame_id",
+        "child_frame_id",
+        "pose",
+        "pose.pose",
+        "poses.header",
+        "time_allowance",
+        "time_allowance.sec",
+        "time_allowance.nanosec",
+        "twist",
+    ]
     description = describe_by_rules("topic", "/odom", "nav_msgs/msg/Odometry", paths)
-    assert description.key_fields == ["child_frame_id", "pose", "pose.pose"]
+    assert description.key_fields == [
+        "child_frame_id",
+        "pose",
+        "time_allowance",
+        "twist",
+        "pose.pose",
+    ]
 
 
 def test_key_fields_are_capped_at_eight() -> None:

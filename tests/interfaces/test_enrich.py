@@ -85,10 +85,10 @@ def test_rules_engine_fills_every_description_and_verdict() -> None:
     assert cmd_vel.description.engine == "rules"
     assert cmd_vel.description.key_fields == [
         "linear",
+        "angular",
         "linear.x",
         "linear.y",
         "linear.z",
-        "angular",
         "angular.x",
         "angular.y",
         "angular.z",

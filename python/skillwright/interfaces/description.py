@@ -815,7 +815,7 @@ _RULES: tuple[_Rule, ...] = (
         "Lifecycle state changes of {node} (e.g. inactive to active).",
         "system",
         ("follow bring-up",),
-        ("lifecycle manager", "controller manager"),
+        ("lifecycle manager", "monitoring tools"),
     ),
     _Rule(
         "s",
@@ -982,11 +982,18 @@ def _match(kind: str, name: str, type_name: str) -> _Rule | None:
     return None
 
 
+def _telling(path: str) -> bool:
+    # A std_msgs/Header (stamp, frame_id) heads most messages and the sec/nanosec halves
+    # of a time say nothing about what an interface is for; the other fields do.
+    parts = path.split(".")
+    return "header" not in parts and parts[-1] not in {"sec", "nanosec"}
+
+
 def _key_fields(field_paths: Sequence[str]) -> list[str]:
-    # A std_msgs/Header (stamp, frame_id) heads most messages and says nothing about
-    # what the interface is for; the fields after it do.
-    telling = [p for p in field_paths if p != "header" and not p.startswith("header.")]
-    return telling[:_KEY_FIELDS]
+    # Top-level fields first: `pose` and `twist` of an Odometry tell more than the
+    # parts of the first one.
+    telling = [p for p in field_paths if _telling(p)]
+    return sorted(telling, key=lambda p: p.count("."))[:_KEY_FIELDS]
 
 
 def control_role(kind: str, name: str, type_name: str) -> Role | None:
