@@ -112,3 +112,34 @@ def test_a_missing_inventory_is_an_error_naming_it(command: str, tmp_path: Path)
     assert result.exit_code == 2
     assert "nope.json: no such file or folder" in result.output
     assert "Traceback" not in result.output
+
+
+def test_describe_keeps_the_descriptions_a_report_brought(
+    shared_data: Path, tmp_path: Path
+) -> None:
+    report = (
+        shared_data
+        / "cap2skill"
+        / "interface-reports"
+        / "ros2_system_report_with_descriptions.json"
+    )
+    target = tmp_path / "paper.json"
+    result = CliRunner().invoke(main, ["inventory", "describe", str(report), "-o", str(target)])
+    assert result.exit_code == 0, result.output
+    assert (
+        "33 interfaces: 33 described by rules, 33 report descriptions kept (verdicts filled)"
+        in result.output
+    )
+    cmd_vel = Inventory.model_validate_json(target.read_text()).interface("/cmd_vel")
+    assert cmd_vel.description is not None
+    assert cmd_vel.description.engine == "report"
+    assert cmd_vel.relevance is not None
+    assert cmd_vel.relevance.engine == "rules"
+    replaced = CliRunner().invoke(
+        main, ["inventory", "describe", str(target), "--replace-report-descriptions"]
+    )
+    assert replaced.exit_code == 0, replaced.output
+    assert "kept" not in replaced.output
+    cmd_vel = Inventory.model_validate_json(target.read_text()).interface("/cmd_vel")
+    assert cmd_vel.description is not None
+    assert cmd_vel.description.engine == "rules"

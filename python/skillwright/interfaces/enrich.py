@@ -2,7 +2,7 @@
 
 - :class:`RulesEngine` — deterministic, no model: :func:`~skillwright.interfaces.description.
   describe_by_rules` and :func:`~skillwright.interfaces.relevance.relevance_by_rules`. It takes
-  microseconds per interface, so nothing of it is cached.
+  well under a millisecond per interface, so nothing of it is cached.
 - :class:`LlmEngine` — a local model answers one JSON object per interface (description and
   verdict together), constrained by a JSON schema while it generates. The prompt starts with
   a fixed prefix (system text, instructions, two worked examples) so the llama.cpp prefix
@@ -105,7 +105,7 @@ class RulesEngine:
     name = "rules"
 
     def cache_key(self, interface: Interface) -> str | None:
-        """Nothing to cache: the rules take microseconds."""
+        """Nothing to cache: the rules take well under a millisecond."""
         return None
 
     def from_cache(self, interface: Interface, answer: str) -> Outcome | None:

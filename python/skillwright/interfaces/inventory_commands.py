@@ -21,15 +21,13 @@ if TYPE_CHECKING:
 
 __all__ = ["inventory"]
 
-_SOURCE_HELP = "an inventory .json, an .mcap file or a rosbag2 folder"
-
 
 @click.group("inventory")
 def inventory() -> None:
     """Show a robot's interfaces, and describe and judge them for retrieval.
 
-    INVENTORY is anything `skillwright discover` reads (an .mcap file, a rosbag2 folder)
-    or a saved inventory .json.
+    INVENTORY is a saved inventory .json or anything `skillwright discover` reads from a
+    path: an .mcap file, a rosbag2 folder, a Cap2Skill report .json.
     """
 
 
@@ -263,7 +261,7 @@ def _summarise(report: EnrichReport, target: Path, out: Console, err: Console) -
     if report.cached:
         parts.append(f"{report.cached} from the cache")
     if report.kept:
-        parts.append(f"{report.kept} report descriptions kept")
+        parts.append(f"{report.kept} report descriptions kept (verdicts filled)")
     if report.notes:
         parts.append(f"{len(report.notes)} fell back to the rules engine")
     out.print(f"{total} interfaces: {', '.join(parts)}", markup=False, soft_wrap=True)
