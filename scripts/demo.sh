@@ -28,8 +28,12 @@ started=$SECONDS
 step "1. Discover interfaces from $RECORDING"
 timed "$BIN/skillwright" discover "$RECORDING" -o "$OUT/mr1.inventory.json" || exit 2
 
+step "2. Describe them and judge their relevance (rules engine, no model)"
+timed "$BIN/skillwright" inventory describe "$OUT/mr1.inventory.json" --engine rules || exit 2
+"$BIN/skillwright" inventory show "$OUT/mr1.inventory.json" --kind action || exit 2
+
 for name in "${CAPABILITIES[@]}"; do
-    step "2. Generate a skill for capabilities/$name.ttl"
+    step "3. Generate a skill for capabilities/$name.ttl"
     timed "$BIN/skillwright" generate \
         --capability "capabilities/$name.ttl" --spec "capabilities/$name.spec.yaml" \
         --interfaces "$OUT/mr1.inventory.json" -o "$OUT/$name"

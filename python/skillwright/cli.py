@@ -25,6 +25,7 @@ COMMANDS: dict[str, str] = {
     "check": "skillwright.validation.commands:check",
     "discover": "skillwright.interfaces.commands:discover",
     "generate": "skillwright.pipeline.commands:generate",
+    "inventory": "skillwright.interfaces.inventory_commands:inventory",
     "models": "skillwright.llm.commands:models",
     "spec": "skillwright.spec.commands:spec",
     "tui": "skillwright.tui.commands:tui",

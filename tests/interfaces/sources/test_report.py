@@ -110,7 +110,10 @@ def test_service_details_split_into_request_and_response(raw_report: Path) -> No
         "duration",
     ]
     assert [f.name for f in response.fields or []] == ["success", "status_message"]
-    assert effort.infrastructure is None
+    # Gazebo's own services are simulator tooling (interfaces/infrastructure.py).
+    assert effort.infrastructure is not None
+    assert effort.infrastructure.rule == "simulator_services"
+    assert inventory.interface("/cmd_vel", "topic").infrastructure is None
     parameters = inventory.interface("/gazebo/describe_parameters", "service")
     assert parameters.infrastructure is not None
     assert parameters.infrastructure.rule == "parameter_services"
