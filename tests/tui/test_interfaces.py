@@ -109,6 +109,8 @@ async def test_describing_fills_every_description_and_saves_the_inventory(
         await wait_until(pilot, lambda: app.session.interfaces == "mr1.inventory.json")
         saved = load_inventory(target)
         assert all(i.description is not None for i in saved.interfaces)
+        assert all(i.relevance is not None for i in saved.interfaces)
+        assert any("described by rules" in n and "control" in n for n in notifications(app))
         assert all(i.description is not None for i in pane.shown)
         assert progress.total == progress.progress == len(saved.interfaces)
         assert not progress.display
@@ -118,6 +120,21 @@ async def test_describing_fills_every_description_and_saves_the_inventory(
         assert cmd_vel.description is not None
         table = app.query_one("#interfaces-table", DataTable)
         assert str(table.get_cell_at(Coordinate(row, 5))) == cmd_vel.description.purpose
+
+
+async def test_describing_with_a_model_that_is_not_installed_names_it(
+    workspace: Path, models_file: Path
+) -> None:
+    preset_session(workspace, interfaces="recordings/mr1", model="ghost", enrich_engine="llm")
+    app = app_for(workspace, models_file)
+    async with running(app) as pilot:
+        await pilot.press("f4")
+        await _loaded(pilot, app)
+        assert app.query_one("#interfaces-engine", Select).value == "llm"
+        await pilot.press("ctrl+e")
+        await wait_until(pilot, lambda: any("ghost.gguf" in n for n in notifications(app)))
+        assert not (workspace / "mr1.inventory.json").exists()
+        assert not app.query_one("#interfaces-progress", ProgressBar).display
 
 
 async def test_pins_and_drops_are_marked_and_kept_in_the_session(workspace: Path) -> None:

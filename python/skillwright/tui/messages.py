@@ -101,6 +101,8 @@ class InventoryEnriched(Message):
 
     inventory: Inventory
     saved_to: Path
+    summary: str = ""
+    """What the engine did, in one line (counts of described, cached, verdicts)."""
 
 
 @dataclass

@@ -68,6 +68,8 @@ class SessionState:
     interfaces: str | None = None
     """The interface source: inventory, recording, rosbag2 folder or report."""
     show_infrastructure: bool = False
+    enrich_engine: str = "rules"
+    """Enrichment engine: ``rules`` or ``llm`` (the generation model)."""
     pinned: tuple[str, ...] = ()
     """Interfaces the user forces into generation."""
     dropped: tuple[str, ...] = ()
@@ -114,6 +116,8 @@ class SessionState:
         state = replace(state, pinned=tuple(state.pinned), dropped=tuple(state.dropped))
         if state.active_tab not in TABS:
             state = replace(state, active_tab="capability")
+        if state.enrich_engine not in ("rules", "llm"):
+            state = replace(state, enrich_engine="rules")
         _check_types(state)
         return state
 
@@ -126,6 +130,7 @@ def _check_types(state: SessionState) -> None:
         "spec_path": (str, type(None)),
         "interfaces": (str, type(None)),
         "show_infrastructure": bool,
+        "enrich_engine": str,
         "model": (str, type(None)),
         "skeleton": bool,
         "k": int,

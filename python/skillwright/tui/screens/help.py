@@ -36,8 +36,11 @@ A file holding several capabilities needs the capability's IRI or local name in 
 suffix), Ctrl+O loads a file.
 
 **Interfaces** — choose a source (saved inventory, `.mcap`, rosbag2 folder) or Ctrl+O to
-open one; `/` filters; Ctrl+E describes the interfaces and saves the enriched inventory in
-the workspace. `p` pins the highlighted interface into generation, `x` drops it.
+open one (a reference-tool report too); "Live ROS 2" lists the running graph when ROS 2 is
+sourced. `/` filters; the infrastructure box shows the plumbing. Ctrl+E describes and judges
+every interface with the chosen engine (the rules, or the model chosen on the Generation tab)
+and saves the inventory in the workspace. `p` pins the highlighted interface into
+generation, `x` drops it.
 
 **Retrieval** — Ctrl+R ranks the interfaces for the capability; `p` pins, `x` drops. The
 generation record lists what you pinned and dropped.

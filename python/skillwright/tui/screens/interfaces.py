@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import threading
+import time
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
@@ -26,7 +28,10 @@ if TYPE_CHECKING:
 
 __all__ = ["InterfacesPane", "is_infrastructure", "matches"]
 
-_PROGRESS_STEPS = 50  # progress messages per enrichment run, whatever the inventory's size
+_PROGRESS_SECONDS = 0.1
+
+ENGINES = ("rules", "llm")
+"""Enrichment engines: the deterministic rules, or the local model chosen for generation."""
 
 
 def is_infrastructure(interface: Interface) -> bool:
@@ -50,7 +55,10 @@ def matches(interface: Interface, query: str) -> bool:
 
 
 def inventory_target(workspace_root: Path, source: Path) -> Path:
-    """Where an enriched inventory of ``source`` is saved: ``<workspace>/<name>.inventory.json``."""
+    """Where an enriched inventory of ``source`` is saved: a saved inventory in place, any
+    other source as ``<workspace>/<name>.inventory.json``."""
+    if source.name.lower().endswith(".inventory.json"):
+        return source
     name = source.name
     for suffix in (".inventory.json", ".json", ".mcap"):
         if name.lower().endswith(suffix):
@@ -76,6 +84,7 @@ class InterfacesPane(Pane):
         super().__init__(id="interfaces-pane")
         self._load_worker: Worker[None] | None = None
         self._enrich_worker: Worker[None] | None = None
+        self._enrich_cancel = threading.Event()
         self.shown: list[Interface] = []
         """The interfaces in the table, in table order."""
 
@@ -84,13 +93,21 @@ class InterfacesPane(Pane):
             yield Select[str]([], prompt="interface source", id="interfaces-source", compact=True)
             yield Button("Open… ^O", id="interfaces-open", compact=True)
             yield Button("Live ROS 2", id="interfaces-live", compact=True)
-            yield Button("Describe ^E", id="interfaces-enrich", compact=True)
+        with Horizontal(id="interfaces-tools", classes="bar"):
+            yield Input(
+                placeholder="/ filter: name, type, description",
+                id="interfaces-filter",
+                compact=True,
+            )
             yield Checkbox("infrastructure", id="interfaces-infra", compact=True)
-        yield Input(
-            placeholder="/ filter: words in name, type or description",
-            id="interfaces-filter",
-            compact=True,
-        )
+            yield Select[str](
+                [("rules", "rules"), ("model", "llm")],
+                value=self.sw.session.enrich_engine,
+                allow_blank=False,
+                id="interfaces-engine",
+                compact=True,
+            )
+            yield Button("Describe ^E", id="interfaces-enrich", compact=True)
         yield Static(
             "No interfaces loaded: choose a source above.", id="interfaces-status", markup=False
         )
@@ -287,9 +304,14 @@ class InterfacesPane(Pane):
             self.sw.toggle_mark(interface.name, "dropped")
 
     # --- enrichment -----------------------------------------------------------------------------
+    @on(Select.Changed, "#interfaces-engine")
+    def _engine_chosen(self, event: Select.Changed) -> None:
+        if event.value in ENGINES:
+            self.sw.update_session(enrich_engine=event.value)
+
     @on(Button.Pressed, "#interfaces-enrich")
     def action_enrich(self) -> None:
-        """Describes every interface that has no description yet; saves the inventory."""
+        """Describes and judges every interface with the chosen engine; saves the inventory."""
         inventory, source = self.sw.loaded.inventory, self.sw.loaded.inventory_source
         if inventory is None or source is None:
             self.fail("load an interface source first (Ctrl+O)")
@@ -299,44 +321,85 @@ class InterfacesPane(Pane):
         progress = self.query_one("#interfaces-progress", ProgressBar)
         progress.update(total=len(inventory.interfaces), progress=0)
         progress.display = True
-        target = inventory_target(self.sw.workspace.root, source)
-        self._enrich_worker = self._enrich(inventory, target)
+        session = self.sw.session
+        # The llm engine uses the model chosen for generation (or the configured default).
+        model = None if session.skeleton else session.model
+        self._enrich_cancel = threading.Event()
+        self._enrich_worker = self._enrich(
+            inventory,
+            inventory_target(self.sw.workspace.root, source),
+            session.enrich_engine,
+            model,
+            self._enrich_cancel,
+        )
 
     @work(thread=True, exclusive=True, group="enrich", exit_on_error=False)
-    def _enrich(self, inventory: Inventory, target: Path) -> None:
-        # The rules engine describes without a model; it is what enrichment falls back to.
+    def _enrich(
+        self,
+        inventory: Inventory,
+        target: Path,
+        engine_name: str,
+        model: str | None,
+        cancel: threading.Event,
+    ) -> None:
         from skillwright.fileio import write_atomic
-        from skillwright.interfaces.description import describe_by_rules
-        from skillwright.retrieval.documents import field_paths
+        from skillwright.interfaces.enrich import (
+            Engine,
+            LlmEngine,
+            RulesEngine,
+            default_cache,
+            enrich,
+        )
 
-        worker = get_current_worker()
-        total = len(inventory.interfaces)
-        step = max(1, total // _PROGRESS_STEPS)
-        described: list[Interface] = []
-        for index, interface in enumerate(inventory.interfaces, start=1):
-            if worker.is_cancelled:
+        last = 0.0
+
+        def progress(done: int, total: int, name: str) -> None:
+            nonlocal last
+            # A few updates a second are enough to watch; thousands would flood the queue.
+            now = time.monotonic()
+            if now - last >= _PROGRESS_SECONDS or done == total:
+                last = now
+                self.post_message(EnrichProgress(done, total, name))
+
+        generator = None
+        try:
+            engine: Engine = RulesEngine()
+            if engine_name == "llm":
+                from skillwright.llm import load_generator
+                from skillwright.llm.config import load_registry
+
+                self.post_message(EnrichProgress(0, len(inventory.interfaces), "loading the model"))
+                generator = load_generator(load_registry(self.sw.models_file), model)
+                engine = LlmEngine(generator)
+            report = enrich(
+                inventory, engine, cache=default_cache(), progress=progress, cancel=cancel
+            )
+            if report.cancelled:
                 self.fail("enrichment cancelled; the inventory is unchanged", cancelled=True)
                 return
-            if interface.description is None:
-                description = describe_by_rules(
-                    interface.kind, interface.name, interface.type_name, field_paths(interface, 2)
-                )
-                described.append(interface.model_copy(update={"description": description}))
-            else:
-                described.append(interface)
-            if index % step == 0 or index == total:
-                self.post_message(EnrichProgress(index, total, interface.name))
-        enriched = inventory.model_copy(update={"interfaces": described})
-        try:
-            write_atomic(target, enriched.model_dump_json(indent=2) + "\n")
+            write_atomic(target, report.inventory.model_dump_json(indent=2) + "\n")
         except SkillwrightError as error:
             self.fail(str(error))
             return
-        self.post_message(InventoryEnriched(enriched, target))
+        finally:
+            if generator is not None:
+                generator.close()
+        summary = [f"{report.described} described by {report.engine}"]
+        if report.cached:
+            summary.append(f"{report.cached} from the cache")
+        if report.kept:
+            summary.append(f"{report.kept} report descriptions kept")
+        if report.notes:
+            summary.append(f"{len(report.notes)} fell back to the rules")
+        summary.append(f"{report.control} control, {report.infrastructure} infrastructure")
+        self.post_message(InventoryEnriched(report.inventory, target, "; ".join(summary)))
 
     def on_enrich_progress(self, message: EnrichProgress) -> None:
         self.query_one("#interfaces-progress", ProgressBar).update(
             total=message.total, progress=message.done
+        )
+        self.query_one("#interfaces-status", Static).update(
+            f"describing {message.done}/{message.total}: {message.current}"
         )
 
     def on_inventory_enriched(self, message: InventoryEnriched) -> None:
@@ -346,11 +409,8 @@ class InterfacesPane(Pane):
         self.sw.update_session(interfaces=self.sw.workspace.relative(message.saved_to))
         self.refresh_sources()
         self.show_table()
-        self.notify(
-            f"described; saved as {self.sw.workspace.relative(message.saved_to)}",
-            title="Interfaces",
-            markup=False,
-        )
+        where = self.sw.workspace.relative(message.saved_to)
+        self.notify(f"{message.summary}; saved as {where}", title="Interfaces", markup=False)
         self.sw.inventory_changed()
 
     def on_job_failed(self, message: JobFailed) -> None:
@@ -365,6 +425,8 @@ class InterfacesPane(Pane):
         for worker in (self._enrich_worker, self._load_worker):
             if worker is not None and worker.is_running:
                 worker.cancel()
+                if worker is self._enrich_worker:
+                    self._enrich_cancel.set()
                 self.query_one("#interfaces-progress").display = False
                 return True
         return False
