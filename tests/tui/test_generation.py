@@ -4,6 +4,7 @@ the same result folder and record as the headless command."""
 from __future__ import annotations
 
 import asyncio
+import threading
 import time
 from pathlib import Path
 from typing import Any
@@ -215,3 +216,32 @@ async def test_an_invalid_specification_stops_generation_and_shows_the_form(
         await wait_until(pilot, lambda: any("'execute' state" in n for n in notifications(app)))
         assert app.query_one("#tabs", TabbedContent).active == "specification"
         assert _results(workspace) == []
+
+
+async def test_quitting_during_a_generation_stops_it_and_writes_nothing(
+    workspace: Path, tmp_path: Path, tiny_gguf: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.pipeline import run as pipeline_run
+
+    # Notes when the engine call returns, whatever the app has done by then.
+    returned = threading.Event()
+    real = pipeline_run.run_generation
+
+    def watched(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return real(*args, **kwargs)
+        finally:
+            returned.set()
+
+    monkeypatch.setattr(pipeline_run, "run_generation", watched)
+    # 1500 tokens take the tiny model far longer than the 30 s allowed below.
+    models = write_models(tmp_path / "long.toml", tiny_gguf, max_tokens=1500)
+    preset_session(workspace, **INPUTS)
+    app = app_for(workspace, models)
+    async with running(app) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.streamed, timeout=120)
+        await pilot.press("ctrl+q")
+    assert await asyncio.to_thread(returned.wait, 30), "the pipeline ran on after the app quit"
+    assert _results(workspace) == []

@@ -74,6 +74,26 @@ async def test_the_filter_searches_names_types_and_descriptions(workspace: Path)
         await wait_until(pilot, lambda: set(_names(pane)) == {"/cmd_vel", "/cmd_vel_nav"})
         await pilot.press(*["backspace"] * 5, *"laserscan")
         await wait_until(pilot, lambda: _names(pane) == ["/scan"])
+        # Keys that pin and drop in the table are plain letters in the filter.
+        await pilot.press(*["backspace"] * 9, *"px")
+        assert app.query_one("#interfaces-filter", Input).value == "px"
+        assert app.session.pinned == app.session.dropped == ()
+
+
+async def test_a_reference_tool_report_loads_like_any_source(
+    workspace: Path, shared_data: Path
+) -> None:
+    report = shared_data / "cap2skill" / "interface-reports" / "ros2_system_report.json"
+    app = app_for(workspace)
+    async with running(app) as pilot:
+        await pilot.press("f4", "ctrl+o")
+        app.screen.query_one("#open-path", Input).value = str(report)
+        await pilot.press("enter")
+        pane = await _loaded(pilot, app)
+        assert app.loaded.inventory is not None
+        assert app.loaded.inventory.sources[0].kind == "report"
+        assert "/cmd_vel" in _names(pane)
+        assert app.session.interfaces == str(report.resolve())
 
 
 async def test_the_detail_pane_shows_the_expanded_message_definition(workspace: Path) -> None:

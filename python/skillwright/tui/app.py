@@ -153,9 +153,13 @@ class SkillwrightApp(App[None]):
             self._save_failed = False
 
     async def action_quit(self) -> None:
+        """Saves the session, stops running jobs (their threads would keep the process
+        alive until done), then quits."""
         if self._save_timer is not None:
             self._save_timer.stop()
             self.save_session_now()
+        for pane in self._panes():
+            pane.cancel_job()
         await super().action_quit()
 
     # --- navigation -------------------------------------------------------------------------
