@@ -25,6 +25,7 @@ COMMANDS: dict[str, str] = {
     "check": "skillwright.validation.commands:check",
     "discover": "skillwright.interfaces.commands:discover",
     "models": "skillwright.llm.commands:models",
+    "retrieve": "skillwright.retrieval.commands:retrieve",
     "spec": "skillwright.spec.commands:spec",
 }
 
