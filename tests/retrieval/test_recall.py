@@ -67,24 +67,27 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
     assert "position and velocity" in odom.description.purpose
 
 
-# (set, k, needs found at least). Needs: mr1 22, cap2skill 18 (both settings).
+# (set, k, needs found at least). Needs: mr1 22, cap2skill 18 (both settings). At k=4 the
+# MR-1's mapping needs 6 interfaces, so 20 of its 22 needs are attainable; every need of
+# the paper's robot is. Before facets and coverage (pooled query, relevance order) the
+# lexical numbers at k=4 were 14, 15 and 16.
 LEXICAL_FLOORS = [
-    ("mr1", 1, 6),
-    ("mr1", 4, 14),
+    ("mr1", 1, 7),
+    ("mr1", 4, 18),
     ("mr1", 8, 18),
-    ("cap2skill", 1, 7),
-    ("cap2skill", 4, 15),
-    ("cap2skill", 8, 16),
-    ("cap2skill-filtered", 1, 7),
-    ("cap2skill-filtered", 4, 16),
-    ("cap2skill-filtered", 8, 17),
+    ("cap2skill", 1, 8),
+    ("cap2skill", 4, 18),
+    ("cap2skill", 8, 18),
+    ("cap2skill-filtered", 1, 8),
+    ("cap2skill-filtered", 4, 18),
+    ("cap2skill-filtered", 8, 18),
 ]
 
 HYBRID_FLOORS = [
-    ("mr1", 4, 14),
-    ("mr1", 8, 17),
-    ("cap2skill", 4, 15),
-    ("cap2skill-filtered", 4, 17),
+    ("mr1", 4, 18),
+    ("mr1", 8, 18),
+    ("cap2skill", 4, 18),
+    ("cap2skill-filtered", 4, 18),
 ]
 
 
