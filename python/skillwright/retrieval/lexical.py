@@ -32,20 +32,21 @@ class BM25:
         self.idf = {
             term: math.log(1.0 + (count - n + 0.5) / (n + 0.5)) for term, n in frequency.items()
         }
-        # per document: term -> its saturated, length-normalised, idf-weighted frequency
-        self._weights = []
-        for document, length in zip(self.documents, self.lengths, strict=True):
+        # term -> (document, its saturated, length-normalised, idf-weighted frequency)
+        self._postings: dict[str, list[tuple[int, float]]] = {}
+        for row, (document, length) in enumerate(zip(self.documents, self.lengths, strict=True)):
             norm = k1 * (1.0 - b + b * (length / self.average if self.average else 0.0))
-            self._weights.append(
-                {t: self.idf[t] * tf * (k1 + 1.0) / (tf + norm) for t, tf in document.items()}
-            )
+            for term, tf in document.items():
+                value = self.idf[term] * tf * (k1 + 1.0) / (tf + norm)
+                self._postings.setdefault(term, []).append((row, value))
 
     def scores(self, query: Mapping[str, float]) -> list[float]:
         """The score of every document for ``query`` (term -> weight)."""
-        return [
-            sum(weight * document.get(term, 0.0) for term, weight in query.items())
-            for document in self._weights
-        ]
+        out = [0.0] * len(self.documents)
+        for term, weight in query.items():
+            for row, value in self._postings.get(term, ()):
+                out[row] += weight * value
+        return out
 
     def scores_many(self, queries: Sequence[Mapping[str, float]]) -> list[list[float]]:
         """:meth:`scores` for each query."""

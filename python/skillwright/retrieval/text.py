@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
+from functools import lru_cache
 
 __all__ = [
     "EXPANSION_WEIGHT",
@@ -234,6 +235,12 @@ def weighted_tokens(text: str, *, query: bool = False) -> list[tuple[str, float]
 
     ``query`` also drops :data:`QUERY_STOPWORDS` (for capability and spec texts).
     """
+    return list(_weighted_tokens(text, query))
+
+
+# Interface names, types and field names repeat across interfaces and queries.
+@lru_cache(maxsize=8192)
+def _weighted_tokens(text: str, query: bool) -> tuple[tuple[str, float], ...]:
     out = []
     words = split_words(text)
     if query:
@@ -246,7 +253,7 @@ def weighted_tokens(text: str, *, query: bool = False) -> list[tuple[str, float]
         term = stem(word)
         if term not in _STOPWORDS and len(term) > 1:
             out.append((term, weight))
-    return out
+    return tuple(out)
 
 
 def tokens(text: str) -> list[str]:
