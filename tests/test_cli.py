@@ -24,6 +24,8 @@ HEAVY_MODULES = [
     "transformers",
     "textual",
     "mujoco",
+    "rosbags",
+    "rclpy",
     "skillwright._core",
 ]
 

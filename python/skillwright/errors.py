@@ -25,6 +25,7 @@ __all__ = [
     "ModelFileMissingError",
     "ModelFormatError",
     "ModelServerError",
+    "Ros2UnavailableError",
     "SkillwrightError",
     "SpecError",
 ]
@@ -87,3 +88,8 @@ class ContextOverflowError(ModelError, ValueError):
 
 class ModelServerError(ModelError, ConnectionError):
     """A configured model server (OpenAI-compatible HTTP) failed or could not be reached."""
+
+
+class Ros2UnavailableError(SkillwrightError):
+    """The live ROS 2 graph cannot be reached: rclpy is not importable (ROS 2 not sourced
+    in this shell, or built for another Python) or no node could be started."""

@@ -94,3 +94,45 @@ def test_unwritable_output_is_a_user_error(bag: Path, tmp_path: Path) -> None:
     result = CliRunner().invoke(main, ["discover", str(bag), "-o", str(target)])
     assert result.exit_code == 2
     assert "cannot write" in result.stderr
+
+
+REPORT = '{"timestamp": "2025-03-04 13:46:42", "ros2_control_entities": {"topics": [{"name": "/cmd_vel", "type": "topic", "interfaces": [{"name": "geometry_msgs/msg/Twist", "details": "Vector3 linear\\n\\tfloat64 x"}]}], "services": [], "actions": []}}'
+
+
+def test_report_source_is_summarised_without_recording_lines(tmp_path: Path) -> None:
+    path = tmp_path / "system.json"
+    path.write_text(REPORT, encoding="utf-8")
+    result = CliRunner().invoke(main, ["discover", str(path)], terminal_width=200)
+    assert result.exit_code == 0, result.output
+    assert f"Source:     {path} (report)" in result.output
+    assert "Captured:   2025-03-04 13:46:42" in result.output
+    assert "Duration" not in result.output
+    assert "1 topics, 0 services, 0 actions" in result.output
+
+
+def test_recording_exports_as_a_report(bag: Path, tmp_path: Path) -> None:
+    target = tmp_path / "report.json"
+    result = CliRunner().invoke(
+        main, ["discover", str(bag), "-o", str(target), "--format", "report"]
+    )
+    assert result.exit_code == 0, result.output
+    assert f"report written to {target}" in result.output
+    document = json.loads(target.read_text())
+    topics = {e["name"]: e for e in document["ros2_control_entities"]["topics"]}
+    assert topics["/cmd_vel"]["interfaces"] == [
+        {"name": "geometry_msgs/msg/Twist", "details": "float64 x"}
+    ]
+    (service,) = document["ros2_control_entities"]["services"]
+    assert service["interfaces"][0]["details"] == "---\nbool ok"
+
+
+def test_report_json_goes_to_stdout_and_back_in(tmp_path: Path) -> None:
+    path = tmp_path / "system.txt"  # told apart by content, not by name
+    path.write_text(REPORT, encoding="utf-8")
+    result = CliRunner().invoke(
+        main, ["discover", str(path), "--json", "--format", "report", "--resource", "mr1"]
+    )
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout) == json.loads(REPORT)
+    result = CliRunner().invoke(main, ["discover", str(path), "--json", "--name", "mr1"])
+    assert Inventory.model_validate_json(result.stdout).resource.name == "mr1"

@@ -19,7 +19,7 @@ def test_missing_source_names_what_is_accepted(tmp_path: Path) -> None:
     ("text", "message"),
     [
         ('{"a": ', r"bad\.json:1:7: JSON syntax error"),
-        ('{"a": 1}', "not a skillwright inventory"),
+        ('{"a": 1}', r"neither a skillwright inventory .* nor a report"),
         (
             '{"resource": {"name": "r"}, "interfaces": [{"name": 3}]}',
             r"not a valid inventory at interfaces\.0",

@@ -25,6 +25,7 @@ __all__ = [
     "ChannelRef",
     "Constant",
     "Damage",
+    "Endpoints",
     "InfrastructureFlag",
     "Interface",
     "InterfaceKind",
@@ -171,6 +172,19 @@ class ChannelRef(_Model):
     message_count: int = Field(description="Messages recorded on this topic.")
 
 
+class Endpoints(_Model):
+    """Who offered or used an interface on the live graph when it was discovered."""
+
+    publishers: int | None = Field(default=None, description="Publishers of a topic.")
+    subscribers: int | None = Field(default=None, description="Subscribers of a topic.")
+    servers: int | None = Field(
+        default=None, description="Servers of an action (publishers of its status topic)."
+    )
+    clients: int | None = Field(
+        default=None, description="Clients of an action (subscribers of its status topic)."
+    )
+
+
 class InfrastructureFlag(_Model):
     """Marks an interface that belongs to ROS 2 or tooling plumbing, not the robot's task."""
 
@@ -236,6 +250,9 @@ class Interface(_Model):
     channels: list[ChannelRef] = Field(
         default_factory=list, description="Recorded topics this interface was built from."
     )
+    endpoints: Endpoints | None = Field(
+        default=None, description="Publishers, subscribers, servers, clients (live graph)."
+    )
     infrastructure: InfrastructureFlag | None = Field(
         default=None, description="Set when the interface is ROS 2 / tooling infrastructure."
     )
@@ -298,6 +315,11 @@ class Source(_Model):
     end_time_ns: int | None = Field(default=None, description="Last message time (ns).")
     message_count: int | None = Field(default=None, description="Messages in the source.")
     ros_distro: str | None = Field(default=None, description="ROS distribution, when recorded.")
+    captured_at: str | None = Field(
+        default=None,
+        description="When the source was captured, as it says: a report's `timestamp`, or "
+        "the time of live discovery (ISO 8601).",
+    )
     notes: list[str] = Field(default_factory=list, description="Remarks about the source.")
 
     @property

@@ -1,36 +1,60 @@
-"""One entry point for every interface source a command accepts."""
+"""One entry point for every interface source a command accepts.
+
+A file is told apart by its content, not its name: JSON (a saved inventory or a
+reference-tool report) starts with ``{``; anything else is read as MCAP. A folder is a
+rosbag2 recording.
+"""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from skillwright.errors import FileFormatError, InputFileError, InputFileNotFoundError
 from skillwright.interfaces.inventory import Inventory
 
-__all__ = ["load_inventory"]
+if TYPE_CHECKING:
+    from skillwright.interfaces.sources.bag import ReadMode
+
+__all__ = ["discover_path", "is_json_file", "load_inventory"]
+
+_BOM = b"\xef\xbb\xbf"
 
 
-def _read_inventory_json(path: Path) -> Inventory:
-    from pydantic import ValidationError
-
+def is_json_file(path: Path) -> bool:
+    """Whether ``path`` is a file that holds JSON: named ``.json``, or starting with ``{``
+    (an MCAP file starts with its magic bytes instead)."""
+    if not path.is_file():
+        return False
+    if path.suffix.lower() == ".json":
+        return True
     try:
-        text = path.read_text(encoding="utf-8")
+        with path.open("rb") as stream:
+            head = stream.read(256)
+    except OSError:
+        return False
+    return head.removeprefix(_BOM).lstrip().startswith(b"{")
+
+
+def _read_json(path: Path) -> Any:
+    try:
+        text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:
-        raise FileFormatError(f"{path}: not UTF-8 text, so not an inventory") from None
+        raise FileFormatError(f"{path}: not UTF-8 text, so not an inventory or report") from None
     except OSError as error:
         raise InputFileError(f"{path}: cannot be read ({error.strerror})") from error
     try:
-        document = json.loads(text)
+        return json.loads(text)
     except json.JSONDecodeError as error:
         raise FileFormatError(
             f"{path}:{error.lineno}:{error.colno}: JSON syntax error: {error.msg}"
         ) from None
-    if not (isinstance(document, dict) and "interfaces" in document and "resource" in document):
-        raise FileFormatError(
-            f"{path}: JSON, but not a skillwright inventory (no 'resource' and 'interfaces'); "
-            "make one with `skillwright discover SOURCE -o inventory.json`"
-        )
+
+
+def _inventory_from_json(path: Path, document: Any) -> Inventory:
+    from pydantic import ValidationError
+
     try:
         return Inventory.model_validate(document)
     except ValidationError as error:
@@ -42,16 +66,43 @@ def _read_inventory_json(path: Path) -> Inventory:
         ) from None
 
 
-def load_inventory(source: str | Path) -> Inventory:
-    """The inventory from a saved inventory (``.json``), an ``.mcap`` file or a rosbag2 folder."""
+def _read_json_source(path: Path, resource_name: str | None = None) -> Inventory:
+    from skillwright.interfaces.sources.report import inventory_from_report, is_report
+
+    document = _read_json(path)
+    if is_report(document):
+        return inventory_from_report(document, str(path), resource_name)
+    if isinstance(document, dict) and "interfaces" in document and "resource" in document:
+        inventory = _inventory_from_json(path, document)
+        if resource_name:
+            inventory.resource.name = resource_name
+        return inventory
+    raise FileFormatError(
+        f"{path}: JSON, but neither a skillwright inventory (no 'resource' and 'interfaces') "
+        "nor a report of the reference tool (no 'ros2_control_entities'); make an inventory "
+        "with `skillwright discover SOURCE -o inventory.json`"
+    )
+
+
+def discover_path(
+    source: str | Path, mode: ReadMode = "auto", resource_name: str | None = None
+) -> Inventory:
+    """The inventory of a file or folder: saved inventory or report JSON (by content), an
+    ``.mcap`` file or a rosbag2 folder. ``mode`` applies to recordings only."""
     path = Path(source)
     if not path.exists():
         raise InputFileNotFoundError(
             f"interface source {path}: no such file or folder; give an .mcap file, a rosbag2 "
-            "folder or an inventory .json"
+            "folder, a report or an inventory .json"
         )
-    if path.is_file() and path.suffix.lower() == ".json":
-        return _read_inventory_json(path)
+    if is_json_file(path):
+        return _read_json_source(path, resource_name)
     from skillwright.interfaces.sources.bag import discover_bag
 
-    return discover_bag(path)
+    return discover_bag(path, mode, resource_name)
+
+
+def load_inventory(source: str | Path) -> Inventory:
+    """The inventory from a saved inventory or a reference-tool report (JSON, told apart by
+    content), an ``.mcap`` file or a rosbag2 folder."""
+    return discover_path(source)

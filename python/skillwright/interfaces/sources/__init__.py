@@ -1,9 +1,12 @@
 """Interface sources: each turns something that knows a robot's interfaces into an inventory.
 
 Every source implements :class:`InterfaceSource` (the paper's ``ControlEntity`` /
-``APIDocumentHandling`` idea). Today there is the MCAP / rosbag2 source
-(:mod:`skillwright.interfaces.sources.bag`); the live ROS 2 graph and the Cap2Skill
-report import produce the same :class:`~skillwright.interfaces.inventory.Inventory`.
+``APIDocumentHandling`` idea) and produces the same
+:class:`~skillwright.interfaces.inventory.Inventory`: MCAP files and rosbag2 folders
+(:mod:`~skillwright.interfaces.sources.bag`), the reference tool's JSON reports, which
+can also be written back (:mod:`~skillwright.interfaces.sources.report`), and the live
+ROS 2 graph (:mod:`~skillwright.interfaces.sources.live`, through the thin
+:mod:`~skillwright.interfaces.sources.rclpy_graph`).
 """
 
 from __future__ import annotations

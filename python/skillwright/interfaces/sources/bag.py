@@ -43,6 +43,7 @@ from skillwright.interfaces.ros2msg import (
     split_service,
 )
 from skillwright.interfaces.sources import InterfaceSource
+from skillwright.interfaces.typestore import fill_missing_definitions, filled_note
 
 if TYPE_CHECKING:
     from skillwright.core import McapFile
@@ -485,11 +486,10 @@ def _traffic(channels: Sequence[_Channel]) -> Traffic | None:
 def _channel_notes(channel: _Channel) -> list[str]:
     notes: list[str] = []
     if channel.schema is None and not channel.from_metadata_only:
-        notes.append(f"{channel.topic}: recorded without a schema; definition unknown")
+        notes.append(f"{channel.topic}: recorded without a schema")
     if channel.from_metadata_only:
         notes.append(
-            f"{channel.topic}: listed in metadata.yaml but not in the readable .mcap files; "
-            "no definition"
+            f"{channel.topic}: listed in metadata.yaml but not in the readable .mcap files"
         )
     if channel.message_encoding and channel.message_encoding != "cdr":
         notes.append(
@@ -727,11 +727,12 @@ class BagSource(InterfaceSource):
         name = self.resource_name or (
             recording.location.stem if recording.kind == "mcap" else recording.location.name
         )
-        return Inventory(
-            resource=Resource(name=name),
-            sources=[source],
-            interfaces=build_interfaces(channels),
-        )
+        interfaces = build_interfaces(channels)
+        # Channels without a schema (or with an empty one) still name their type.
+        filled = fill_missing_definitions(interfaces, source.ros_distro)
+        if filled:
+            source.notes.append(filled_note(filled))
+        return Inventory(resource=Resource(name=name), sources=[source], interfaces=interfaces)
 
 
 def discover_bag(
