@@ -9,14 +9,11 @@ A capability can need more interfaces than ``k`` (the MR-1's mapping needs six);
 needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
 the *attainable* count, ``min(needs, k)`` summed over the capabilities.
 
-The Cap2Skill report (the paper's robot) is read by a small parser here until report
-import lands in ``skillwright.interfaces.sources``.
+The paper's robot is read from its Cap2Skill reports by the report import.
 """
 
 from __future__ import annotations
 
-import json
-import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cache
@@ -25,20 +22,9 @@ from pathlib import Path
 import yaml
 
 from skillwright.capability import Capability, load_capability
-from skillwright.interfaces.infrastructure import classify
-from skillwright.interfaces.inventory import (
-    Description,
-    Interface,
-    InterfaceKind,
-    Inventory,
-    MessageDefinition,
-    MessageField,
-    Relevance,
-    Resource,
-    Source,
-)
+from skillwright.interfaces.inventory import Inventory, Relevance
 from skillwright.interfaces.load import load_inventory
-from skillwright.interfaces.ros2msg import BUILTIN_TYPES
+from skillwright.interfaces.sources.report import read_report
 from skillwright.spec import SkillSpec, load_spec
 from tests.conftest import REPO_ROOT, SHARED
 
@@ -123,7 +109,7 @@ def load_set(name: str) -> LabelledSet:
     elif name == "cap2skill":
         inventory = read_report(root / document["inventory"])
     else:
-        inventory = read_report(root / document["filtered_inventory"])
+        inventory = _kept_by_the_papers_filter(read_report(root / document["filtered_inventory"]))
     cases = []
     for stem, entry in document["capabilities"].items():
         names = {"name": stem, "snake": stem.replace("-", "_")}
@@ -141,83 +127,6 @@ def load_set(name: str) -> LabelledSet:
     return LabelledSet(name, inventory, tuple(cases))
 
 
-# --- the Cap2Skill report, until skillwright.interfaces.sources.report exists ---------------
-
-_ROLES: dict[str, tuple[str, ...]] = {
-    "topic": ("message",),
-    "service": ("request", "response"),
-    "action": ("goal", "result", "feedback"),
-}
-_SECTIONS = {
-    "purpose": "Purpose of the ROS2 Element:",
-    "module": "Mobile Robot Module:",
-    "tasks": "Relevance for Specific Tasks:",
-    "used_by": "Usage in the ROS2 System:",
-}
-
-
-def _fields(lines: list[str]) -> list[MessageField]:
-    """The report's expanded definitions: one field per line, nesting by leading tabs."""
-    root: list[MessageField] = []
-    stack: list[tuple[int, list[MessageField]]] = [(-1, root)]
-    for raw in lines:
-        text = raw.split("#", 1)[0].rstrip()
-        if not text.strip():
-            continue
-        depth = len(text) - len(text.lstrip("\t"))
-        parts = text.split()
-        if len(parts) < 2 or "=" in text:  # constants are not fields
-            continue
-        type_name, name = parts[0], parts[1]
-        base = re.sub(r"\[.*\]$", "", type_name).split("<=")[0]
-        node = MessageField(
-            name=name,
-            type=type_name,
-            base_type=base,
-            builtin=base in BUILTIN_TYPES,
-            array="unbounded" if type_name.endswith("[]") else "none",
-        )
-        while stack[-1][0] >= depth:
-            stack.pop()
-        stack[-1][1].append(node)
-        stack.append((depth, node.fields))
-    return root
-
-
-def _definitions(kind: str, type_name: str, details: str) -> dict[str, MessageDefinition]:
-    parts: list[list[str]] = [[]]
-    for line in details.splitlines():
-        if line.strip() == "---":
-            parts.append([])
-        else:
-            parts[-1].append(line)
-    return {
-        role: MessageDefinition(
-            type_name=type_name, encoding="ros2msg", raw="\n".join(lines), fields=_fields(lines)
-        )
-        for role, lines in zip(_ROLES[kind], parts, strict=False)
-    }
-
-
-def _description(text: str) -> Description:
-    found: dict[str, str] = {}
-    for key, heading in _SECTIONS.items():
-        start = text.find(heading)
-        if start < 0:
-            continue
-        rest = text[start + len(heading) :]
-        ends = [rest.find(h) for h in _SECTIONS.values() if rest.find(h) >= 0]
-        chunk = rest[: min(ends)] if ends else rest
-        found[key] = " ".join(chunk.replace("-", " ").split())
-    return Description(
-        purpose=found.get("purpose", " ".join(text.split())),
-        module=found.get("module", "other"),
-        tasks=[found["tasks"]] if "tasks" in found else [],
-        used_by=[found["used_by"]] if "used_by" in found else [],
-        engine="report",
-    )
-
-
 _KEPT = Relevance(
     relevant=True,
     category="control",
@@ -226,32 +135,7 @@ _KEPT = Relevance(
 )
 
 
-def read_report(path: Path) -> Inventory:
-    """A Cap2Skill ``ros2_system_report*.json`` as an inventory (names, types, fields)."""
-    document = json.loads(path.read_text(encoding="utf-8"))
-    entities = document["ros2_control_entities"]
-    if isinstance(entities, dict):  # the full report groups by kind; the filtered one does not
-        entities = [e for group in entities.values() for e in group]
-    interfaces = []
-    for entity in entities:
-        kind: InterfaceKind = entity["type"]
-        type_name = entity["interfaces"][0]["name"]
-        described = "description" in entity
-        interfaces.append(
-            Interface(
-                name=entity["name"],
-                kind=kind,
-                type_name=type_name,
-                definitions=_definitions(kind, type_name, entity["interfaces"][0]["details"]),
-                infrastructure=classify(kind, entity["name"], type_name),
-                description=_description(entity["description"]) if described else None,
-                # what the paper's relevance filter kept is a candidate, whatever our rules say
-                relevance=_KEPT if described else None,
-            )
-        )
-    interfaces.sort(key=lambda i: ({"topic": 0, "service": 1, "action": 2}[i.kind], i.name))
-    return Inventory(
-        resource=Resource(name="mmo700"),
-        sources=[Source(kind="report", location=str(path))],
-        interfaces=interfaces,
-    )
+def _kept_by_the_papers_filter(inventory: Inventory) -> Inventory:
+    """Every interface of the filtered report is a candidate, whatever our rules say."""
+    interfaces = [i.model_copy(update={"relevance": _KEPT}) for i in inventory.interfaces]
+    return inventory.model_copy(update={"interfaces": interfaces})

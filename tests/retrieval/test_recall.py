@@ -43,7 +43,7 @@ def test_every_case_has_a_need_and_a_spec(any_set: LabelledSet) -> None:
     assert all(case.needs and case.spec.states for case in any_set.cases)
 
 
-def test_the_report_reader_keeps_names_types_and_nested_fields(shared_data: object) -> None:
+def test_the_papers_robot_has_107_interfaces_and_few_candidates(shared_data: object) -> None:
     inventory = load_set("cap2skill").inventory
     assert len(inventory.interfaces) == 107
     cmd_vel = inventory.interface("/cmd_vel")
