@@ -27,6 +27,7 @@ COMMANDS: dict[str, str] = {
     "generate": "skillwright.pipeline.commands:generate",
     "inventory": "skillwright.interfaces.inventory_commands:inventory",
     "models": "skillwright.llm.commands:models",
+    "retrieve": "skillwright.retrieval.commands:retrieve",
     "spec": "skillwright.spec.commands:spec",
     "tui": "skillwright.tui.commands:tui",
 }

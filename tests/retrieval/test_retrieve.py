@@ -7,11 +7,11 @@ from functools import cache
 
 import pytest
 
-from skillwright.capability import load_capability
-from skillwright.interfaces.inventory import Inventory
+from skillwright.capability import Capability, load_capability
+from skillwright.interfaces.inventory import Interface, Inventory, Resource
 from skillwright.interfaces.load import load_inventory
-from skillwright.retrieval.retrieve import rank_interfaces
-from skillwright.spec import load_spec
+from skillwright.retrieval.retrieve import Ranking, rank_interfaces
+from skillwright.spec import SkillSpec, load_spec, parse_spec
 from tests.conftest import SHIPPED_CAPABILITIES
 
 
@@ -68,11 +68,116 @@ def test_an_embedder_is_mixed_in_when_given() -> None:
     capability = load_capability(SHIPPED_CAPABILITIES / "get-position.ttl").capability
 
     def fake_embed(texts: Sequence[str]) -> list[list[float]]:
-        # a stand-in model that only knows whether a text mentions SLAM's pose topic
+        # a stand-in model that finds every query text like SLAM's pose topic and nothing else
+        interface = ("topic ", "service ", "action ")
         return [
-            [1.0, 0.0] if ("/pose " in t or i == 0) else [0.0, 1.0] for i, t in enumerate(texts)
+            [0.0, 1.0] if t.startswith(interface) and "/pose " not in t else [1.0, 0.0]
+            for t in texts
         ]
 
-    hits = rank_interfaces(mr1(), capability, embed=fake_embed)
-    assert hits[0].name == "/pose"
-    assert hits[0].dense == 1.0
+    dense_only = rank_interfaces(
+        mr1(), capability, embed=fake_embed, ranking=Ranking(dense_weight=1.0)
+    )
+    assert dense_only[0].name == "/pose"
+    assert dense_only[0].dense == 1.0
+    assert "similar text" in dense_only[0].reason
+    mixed = rank_interfaces(mr1(), capability, embed=fake_embed)
+    assert all(h.dense is not None for h in mixed)
+
+
+def test_reciprocal_rank_fusion_is_available_for_comparison() -> None:
+    capability = load_capability(SHIPPED_CAPABILITIES / "rotate.ttl").capability
+
+    def fake_embed(texts: Sequence[str]) -> list[list[float]]:
+        return [[1.0, 0.0] if "turn" in t.lower() else [0.6, 0.8] for t in texts]
+
+    hits = rank_interfaces(
+        mr1(), capability, embed=fake_embed, ranking=Ranking(fusion="rrf", dense_weight=0.5)
+    )
+    assert len(hits) == 4
+    assert "/cmd_vel" in [h.name for h in hits]
+
+
+def test_scores_descend_and_each_reason_names_its_evidence() -> None:
+    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
+    spec = load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
+    hits = rank_interfaces(mr1(), capability, spec, k=8)
+    scores = [h.score for h in hits]
+    assert scores == sorted(scores, reverse=True)
+    by_name = {h.name: h for h in hits}
+    assert "capability moveForward" in by_name["/odom"].reason
+    assert "odometry" in by_name["/odom"].reason
+    assert by_name["/odom"].facets[0] == "capability"
+
+
+def stop_inventory() -> Inventory:
+    """A base with a velocity command, odometry, and a goal topic and action to confuse it."""
+
+    def topic(name: str, type_name: str) -> Interface:
+        return Interface(name=name, kind="topic", type_name=type_name)
+
+    return Inventory(
+        resource=Resource(name="base"),
+        interfaces=[
+            topic("/cmd_vel", "geometry_msgs/msg/Twist"),
+            topic("/odom", "nav_msgs/msg/Odometry"),
+            topic("/goal_pose", "geometry_msgs/msg/PoseStamped"),
+            topic("/plan", "nav_msgs/msg/Path"),
+            topic("/amcl_pose", "geometry_msgs/msg/PoseWithCovarianceStamped"),
+            Interface(
+                name="/navigate_to_pose",
+                kind="action",
+                type_name="nav2_msgs/action/NavigateToPose",
+            ),
+            Interface(
+                name="/compute_path_to_pose",
+                kind="action",
+                type_name="nav2_msgs/action/ComputePathToPose",
+            ),
+        ],
+    )
+
+
+def navigate_capability() -> Capability:
+    return Capability(
+        iri="http://example.org/navigate",
+        name="navigate",
+        label="Navigate",
+        kinds=["CaSk:ProvidedCapability"],
+        comment="I navigate the base to a goal position with the navigation stack.",
+    )
+
+
+def navigate_spec() -> SkillSpec:
+    return parse_spec(
+        {
+            "name": "navigate",
+            "description": "Navigate the base to a goal pose, planning a path.",
+            "skill_interface": "REST",
+            "states": {
+                "execute": "Send the navigation goal pose and wait for the result.",
+                "stopping": "Cancel the goal. Publish a zero velocity command.",
+            },
+        }
+    )
+
+
+def test_a_stop_sentence_wins_the_velocity_command_a_place() -> None:
+    hits = rank_interfaces(stop_inventory(), navigate_capability(), navigate_spec(), k=3)
+    names = [h.name for h in hits]
+    assert names[0] == "/navigate_to_pose"
+    assert "/cmd_vel" in names
+    [command] = [h for h in hits if h.name == "/cmd_vel"]
+    assert command.facets[0] == "state:stopping.2"
+    assert command.reason.startswith("the stopping state: command")
+
+
+def test_without_coverage_the_goal_variants_crowd_out_the_stop_command() -> None:
+    hits = rank_interfaces(
+        stop_inventory(),
+        navigate_capability(),
+        navigate_spec(),
+        k=3,
+        ranking=Ranking(coverage=0.0, facets=False),
+    )
+    assert "/cmd_vel" not in [h.name for h in hits]

@@ -7,7 +7,7 @@ import pytest
 from skillwright.capability import load_capability
 from skillwright.retrieval.lexical import BM25
 from skillwright.retrieval.query import build_query
-from skillwright.retrieval.text import split_words, stem, tokens
+from skillwright.retrieval.text import split_words, stem, tokens, weighted_tokens
 from skillwright.spec import load_spec
 from tests.conftest import SHIPPED_CAPABILITIES
 
@@ -38,6 +38,9 @@ def test_split_words(text: str, words: list[str]) -> None:
         ("pass", "pass"),
         ("maps", "map"),
         ("is", "is"),
+        ("speed", "speed"),
+        ("string", "string"),
+        ("published", "publish"),
     ],
 )
 def test_stem(word: str, stemmed: str) -> None:
@@ -60,17 +63,46 @@ def test_bm25_on_no_documents_scores_nothing() -> None:
     assert BM25([]).scores({"x": 1.0}) == []
 
 
-def test_query_uses_names_units_and_the_spec() -> None:
+def test_expansions_weigh_less_than_the_words_written_out() -> None:
+    weights = dict(weighted_tokens("/odom"))
+    assert weights["odom"] == 1.0
+    assert weights["odometry"] == 0.5
+    assert weights["position"] == 0.25
+
+
+def test_query_texts_drop_framework_chatter_and_read_verbs_as_intent() -> None:
+    terms = [
+        t
+        for t, _ in weighted_tokens("Prepare the system to print the current velocity", query=True)
+    ]
+    assert terms == ["measure", "velocity"]
+    stop = [t for t, _ in weighted_tokens("Set the velocity to zero", query=True)]
+    assert stop[:2] == ["command", "velocity"]
+    assert "stop" in stop
+    # interface documents keep every word
+    assert "print" in tokens("Prepare the system to print the current velocity")
+
+
+def test_the_query_has_a_facet_per_parameter_type_and_per_state_sentence() -> None:
     capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
     spec = load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
     query = build_query(capability, spec)
+    keys = [f.key for f in query.facets]
+    assert keys[0] == "capability"
+    assert query.facets[0].text.startswith("Move forward.")
+    # inDistance and outDistance share a type description: one facet
+    [distance] = [f for f in query.facets if f.key == "parameter:distance"]
+    assert distance.label == "inDistance/outDistance"
+    assert "distance in m" in distance.text
+    sentences = [f for f in query.facets if f.key.startswith("state:execute")]
+    assert len(sentences) > 1
+    assert " ".join(f.text for f in sentences) == " ".join(spec.states["execute"].split())
+    assert sum(f.weight for f in sentences) > query.facets[0].weight
     assert query.terms["velocity"] > query.terms.get("odometry", 0) > 0
-    assert "distance" in query.terms
+
+
+def test_without_a_spec_the_query_has_no_state_facets() -> None:
+    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
+    query = build_query(capability)
+    assert not [f for f in query.facets if f.key.startswith("state:")]
     assert query.text.startswith("Move forward.")
-    assert "velocity in m/s" in query.text
-    assert spec.states["execute"] in query.text
-    without_spec = build_query(capability)
-    assert (
-        "odometry" not in without_spec.terms
-        or without_spec.terms["odometry"] < query.terms["odometry"]
-    )

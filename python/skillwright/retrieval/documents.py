@@ -6,16 +6,29 @@ description — so the dense and the lexical score judge the same evidence.
 
 from __future__ import annotations
 
+import re
 from collections import defaultdict
 from collections.abc import Iterable, Sequence
 
 from skillwright.interfaces.description import describe_by_rules
 from skillwright.interfaces.inventory import Description, Interface, MessageField
-from skillwright.retrieval.text import tokens
+from skillwright.retrieval.text import weighted_tokens
 
-__all__ = ["describe", "field_paths", "interface_terms", "interface_text"]
+__all__ = ["describe", "field_paths", "interface_role", "interface_terms", "interface_text"]
 
-TERM_WEIGHTS = {"name": 3.0, "type": 2.0, "package": 0.5, "field": 0.5, "description": 1.0}
+TERM_WEIGHTS = {
+    "name": 3.0,
+    "type": 2.0,
+    "package": 0.5,
+    "field": 0.5,
+    "description": 1.0,
+    "role": 2.0,
+}
+
+# Topics a skill writes to rather than reads: velocity commands, goals, setpoints,
+# trajectories sent to a controller.
+_COMMAND_NAME = re.compile(r"(^|[/_])(cmd|command|commands|goal|setpoint)s?([/_]|$)")
+_COMMAND_TYPE = re.compile(r"trajectory_msgs/msg/\w+|\w+/msg/\w*Command")
 _MAIN_ROLES = ("message", "goal", "request", "feedback", "result", "response")
 
 
@@ -46,6 +59,18 @@ def describe(interface: Interface) -> Description:
     )
 
 
+def interface_role(interface: Interface) -> str | None:
+    """``command`` for what a skill sends (actions, command topics), ``measure`` for what
+    it reads (the other topics), ``None`` for services (they may do either)."""
+    if interface.kind == "action":
+        return "command"
+    if interface.kind == "service":
+        return None
+    if _COMMAND_NAME.search(interface.name) or _COMMAND_TYPE.fullmatch(interface.type_name):
+        return "command"
+    return "measure"
+
+
 def interface_text(interface: Interface, description: Description) -> str:
     """The text embedded for dense retrieval."""
     short_type = interface.type_name.rsplit("/", 1)[-1]
@@ -57,8 +82,8 @@ def interface_terms(interface: Interface, description: Description) -> dict[str,
     terms: defaultdict[str, float] = defaultdict(float)
 
     def add(text: str, part: str) -> None:
-        for term in tokens(text):
-            terms[term] += TERM_WEIGHTS[part]
+        for term, weight in weighted_tokens(text):
+            terms[term] += weight * TERM_WEIGHTS[part]
 
     add(interface.name, "name")
     package, _, rest = interface.type_name.partition("/")
@@ -67,4 +92,7 @@ def interface_terms(interface: Interface, description: Description) -> dict[str,
     for path in field_paths(interface, depth=2):
         add(path.rsplit(".", 1)[-1], "field")
     add(description.purpose + " " + " ".join(description.tasks), "description")
+    role = interface_role(interface)
+    if role is not None:
+        add(role, "role")
     return dict(terms)

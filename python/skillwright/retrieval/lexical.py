@@ -32,18 +32,22 @@ class BM25:
         self.idf = {
             term: math.log(1.0 + (count - n + 0.5) / (n + 0.5)) for term, n in frequency.items()
         }
+        # term -> (document, its saturated, length-normalised, idf-weighted frequency)
+        self._postings: dict[str, list[tuple[int, float]]] = {}
+        for row, (document, length) in enumerate(zip(self.documents, self.lengths, strict=True)):
+            norm = k1 * (1.0 - b + b * (length / self.average if self.average else 0.0))
+            for term, tf in document.items():
+                value = self.idf[term] * tf * (k1 + 1.0) / (tf + norm)
+                self._postings.setdefault(term, []).append((row, value))
 
     def scores(self, query: Mapping[str, float]) -> list[float]:
         """The score of every document for ``query`` (term -> weight)."""
-        out = []
-        for document, length in zip(self.documents, self.lengths, strict=True):
-            norm = self.k1 * (
-                1.0 - self.b + self.b * (length / self.average if self.average else 0.0)
-            )
-            score = 0.0
-            for term, weight in query.items():
-                tf = document.get(term)
-                if tf:
-                    score += weight * self.idf[term] * tf * (self.k1 + 1.0) / (tf + norm)
-            out.append(score)
+        out = [0.0] * len(self.documents)
+        for term, weight in query.items():
+            for row, value in self._postings.get(term, ()):
+                out[row] += weight * value
         return out
+
+    def scores_many(self, queries: Sequence[Mapping[str, float]]) -> list[list[float]]:
+        """:meth:`scores` for each query."""
+        return [self.scores(query) for query in queries]

@@ -1,33 +1,71 @@
 """Stage 4: rank a robot's interfaces for a capability.
 
-Two scores per interface, each scaled to [0, 1] over the candidates and then mixed: the
-cosine between the capability query's embedding and the interface text's (when an
-embedder is given), and BM25 between their weighted terms. Infrastructure interfaces
-(logging, parameters, lifecycle plumbing) are left out unless asked for.
+Every candidate interface is scored against every facet of the query (the capability,
+each input and output, each sentence of each specified state; see
+:mod:`skillwright.retrieval.query`): BM25 between their weighted terms and, when an
+embedder is given, the cosine between their embeddings (exact, through the Rust index),
+mixed with a small dense share.
+
+The hits are then picked greedily. Each pick maximises a mix of the interface's overall
+relevance (its facet scores, weighted) and its *coverage gain*: how much better than the
+hits already picked it matches each facet. A capability rarely needs two interfaces for the
+same piece of evidence, so once ``/cmd_vel`` covers the velocity facets, ``/cmd_vel_nav``
+gains nothing, and the sentence of the stopping state that publishes a zero velocity, or
+the output that needs a pose in the map frame, can win a place of its own. Interfaces
+of a type already picked are discounted too (a global and a local costmap).
+
+Infrastructure interfaces (logging, parameters, lifecycle plumbing) are left out unless
+asked for. ``bench/bench_retrieval.py`` measures every choice made here on two labelled
+sets, against the paper's comment-only embedding search.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Literal
 
 from skillwright.capability.model import Capability
 from skillwright.interfaces.inventory import Interface, Inventory
 from skillwright.retrieval.documents import describe, interface_terms, interface_text
 from skillwright.retrieval.lexical import BM25
-from skillwright.retrieval.query import build_query
+from skillwright.retrieval.query import Facet, Query, build_query
 from skillwright.spec.model import SkillSpec
 
-__all__ = ["DENSE_WEIGHT", "Embedder", "Hit", "rank_interfaces"]
+__all__ = ["DENSE_WEIGHT", "Embedder", "Hit", "Ranking", "candidates", "rank_interfaces"]
 
 Embedder = Callable[[Sequence[str]], Sequence[Sequence[float]]]
 """Texts -> unit-length vectors (the local embedding model)."""
 
-DENSE_WEIGHT = 0.3
-"""Share of the dense score in the mix when an embedder is given."""
+DENSE_WEIGHT = 0.1
+"""Share of the dense score in the mix when an embedder is given. Small on purpose: with
+all-MiniLM-L6-v2 a larger share lowered recall on both labelled sets (see the bench)."""
 
-DUPLICATE_TYPE_FACTOR = 0.5
-"""Score factor for a candidate whose type an already chosen hit has."""
+
+@dataclass(frozen=True)
+class Ranking:
+    """How the scores are combined. The defaults measured best on both labelled sets;
+    ``bench/bench_retrieval.py`` compares the alternatives."""
+
+    dense_weight: float = DENSE_WEIGHT
+    """Share of the dense score when an embedder is given (1.0: dense only)."""
+    facets: bool = True
+    """Score each facet of the query; ``False`` pools all evidence into one query."""
+    fusion: Literal["weighted", "rrf"] = "weighted"
+    """``weighted`` mixes scaled scores; ``rrf`` fuses the dense and lexical rankings of
+    each facet by reciprocal rank (rank r counts ``1 / (rrf_k + r)``)."""
+    rrf_k: int = 60
+    """The constant of reciprocal-rank fusion."""
+    coverage: float = 0.8
+    """Share of the coverage gain (versus overall relevance) when picking each hit;
+    0 ranks by relevance alone."""
+    scale_floor: float = 0.3
+    """Each facet's lexical scores are divided by its best score, but by no less than this
+    share of the best score of any facet: a facet with little evidence (a boilerplate
+    resetting state) stays weak, while a short facet with a clear match (a stopping
+    state's zero velocity command) counts fully. 0 scales each facet alone."""
+    duplicate_type_factor: float = 0.5
+    """Relevance factor for a candidate whose type an already picked hit has."""
 
 
 @dataclass(frozen=True)
@@ -38,40 +76,16 @@ class Hit:
     kind: str
     type_name: str
     score: float
+    """What the pick maximised (relevance mixed with coverage gain); descends with rank."""
     dense: float | None
+    """Dense part, facet-weighted, each facet scaled 0..1 over the candidates; None
+    without an embedder."""
     lexical: float
+    """Lexical (BM25) part, facet-weighted, scaled like :attr:`dense`."""
     reason: str
-
-
-def _scaled(values: Sequence[float]) -> list[float]:
-    low, high = min(values), max(values)
-    if high - low <= 1e-12:
-        return [0.0 for _ in values]
-    return [(v - low) / (high - low) for v in values]
-
-
-def _reason(query: dict[str, float], terms: dict[str, float]) -> str:
-    shared = sorted((t for t in query if t in terms), key=lambda t: -(query[t] * terms[t]))[:4]
-    return f"shares {', '.join(shared)}" if shared else "semantic match only"
-
-
-def _cosines(
-    embed: Embedder, query: str, texts: Sequence[str], kinds: Sequence[str]
-) -> list[float]:
-    """Cosine of the query with every text, through the exact Rust index."""
-    import numpy as np
-
-    from skillwright.retrieval.index import VectorIndex
-
-    vectors = np.asarray(embed([query, *texts]), dtype=np.float32)
-    index = VectorIndex(vectors.shape[1])
-    ids = np.arange(len(texts), dtype=np.int64)
-    index.add(ids, vectors[1:], kind=list(kinds), source="inventory")
-    hits = index.search(vectors[0], k=len(texts))
-    cosines = [0.0] * len(texts)
-    for row, score in zip(hits.ids.tolist(), hits.scores.tolist(), strict=True):
-        cosines[row] = float(score)
-    return cosines
+    """Which capability or spec evidence matched which of the interface's terms."""
+    facets: tuple[str, ...] = ()
+    """Keys of the facets the hit covered best when it was picked, strongest first."""
 
 
 def candidates(inventory: Inventory, include_infrastructure: bool = False) -> list[Interface]:
@@ -88,6 +102,119 @@ def candidates(inventory: Inventory, include_infrastructure: bool = False) -> li
     return out
 
 
+def _scaled(values: Sequence[float]) -> list[float]:
+    low, high = min(values), max(values)
+    if high - low <= 1e-12:
+        return [0.0 for _ in values]
+    return [(v - low) / (high - low) for v in values]
+
+
+def _floored(rows: Sequence[Sequence[float]], floor: float) -> list[list[float]]:
+    overall = max((max(row) for row in rows), default=0.0)
+    out = []
+    for row in rows:
+        high = max(*row, floor * overall)
+        out.append([v / high if high > 0 else 0.0 for v in row])
+    return out
+
+
+def _ranks(values: Sequence[float]) -> list[int]:
+    order = sorted(range(len(values)), key=lambda i: -values[i])
+    ranks = [0] * len(values)
+    for rank, index in enumerate(order, 1):
+        ranks[index] = rank
+    return ranks
+
+
+def _cosines(
+    embed: Embedder, queries: Sequence[str], texts: Sequence[str], kinds: Sequence[str]
+) -> list[list[float]]:
+    """Cosine of every query with every text, through the exact Rust index."""
+    import numpy as np
+
+    from skillwright.retrieval.index import VectorIndex
+
+    vectors = np.asarray(embed([*queries, *texts]), dtype=np.float32)
+    count = len(queries)
+    index = VectorIndex(vectors.shape[1])
+    ids = np.arange(len(texts), dtype=np.int64)
+    index.add(ids, vectors[count:], kind=list(kinds), source="inventory")
+    found = index.search_batch(vectors[:count], k=len(texts))
+    out = []
+    for row_ids, row_scores in zip(found.ids.tolist(), found.scores.tolist(), strict=True):
+        row = [0.0] * len(texts)
+        for column, score in zip(row_ids, row_scores, strict=True):
+            row[column] = float(score)
+        out.append(row)
+    return out
+
+
+@dataclass
+class _Scores:
+    """Per facet (rows) and candidate (columns): lexical, dense and mixed scores."""
+
+    lexical: list[list[float]]
+    dense: list[list[float]] | None
+    mixed: list[list[float]]
+
+
+def _facet_scores(
+    facets: Sequence[Facet],
+    documents: Sequence[dict[str, float]],
+    dense_raw: list[list[float]] | None,
+    ranking: Ranking,
+) -> _Scores:
+    lexical_raw = BM25(documents).scores_many([f.terms for f in facets])
+    lexical = _floored(lexical_raw, ranking.scale_floor)
+    # Cosines of a small model bunch together whatever the text; per facet min-max
+    # spreads them over 0..1 so that only the ranking within a facet matters.
+    dense = None if dense_raw is None else [_scaled(row) for row in dense_raw]
+    if dense is None or dense_raw is None:
+        return _Scores(lexical, None, lexical)
+    share = ranking.dense_weight
+    if ranking.fusion == "rrf":
+        mixed = []
+        for lexical_row, dense_row in zip(lexical_raw, dense_raw, strict=True):
+            by_lexical, by_dense = _ranks(lexical_row), _ranks(dense_row)
+            fused = [
+                (1.0 - share) / (ranking.rrf_k + x) + share / (ranking.rrf_k + d)
+                for x, d in zip(by_lexical, by_dense, strict=True)
+            ]
+            mixed.append(_scaled(fused))
+    else:
+        mixed = [
+            [share * d + (1.0 - share) * x for d, x in zip(drow, xrow, strict=True)]
+            for drow, xrow in zip(dense, lexical, strict=True)
+        ]
+    return _Scores(lexical, dense, mixed)
+
+
+def _weighted(rows: Sequence[Sequence[float]], weights: Sequence[float], i: int) -> float:
+    return sum(w * row[i] for w, row in zip(weights, rows, strict=True)) / sum(weights)
+
+
+def _shared_terms(facet: Facet, document: dict[str, float], limit: int = 3) -> list[str]:
+    shared = [t for t in facet.terms if t in document]
+    shared.sort(key=lambda t: -(facet.terms[t] * document[t]))
+    return shared[:limit]
+
+
+def _reason(
+    facets: Sequence[Facet], scores: _Scores, order: list[int], document: dict[str, float], i: int
+) -> str:
+    """``the stopping state: command, zero, velocity; capability rotate: turn``."""
+    parts = []
+    for f in order[:2]:
+        facet = facets[f]
+        terms = _shared_terms(facet, document)
+        similar = scores.dense is not None and scores.dense[f][i] > scores.lexical[f][i]
+        evidence = ", ".join(terms)
+        if similar:
+            evidence = f"similar text{'; ' + evidence if evidence else ''}"
+        parts.append(f"{facet.label}: {evidence or 'similar text'}")
+    return "; ".join(parts) if parts else "no evidence matched"
+
+
 def rank_interfaces(
     inventory: Inventory,
     capability: Capability,
@@ -96,58 +223,71 @@ def rank_interfaces(
     k: int = 4,
     include_infrastructure: bool = False,
     embed: Embedder | None = None,
+    ranking: Ranking | None = None,
 ) -> list[Hit]:
-    """The ``k`` best interfaces for the capability, best first."""
+    """The ``k`` interfaces the capability most likely needs, in the order they were picked."""
+    ranking = ranking or Ranking()
     pool = candidates(inventory, include_infrastructure)
     if not pool or k <= 0:
         return []
     query = build_query(capability, spec)
+    facets = query.facets if ranking.facets else [_pooled(query)]
     descriptions = [describe(i) for i in pool]
     documents = [interface_terms(i, d) for i, d in zip(pool, descriptions, strict=True)]
-    lexical_raw = BM25(documents).scores(query.terms)
-    lexical = _scaled(lexical_raw)
-    dense: list[float] | None = None
+    dense_raw = None
     if embed is not None:
         texts = [interface_text(i, d) for i, d in zip(pool, descriptions, strict=True)]
-        dense = _scaled(_cosines(embed, query.text, texts, [i.kind for i in pool]))
-    hits = []
-    for index, interface in enumerate(pool):
-        d = dense[index] if dense is not None else None
-        score = (
-            lexical[index] if d is None else DENSE_WEIGHT * d + (1 - DENSE_WEIGHT) * lexical[index]
+        dense_raw = _cosines(embed, [f.text for f in facets], texts, [i.kind for i in pool])
+    scores = _facet_scores(facets, documents, dense_raw, ranking)
+    weights = [f.weight for f in facets]
+    total = sum(weights)
+    relevance = [_weighted(scores.mixed, weights, i) for i in range(len(pool))]
+    covered = [0.0] * len(facets)
+    # candidates in relevance order, so that ties go to the more relevant, then by name
+    remaining = sorted(range(len(pool)), key=lambda i: (-relevance[i], pool[i].name))
+    picked_types: set[str] = set()
+    hits: list[Hit] = []
+    while remaining and len(hits) < k:
+
+        def gains(i: int, covered: list[float] = covered) -> list[float]:
+            return [
+                w * max(0.0, row[i] - c)
+                for w, row, c in zip(weights, scores.mixed, covered, strict=True)
+            ]
+
+        def objective(i: int) -> float:
+            duplicate = pool[i].type_name in picked_types
+            factor = ranking.duplicate_type_factor if duplicate else 1.0
+            mix = (1.0 - ranking.coverage) * relevance[i] * factor
+            return mix + ranking.coverage * sum(gains(i)) / total
+
+        values = [objective(i) for i in remaining]
+        position = max(range(len(remaining)), key=lambda p: (values[p], -p))
+        best = remaining.pop(position)
+        gained = gains(best)
+        # explain by the facets it covered; a hit that adds no coverage by its strongest
+        order = sorted(
+            range(len(facets)),
+            key=lambda f: (-gained[f], -weights[f] * scores.mixed[f][best]),
         )
+        interface = pool[best]
         hits.append(
             Hit(
                 name=interface.name,
                 kind=interface.kind,
                 type_name=interface.type_name,
-                score=score,
-                dense=d,
-                lexical=lexical[index],
-                reason=_reason(query.terms, documents[index]),
+                score=values[position],
+                dense=None if scores.dense is None else _weighted(scores.dense, weights, best),
+                lexical=_weighted(scores.lexical, weights, best),
+                reason=_reason(facets, scores, order, documents[best], best),
+                facets=tuple(facets[f].key for f in order[:2] if gained[f] > 1e-9),
             )
         )
-    return _diverse(hits, k)
+        picked_types.add(interface.type_name)
+        covered = [max(c, row[best]) for c, row in zip(covered, scores.mixed, strict=True)]
+    return hits
 
 
-def _diverse(hits: list[Hit], k: int) -> list[Hit]:
-    """Picks ``k`` hits greedily, discounting a candidate of a type already picked.
-
-    Robots often expose near-duplicates (``/cmd_vel`` and ``/cmd_vel_nav``, a global and a
-    local costmap); a skill rarely needs both, and a second copy would push a different,
-    needed interface out of the top ``k``.
-    """
-    remaining = sorted(hits, key=lambda h: (-h.score, h.name))
-    chosen: list[Hit] = []
-    while remaining and len(chosen) < k:
-        taken = {h.type_name for h in chosen}
-        best = max(
-            remaining,
-            key=lambda h: (
-                h.score * (DUPLICATE_TYPE_FACTOR if h.type_name in taken else 1.0),
-                -remaining.index(h),
-            ),
-        )
-        remaining.remove(best)
-        chosen.append(best)
-    return chosen
+def _pooled(query: Query) -> Facet:
+    """All evidence as one facet: the single-query ranking, kept for comparison."""
+    return Facet(key="query", label="query", text=query.text, terms=query.terms, weight=1.0)

@@ -10,8 +10,25 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
+from functools import lru_cache
 
-__all__ = ["UNIT_WORDS", "expand", "split_words", "stem", "tokens"]
+__all__ = [
+    "EXPANSION_WEIGHT",
+    "QUERY_STOPWORDS",
+    "QUERY_SYNONYMS",
+    "UNIT_WORDS",
+    "expand",
+    "split_words",
+    "stem",
+    "tokens",
+    "weighted_tokens",
+]
+
+EXPANSION_WEIGHT = 0.5
+"""Weight of a word an abbreviation stands for, relative to a word written out (1.0).
+
+An expansion is a guess about meaning (``odom`` -> ``position``), weaker evidence than the
+word itself; each further level of expansion halves again."""
 
 # Abbreviations common in ROS 2 interface and field names -> the words they stand for.
 ABBREVIATIONS: dict[str, str] = {
@@ -55,6 +72,10 @@ ABBREVIATIONS: dict[str, str] = {
     "collision": "collision obstacle distance",
     "map": "map mapping",
     "point": "point position",
+    "mobile": "mobile base",
+    "link": "link frame",
+    "frame": "frame transform",
+    "manipulator": "manipulator arm",
 }
 
 UNIT_WORDS: dict[str, str] = {
@@ -123,6 +144,47 @@ _STOPWORDS = frozenset(
 )
 
 
+def _word_set(text: str) -> frozenset[str]:
+    return frozenset(text.split())
+
+
+QUERY_STOPWORDS = _word_set(
+    """
+    robot robots system resource capability skill state states transition fire trigger
+    desired desire current actual given specified specifies specify any each all only not
+    does do doe done can could should would will must may one some every other
+    prepare begin log shut down process processes used use uses store stored storing
+    output outputs input inputs retrieve obtain keep while until once after before when
+    whether there than also so which who whose what how just still again
+    """
+)
+"""Words every capability model and skill specification uses whatever the skill does:
+the framework's own chatter (prepare, print, store as output, shut down processes) and
+filler (desired, current). They say nothing about which interface is needed, so the query
+leaves them out; interface documents keep them."""
+
+# What a verb in a capability or spec text implies about the interface it acts on:
+# setting, publishing or zeroing is commanding; printing, reading or checking a value
+# needs a source that measures it. Applied to query texts only.
+QUERY_SYNONYMS: dict[str, str] = {
+    "set": "command",
+    "publish": "command",
+    "send": "command",
+    "drive": "drive command",
+    "zero": "zero stop",
+    "halt": "stop",
+    "print": "measure",
+    "read": "measure",
+    "report": "measure",
+    "monitor": "measure",
+    "check": "measure",
+    "retrieve": "measure",
+    "measured": "measure",
+}
+
+_VOWELS = re.compile(r"[aeiouy]")
+
+
 def split_words(text: str) -> list[str]:
     """``/cmd_vel`` -> [cmd, vel]; ``inLinearVelocity`` -> [in, linear, velocity]."""
     spaced = re.sub(r"(?<=[a-z0-9])(?=[A-Z])|(?<=[A-Z])(?=[A-Z][a-z])", " ", text)
@@ -136,6 +198,9 @@ def stem(word: str) -> str:
             if suffix == "s" and word.endswith("ss"):
                 return word
             base = word[: len(word) - len(suffix)] + keep
+            # "speed" and "string" are not verb forms: the rest must still be a word
+            if suffix in {"ing", "ed"} and (word.endswith("eed") or not _VOWELS.search(base)):
+                return word
             # "mapping" -> "mapp" -> "map", "planned" -> "plann" -> "plan"
             if suffix in {"ing", "ed"} and base[-1] == base[-2] and base[-1] not in "lsz":
                 base = base[:-1]
@@ -143,19 +208,54 @@ def stem(word: str) -> str:
     return word
 
 
+def _expanded(words: Iterable[str]) -> list[tuple[str, float]]:
+    out: list[tuple[str, float]] = []
+    for word in words:
+        out.append((word, 1.0))
+        for extra in ABBREVIATIONS.get(word, "").split():
+            if extra == word:
+                continue
+            out.append((extra, EXPANSION_WEIGHT))
+            # one more level: "odom" -> "odometry" -> "position velocity"
+            out.extend(
+                (w, EXPANSION_WEIGHT**2)
+                for w in ABBREVIATIONS.get(extra, "").split()
+                if w not in {extra, word}
+            )
+    return out
+
+
 def expand(words: Iterable[str]) -> list[str]:
     """The words plus what their abbreviations stand for."""
-    out: list[str] = []
-    for word in words:
-        out.append(word)
-        for extra in ABBREVIATIONS.get(word, "").split():
-            out.append(extra)
-            # one more level: "odom" -> "odometry" -> "position velocity"
-            out.extend(w for w in ABBREVIATIONS.get(extra, "").split() if w != extra)
-    return out
+    return [word for word, _ in _expanded(words)]
+
+
+def weighted_tokens(text: str, *, query: bool = False) -> list[tuple[str, float]]:
+    """Like :func:`tokens`, each term with its weight (1 as written, less when expanded).
+
+    ``query`` also drops :data:`QUERY_STOPWORDS` (for capability and spec texts).
+    """
+    return list(_weighted_tokens(text, query))
+
+
+# Interface names, types and field names repeat across interfaces and queries.
+@lru_cache(maxsize=8192)
+def _weighted_tokens(text: str, query: bool) -> tuple[tuple[str, float], ...]:
+    out = []
+    words = split_words(text)
+    if query:
+        words = [
+            v for w in words if w not in QUERY_STOPWORDS for v in QUERY_SYNONYMS.get(w, w).split()
+        ]
+    for word, weight in _expanded(words):
+        if word in _STOPWORDS:
+            continue
+        term = stem(word)
+        if term not in _STOPWORDS and len(term) > 1:
+            out.append((term, weight))
+    return tuple(out)
 
 
 def tokens(text: str) -> list[str]:
     """Split, expand abbreviations, drop stop words and stem: the lexical index's terms."""
-    stemmed = (stem(w) for w in expand(split_words(text)) if w not in _STOPWORDS)
-    return [w for w in stemmed if w not in _STOPWORDS and len(w) > 1]
+    return [term for term, _ in weighted_tokens(text)]

@@ -1,0 +1,168 @@
+"""Retrieval quality and speed: recall@1/4/8 per method on the labelled sets, and latency.
+
+The alternative named for comparison is the paper's method: embed only the capability's
+``rdfs:comment`` and rank the interfaces by the cosine with their descriptions (the
+paper's LLM-written ones in the 33-interface setting, our rules engine's elsewhere), here
+with the local all-MiniLM-L6-v2 instead of OpenAI's text-embedding-3-large.
+
+Labelled sets (``tests/retrieval/labels``): the MR-1 (our nine capabilities and its
+recording, 41 candidates, 22 needs) and the paper's robot (the paper's nine capability
+models and specs against its full interface report, 107 interfaces of which our rules
+keep 37 after leaving out infrastructure, and against the 33 the paper's filter kept; 18 needs).
+A need is an interface a correct skill needs, or a group of alternatives of which one is
+enough. "fit@4" counts the needs that k=4 can hold at all (the MR-1's mapping needs 6).
+
+Latency is per capability query over the MR-1 inventory: *warm* with every embedding in
+the cache (a second run over the same inventory and capability), *cold* with no cache
+(everything embedded); model loading is reported separately. Each is the median of
+several runs, best of three rounds. Run: ``python bench/bench_retrieval.py``; needs
+``../shared`` beside the repository for the paper's robot.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from tests.retrieval.labelled import Ranker
+
+    from skillwright.capability import Capability
+    from skillwright.interfaces.inventory import Inventory
+    from skillwright.spec import SkillSpec
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))  # the labelled sets live with the tests
+
+ROUNDS = 3
+
+
+def main() -> int:
+    os.environ["SKILLWRIGHT_CACHE_DIR"] = tempfile.mkdtemp(prefix="skillwright-bench-")
+    from tests.retrieval.labelled import SETS, load_set, measure
+
+    from skillwright.llm.config import load_registry
+    from skillwright.llm.embeddings import load_embedder
+    from skillwright.retrieval.retrieve import Ranking, rank_interfaces
+
+    shared = (ROOT.parent / "shared" / "data").is_dir()
+    sets = [s for s in SETS if shared or s == "mr1"]
+    if not shared:
+        print("note: ../shared not found; the paper's robot is skipped")
+
+    started = time.perf_counter()
+    embedder = load_embedder(load_registry())
+    load_seconds = time.perf_counter() - started
+    embed = embedder.embed
+
+    def ours(ranking: Ranking, dense: bool) -> Ranker:
+        def rank(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:
+            hits = rank_interfaces(
+                inventory, cap, spec, k=k, embed=embed if dense else None, ranking=ranking
+            )
+            return [h.name for h in hits]
+
+        return rank
+
+    def no_spec(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:
+        return [h.name for h in rank_interfaces(inventory, cap, None, k=k, embed=embed)]
+
+    def paper(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:
+        return paper_ranking(embed, inventory, cap, k)
+
+    pooled = Ranking(facets=False, coverage=0.0)
+    dense_pooled = Ranking(dense_weight=1.0, facets=False, coverage=0.0)
+    hybrid_pooled = Ranking(dense_weight=0.3, facets=False, coverage=0.0)
+    rrf = Ranking(dense_weight=0.5, fusion="rrf")
+    methods: list[tuple[str, Ranker]] = [
+        ("paper: rdfs:comment only, dense (alternative)", paper),
+        ("dense, pooled query (all evidence, one text)", ours(dense_pooled, True)),
+        ("dense, facets + coverage", ours(Ranking(dense_weight=1.0), True)),
+        ("lexical, pooled query, by relevance", ours(pooled, False)),
+        ("hybrid 0.3, pooled query, by relevance", ours(hybrid_pooled, True)),
+        ("hybrid RRF 0.5, facets + coverage", ours(rrf, True)),
+        ("lexical, facets + coverage (--no-dense)", ours(Ranking(), False)),
+        ("hybrid 0.1, facets + coverage (default)", ours(Ranking(), True)),
+        ("hybrid default, capability only (no spec)", no_spec),
+    ]
+
+    labelled = {name: load_set(name) for name in sets}
+    header = "".join(f"{name:>26}" for name in sets)
+    print(f"\nrecall: needs found @1 / @4 / @8 (fit@4 = needs k=4 can hold)\n{'method':48}{header}")
+    for label, rank in methods:
+        cells = []
+        for name in sets:
+            r1, r4, r8 = (measure(labelled[name], rank, k) for k in (1, 4, 8))
+            cells.append(
+                f"{r1.found:>2}/{r4.found:>2}/{r8.found:>2} of {r4.total} (fit {r4.attainable})"
+            )
+        print(f"{label:48}" + "".join(f"{c:>26}" for c in cells))
+
+    print(
+        f"\nlatency per capability query, MR-1 inventory ({embedder.encoder.model_id} "
+        f"loaded in {load_seconds:.1f} s)"
+    )
+    mr1 = labelled["mr1"]
+    cases = mr1.cases
+
+    def per_query(rank: Ranker) -> Callable[[], None]:
+        def run() -> None:
+            for case in cases:
+                rank(mr1.inventory, case.capability, case.spec, 4)
+
+        return run
+
+    timings = [
+        ("paper: rdfs:comment only (alternative)", paper),
+        ("lexical, facets + coverage (--no-dense)", ours(Ranking(), False)),
+        ("hybrid, facets + coverage (default)", ours(Ranking(), True)),
+    ]
+    warm = [best_median(per_query(rank), len(cases)) for _, rank in timings]
+    cache, embedder.cache = embedder.cache, None
+    cold = [best_median(per_query(rank), len(cases), repeats=1) for _, rank in timings]
+    embedder.cache = cache
+    print(f"{'method':48}{'warm':>12}{'cold':>12}{'warm vs paper':>16}")
+    for (label, _), w, c in zip(timings, warm, cold, strict=True):
+        print(f"{label:48}{w * 1e3:>9.2f} ms{c * 1e3:>9.1f} ms{warm[0] / w:>15.2f}x")
+    return 0
+
+
+def paper_ranking(
+    embed: Callable[[Sequence[str]], Any], inventory: Inventory, cap: Capability, k: int
+) -> list[str]:
+    """The paper's retrieval: the comment's embedding against the descriptions'."""
+    import numpy as np
+
+    from skillwright.retrieval.documents import describe
+    from skillwright.retrieval.retrieve import candidates
+
+    pool = candidates(inventory)
+    texts = [describe(i).text() for i in pool]
+    vectors = np.asarray(embed([cap.comment or cap.label, *texts]), dtype=np.float32)
+    scores = vectors[1:] @ vectors[0]
+    order = sorted(range(len(pool)), key=lambda i: (-float(scores[i]), pool[i].name))
+    return [pool[i].name for i in order[:k]]
+
+
+def best_median(call: Callable[[], None], queries: int, repeats: int = 5) -> float:
+    """Seconds per query: the median over ``repeats`` runs, best of ``ROUNDS`` rounds."""
+    call()  # warm up (and fill the embedding cache)
+    best = float("inf")
+    for _ in range(ROUNDS):
+        spent = []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            call()
+            spent.append(time.perf_counter() - start)
+        best = min(best, statistics.median(spent))
+    return best / queries
+
+
+if __name__ == "__main__":
+    sys.exit(main())

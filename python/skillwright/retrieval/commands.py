@@ -1,0 +1,228 @@
+"""``skillwright retrieve``: the interfaces of a robot a capability needs, ranked.
+
+Only click is imported at module level (``skillwright --help`` imports this module); the
+capability reader, the inventory, the ranking and the embedding model load inside the
+command, the model (torch) only when dense scoring is on.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import click
+
+if TYPE_CHECKING:
+    from skillwright.interfaces.inventory import Inventory
+    from skillwright.retrieval.retrieve import Embedder, Hit
+
+__all__ = ["retrieve"]
+
+
+@click.command("retrieve")
+@click.option(
+    "--capability",
+    "capability_file",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="The capability model (Turtle or another RDF syntax).",
+)
+@click.option(
+    "--capability-iri", metavar="IRI", help="Which capability, when the file holds several."
+)
+@click.option(
+    "--spec",
+    "spec_file",
+    type=click.Path(path_type=Path),
+    help="The skill specification (JSON or YAML); its state texts sharpen the ranking.",
+)
+@click.option(
+    "--interfaces",
+    "source",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="The robot's interfaces: anything `skillwright discover` reads, or a saved inventory.",
+)
+@click.option(
+    "-k",
+    "k",
+    type=click.IntRange(min=1),
+    default=4,
+    show_default=True,
+    help="How many interfaces to return.",
+)
+@click.option(
+    "--all",
+    "include_infrastructure",
+    is_flag=True,
+    help="Rank infrastructure interfaces too (logging, parameters, lifecycle, ...).",
+)
+@click.option(
+    "--no-dense",
+    is_flag=True,
+    help="Lexical ranking only: no embedding model (and no torch) is loaded.",
+)
+@click.option(
+    "--models",
+    "models_file",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="A models.toml naming the embedding model (default: as for `skillwright models`).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the ranking as JSON.")
+def retrieve(
+    capability_file: Path,
+    capability_iri: str | None,
+    spec_file: Path | None,
+    source: Path,
+    k: int,
+    include_infrastructure: bool,
+    no_dense: bool,
+    models_file: Path | None,
+    as_json: bool,
+) -> None:
+    """Rank the robot's interfaces for a capability and show the best K, with reasons.
+
+    Each hit has a combined score, its dense (embedding) and lexical (BM25) parts, each
+    scaled to 0..1 over the candidates, and a reason naming the capability or spec
+    evidence that matched. Infrastructure interfaces are left out unless --all is given.
+    """
+    from skillwright.capability.reader import load_capability
+    from skillwright.console import err_console
+    from skillwright.errors import InvalidArgumentError
+    from skillwright.interfaces.load import load_inventory
+    from skillwright.retrieval.retrieve import candidates, rank_interfaces
+    from skillwright.spec.loader import load_spec
+
+    capability = load_capability(capability_file, capability_iri=capability_iri).capability
+    spec = load_spec(spec_file) if spec_file is not None else None
+    inventory = load_inventory(source)
+    pool = candidates(inventory, include_infrastructure)
+    if not pool:
+        hint = "" if include_infrastructure else "; --all ranks infrastructure interfaces too"
+        raise InvalidArgumentError(
+            f"interface source {source}: none of its {len(inventory.interfaces)} interface(s) "
+            f"is a candidate{hint}"
+        )
+    embed, model_id = (None, None) if no_dense else _embedder(models_file, len(pool))
+    started = time.perf_counter()
+    hits = rank_interfaces(
+        inventory,
+        capability,
+        spec,
+        k=k,
+        include_infrastructure=include_infrastructure,
+        embed=embed,
+    )
+    elapsed = time.perf_counter() - started
+    err_console().print(
+        f"ranked {len(pool)} interface(s) in {elapsed * 1e3:.0f} ms", highlight=False
+    )
+    if as_json:
+        _print_json(capability.iri, spec_file, source, inventory, len(pool), k, model_id, hits)
+    else:
+        method = "lexical" if model_id is None else f"hybrid, dense part by {model_id}"
+        _print_table(inventory, len(pool), include_infrastructure, method, hits)
+
+
+def _embedder(models_file: Path | None, count: int) -> tuple[Embedder, str]:
+    """The configured embedding model, announced on stderr (loading torch takes seconds)."""
+    from skillwright.console import err_console
+    from skillwright.errors import ModelError
+    from skillwright.llm.config import load_registry
+    from skillwright.llm.embeddings import load_embedder
+
+    registry = load_registry(models_file)
+    entry = registry.embedding_model(None)
+    console = err_console()
+    console.print(f"loading embedding model {entry.id} ...", highlight=False)
+    started = time.perf_counter()
+    try:
+        embedder = load_embedder(registry, entry.id)
+    except ModelError as error:
+        raise type(error)(f"{error}; or rank without it: --no-dense") from None
+    console.print(
+        f"loaded {entry.id} in {time.perf_counter() - started:.1f} s; "
+        f"embedding {count} interface text(s) (cached ones are reused)",
+        highlight=False,
+    )
+    return embedder.embed, entry.id  # type: ignore[return-value]
+
+
+def _print_table(
+    inventory: Inventory, pool: int, include_infrastructure: bool, method: str, hits: list[Hit]
+) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    from skillwright.console import out_console
+
+    table = Table(show_edge=False, pad_edge=False)
+    table.add_column("#", justify="right")
+    table.add_column("Name", overflow="fold")
+    table.add_column("Kind")
+    table.add_column("Type", overflow="fold")
+    table.add_column("Score", justify="right")
+    table.add_column("Dense", justify="right")
+    table.add_column("Lexical", justify="right")
+    table.add_column("Reason", overflow="fold")
+    for rank, hit in enumerate(hits, 1):
+        table.add_row(
+            str(rank),
+            escape(hit.name),
+            hit.kind,
+            escape(hit.type_name),
+            f"{hit.score:.3f}",
+            "-" if hit.dense is None else f"{hit.dense:.3f}",
+            f"{hit.lexical:.3f}",
+            escape(hit.reason),
+        )
+    console = out_console()
+    if console.is_terminal:
+        console.print(table)
+    else:
+        # Piped output is not cut to 80 columns: names, types and reasons stay whole.
+        from rich.measure import Measurement
+
+        saved = console.width
+        widest = Measurement.get(console, console.options.update_width(10_000), table).maximum
+        console.width = max(saved, widest)
+        try:
+            console.print(table)
+        finally:
+            console.width = saved
+    left_out = len(inventory.interfaces) - pool
+    scope = (
+        f"{pool} candidate(s)"
+        if include_infrastructure or not left_out
+        else f"{pool} candidate(s); {left_out} infrastructure interface(s) left out (--all)"
+    )
+    console.print(f"{len(hits)} of {scope}; ranking: {method}", soft_wrap=True, highlight=False)
+
+
+def _print_json(
+    capability_iri: str,
+    spec_file: Path | None,
+    source: Path,
+    inventory: Inventory,
+    pool: int,
+    k: int,
+    model_id: str | None,
+    hits: list[Hit],
+) -> None:
+    from dataclasses import asdict
+
+    document = {
+        "capability": capability_iri,
+        "spec": None if spec_file is None else str(spec_file),
+        "interfaces": str(source),
+        "resource": inventory.resource.name,
+        "candidates": pool,
+        "k": k,
+        "method": "lexical" if model_id is None else "hybrid",
+        "embedding_model": model_id,
+        "hits": [asdict(h) for h in hits],
+    }
+    sys.stdout.write(json.dumps(document, indent=2) + "\n")

@@ -1,0 +1,141 @@
+"""Labelled retrieval sets and recall measurement, shared by the tests and the benchmark.
+
+A labelled set (``tests/retrieval/labels/*.yaml``) names, for each capability, the
+interfaces a correct skill needs on one robot: ``required`` ones, and ``alternatives``
+groups of which any one member is enough. Each required interface and each group is one
+*need*. ``recall@k`` counts the needs with a member among the first ``k`` hits.
+
+A capability can need more interfaces than ``k`` (the MR-1's mapping needs six); those
+needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
+the *attainable* count, ``min(needs, k)`` summed over the capabilities.
+
+The paper's robot is read from its Cap2Skill reports by the report import.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+
+import yaml
+
+from skillwright.capability import Capability, load_capability
+from skillwright.interfaces.inventory import Inventory, Relevance
+from skillwright.interfaces.load import load_inventory
+from skillwright.interfaces.sources.report import read_report
+from skillwright.spec import SkillSpec, load_spec
+from tests.conftest import REPO_ROOT, SHARED
+
+LABELS = Path(__file__).resolve().parent / "labels"
+
+SETS = ("mr1", "cap2skill", "cap2skill-filtered")
+"""The labelled settings: our MR-1 recording; the paper's robot with its full report
+(infrastructure left out by our rules); the same robot with only the 33 interfaces the
+paper's relevance filter kept, carrying the paper's LLM-written descriptions."""
+
+Ranker = Callable[[Inventory, Capability, SkillSpec, int], Sequence[str]]
+"""(inventory, capability, spec, k) -> interface names, best first."""
+
+
+@dataclass(frozen=True)
+class Case:
+    """One capability with the interfaces its skill needs."""
+
+    name: str
+    capability: Capability
+    spec: SkillSpec
+    required: tuple[str, ...]
+    alternatives: tuple[tuple[str, ...], ...]
+
+    @property
+    def needs(self) -> list[tuple[str, ...]]:
+        """Each need as the names that satisfy it."""
+        return [(name,) for name in self.required] + list(self.alternatives)
+
+
+@dataclass(frozen=True)
+class LabelledSet:
+    """A robot's inventory and the labelled capabilities."""
+
+    name: str
+    inventory: Inventory
+    cases: tuple[Case, ...]
+
+    @property
+    def need_count(self) -> int:
+        """Needs over all cases."""
+        return sum(len(c.needs) for c in self.cases)
+
+
+@dataclass
+class Recall:
+    """How many needs a ranking found in its first ``k`` hits."""
+
+    k: int
+    found: int = 0
+    total: int = 0
+    attainable: int = 0
+    misses: list[str] = field(default_factory=list)
+
+    def __str__(self) -> str:
+        return f"{self.found}/{self.total}"
+
+
+def measure(labelled: LabelledSet, rank: Ranker, k: int) -> Recall:
+    """Recall@k of ``rank`` over the set; ``misses`` names each need not found."""
+    result = Recall(k)
+    for case in labelled.cases:
+        hits = list(rank(labelled.inventory, case.capability, case.spec, k))[:k]
+        result.total += len(case.needs)
+        result.attainable += min(len(case.needs), k)
+        for need in case.needs:
+            if any(name in hits for name in need):
+                result.found += 1
+            else:
+                result.misses.append(f"{case.name}: {'|'.join(need)}")
+    return result
+
+
+@cache
+def load_set(name: str) -> LabelledSet:
+    """One of :data:`SETS`; the Cap2Skill ones need ``../shared/data``."""
+    label_file = "mr1.yaml" if name == "mr1" else "cap2skill.yaml"
+    document = yaml.safe_load((LABELS / label_file).read_text(encoding="utf-8"))
+    root = REPO_ROOT if name == "mr1" else SHARED / "data"
+    if name == "mr1":
+        inventory = load_inventory(root / document["inventory"])
+    elif name == "cap2skill":
+        inventory = read_report(root / document["inventory"])
+    else:
+        inventory = _kept_by_the_papers_filter(read_report(root / document["filtered_inventory"]))
+    cases = []
+    for stem, entry in document["capabilities"].items():
+        names = {"name": stem, "snake": stem.replace("-", "_")}
+        capability = load_capability(root / document["models"].format(**names)).capability
+        spec = load_spec(root / document["specs"].format(**names))
+        cases.append(
+            Case(
+                name=stem,
+                capability=capability,
+                spec=spec,
+                required=tuple(entry["required"] or {}),
+                alternatives=tuple(tuple(group) for group in entry["alternatives"] or []),
+            )
+        )
+    return LabelledSet(name, inventory, tuple(cases))
+
+
+_KEPT = Relevance(
+    relevant=True,
+    category="control",
+    reason="kept by the paper's LLM relevance filter",
+    engine="report",
+)
+
+
+def _kept_by_the_papers_filter(inventory: Inventory) -> Inventory:
+    """Every interface of the filtered report is a candidate, whatever our rules say."""
+    interfaces = [i.model_copy(update={"relevance": _KEPT}) for i in inventory.interfaces]
+    return inventory.model_copy(update={"interfaces": interfaces})

@@ -1,0 +1,174 @@
+"""`skillwright retrieve` on the shipped MR-1 capabilities and recording."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from skillwright.cli import main
+from skillwright.console import err_console, out_console
+from skillwright.interfaces.inventory import InfrastructureFlag, Interface, Inventory, Resource
+from tests.conftest import REPO_ROOT, SHIPPED_CAPABILITIES
+
+MR1 = str(SHIPPED_CAPABILITIES / "recordings" / "mr1")
+ROTATE = ["--capability", str(SHIPPED_CAPABILITIES / "rotate.ttl")]
+ROTATE_SPEC = ["--spec", str(SHIPPED_CAPABILITIES / "rotate.spec.yaml")]
+
+
+@pytest.fixture(autouse=True)
+def fresh_consoles(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """Consoles created inside the test, so that they write to the runner's streams."""
+    monkeypatch.setenv("COLUMNS", "250")
+    out_console.cache_clear()
+    err_console.cache_clear()
+    yield
+    out_console.cache_clear()
+    err_console.cache_clear()
+
+
+def invoke(*args: str) -> tuple[int, str, str]:
+    result = CliRunner().invoke(main, ["retrieve", *args])
+    return result.exit_code, result.stdout, result.stderr
+
+
+def table_names(output: str) -> list[str]:
+    return [
+        line.split("│")[1].strip()
+        for line in output.splitlines()
+        if line[:1].isdigit() and "│" in line
+    ]
+
+
+def test_lexical_ranking_prints_a_table_with_reasons_and_a_summary() -> None:
+    code, out, err = invoke(*ROTATE, *ROTATE_SPEC, "--interfaces", MR1, "--no-dense")
+    assert code == 0, err
+    names = table_names(out)
+    assert len(names) == 4
+    assert "/cmd_vel" in names
+    [row] = [line for line in out.splitlines() if "/cmd_vel " in line]
+    assert "geometry_msgs/msg/Twist" in row
+    assert " - " in row  # no dense score without a model
+    assert "4 of 41 candidate(s); 36 infrastructure interface(s) left out (--all)" in out
+    assert "ranking: lexical" in out
+    assert "ranked 41 interface(s)" in err
+
+
+def test_k_sets_the_number_of_hits() -> None:
+    code, out, _ = invoke(*ROTATE, "--interfaces", MR1, "--no-dense", "-k", "7")
+    assert code == 0
+    assert len(table_names(out)) == 7
+
+
+def test_json_holds_every_hit_field_and_what_was_ranked() -> None:
+    code, out, _ = invoke(*ROTATE, *ROTATE_SPEC, "--interfaces", MR1, "--no-dense", "--json")
+    assert code == 0
+    document = json.loads(out)
+    assert document["capability"].endswith("/rotate")
+    assert document["method"] == "lexical"
+    assert document["embedding_model"] is None
+    assert document["candidates"] == 41
+    assert document["k"] == 4
+    [first, *_] = document["hits"]
+    assert set(first) >= {"name", "kind", "type_name", "score", "dense", "lexical", "reason"}
+    scores = [h["score"] for h in document["hits"]]
+    assert len(scores) == 4
+
+
+def test_all_ranks_infrastructure_interfaces_too() -> None:
+    code, out, _ = invoke(*ROTATE, "--interfaces", MR1, "--no-dense", "--all", "--json")
+    assert code == 0
+    assert json.loads(out)["candidates"] == 77
+
+
+def test_a_saved_inventory_is_accepted(tmp_path: Path) -> None:
+    saved = tmp_path / "inventory.json"
+    result = CliRunner().invoke(main, ["discover", MR1, "-o", str(saved)])
+    assert result.exit_code == 0, result.output
+    code, out, _ = invoke(*ROTATE, "--interfaces", str(saved), "--no-dense", "--json")
+    assert code == 0
+    assert json.loads(out)["candidates"] == 41
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--interfaces", "no/such/bag"], "interface source no/such/bag: no such file"),
+        (
+            ["--capability", "nothing.ttl", "--interfaces", MR1],
+            "nothing.ttl",
+        ),
+        (["--spec", "missing.spec.yaml", "--interfaces", MR1], "missing.spec.yaml"),
+        (["--interfaces", MR1, "-k", "0"], "0 is not in the range x>=1"),
+    ],
+)
+def test_bad_input_is_one_error_line_with_exit_status_2(args: list[str], message: str) -> None:
+    full = [*ROTATE, "--no-dense", *args] if "--capability" not in args else ["--no-dense", *args]
+    code, _, err = invoke(*full)
+    assert code == 2
+    assert message in err
+    assert "Traceback" not in err
+
+
+def test_an_inventory_of_infrastructure_only_says_to_use_all(tmp_path: Path) -> None:
+    inventory = Inventory(
+        resource=Resource(name="plumbing"),
+        interfaces=[
+            Interface(
+                name="/rosout",
+                kind="topic",
+                type_name="rcl_interfaces/msg/Log",
+                infrastructure=InfrastructureFlag(rule="rosout", reason="log output"),
+            )
+        ],
+    )
+    path = tmp_path / "inventory.json"
+    path.write_text(inventory.model_dump_json())
+    code, _, err = invoke(*ROTATE, "--interfaces", str(path), "--no-dense")
+    assert code == 2
+    assert "none of its 1 interface(s) is a candidate; --all ranks" in err
+
+
+def test_a_missing_embedding_model_suggests_no_dense(tmp_path: Path) -> None:
+    models = tmp_path / "models.toml"
+    models.write_text(
+        '[defaults]\nembedding = "gone"\n\n[[embedding]]\nid = "gone"\n'
+        f'path = "{tmp_path / "no-model"}"\n'
+    )
+    code, _, err = invoke(*ROTATE, "--interfaces", MR1, "--models", str(models))
+    assert code == 2
+    assert "embedding model 'gone'" in err
+    assert "--no-dense" in err
+
+
+def test_no_dense_never_imports_torch() -> None:
+    code = (
+        "import sys\n"
+        "from skillwright.cli import main\n"
+        f"main(['retrieve', '--capability', {str(SHIPPED_CAPABILITIES / 'rotate.ttl')!r},"
+        f" '--interfaces', {MR1!r}, '--no-dense', '--json'], standalone_mode=False)\n"
+        "assert 'torch' not in sys.modules and 'sentence_transformers' not in sys.modules\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO_ROOT, check=False
+    )
+    assert result.returncode == 0, result.stderr
+
+
+@pytest.mark.slow
+def test_hybrid_ranking_loads_minilm_and_fills_the_dense_column(tmp_path: Path) -> None:
+    env_cache = {"SKILLWRIGHT_CACHE_DIR": str(tmp_path)}
+    result = CliRunner(env=env_cache).invoke(
+        main, ["retrieve", *ROTATE, *ROTATE_SPEC, "--interfaces", MR1, "--json"]
+    )
+    assert result.exit_code == 0, result.stderr
+    document = json.loads(result.stdout)
+    assert document["method"] == "hybrid"
+    assert document["embedding_model"] == "all-minilm-l6-v2"
+    assert all(h["dense"] is not None for h in document["hits"])
+    assert "loading embedding model all-minilm-l6-v2" in result.stderr
