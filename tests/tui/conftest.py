@@ -11,6 +11,7 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 
 import pytest
+from pytest_textual_snapshot import SVGImageExtension
 from textual.app import App
 from textual.pilot import Pilot
 from textual.widgets import OptionList
@@ -20,6 +21,10 @@ from skillwright.tui.session import SessionState, save_session
 from skillwright.tui.workspace import Workspace
 from tests.conftest import SHIPPED_CAPABILITIES
 from tests.llm.conftest import isolated_config, tiny_gguf
+
+# pytest-textual-snapshot 1.0 names the snapshot suffix the syrupy 4 way (_file_extension);
+# syrupy 5 and later read file_extension and would store the SVG snapshots as .raw files.
+SVGImageExtension.file_extension = "svg"
 
 __all__ = ["choose", "isolated_config", "running", "screen_text", "tiny_gguf", "wait_until"]
 

@@ -170,8 +170,18 @@ class SkillwrightApp(App[None]):
         tab = tabs.active
         if tab in TABS:
             self.update_session(active_tab=tab)
-        for pane in tabs.get_pane(tab).query(Pane):
-            pane.focus_primary()
+        # Now, so the next key reaches the tab, and again after the refresh, because hiding
+        # the old tab can move the focus in between.
+        self._focus_active_pane()
+        self.call_after_refresh(self._focus_active_pane)
+
+    def _focus_active_pane(self) -> None:
+        # The tab active when this runs: focusing a widget in another tab would switch to it.
+        tabs = self.query_one("#tabs", TabbedContent)
+        for pane in tabs.get_pane(tabs.active).query(Pane):
+            focused = self.focused
+            if focused is None or pane not in focused.ancestors_with_self:
+                pane.focus_primary()
 
     def action_show_tab(self, tab: str) -> None:
         """Switches to the tab with id ``tab``."""
