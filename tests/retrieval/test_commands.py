@@ -54,9 +54,9 @@ def test_lexical_ranking_prints_a_table_with_reasons_and_a_summary() -> None:
     [row] = [line for line in out.splitlines() if "/cmd_vel " in line]
     assert "geometry_msgs/msg/Twist" in row
     assert " - " in row  # no dense score without a model
-    assert "4 of 41 candidate(s); 36 infrastructure interface(s) left out (--all)" in out
+    assert "4 of 38 candidate(s); 39 infrastructure interface(s) left out (--all)" in out
     assert "ranking: lexical" in out
-    assert "ranked 41 interface(s)" in err
+    assert "ranked 38 interface(s)" in err
 
 
 def test_k_sets_the_number_of_hits() -> None:
@@ -72,7 +72,7 @@ def test_json_holds_every_hit_field_and_what_was_ranked() -> None:
     assert document["capability"].endswith("/rotate")
     assert document["method"] == "lexical"
     assert document["embedding_model"] is None
-    assert document["candidates"] == 41
+    assert document["candidates"] == 38
     assert document["k"] == 4
     [first, *_] = document["hits"]
     assert set(first) >= {"name", "kind", "type_name", "score", "dense", "lexical", "reason"}
@@ -92,7 +92,7 @@ def test_a_saved_inventory_is_accepted(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     code, out, _ = invoke(*ROTATE, "--interfaces", str(saved), "--no-dense", "--json")
     assert code == 0
-    assert json.loads(out)["candidates"] == 41
+    assert json.loads(out)["candidates"] == 38
 
 
 @pytest.mark.parametrize(
