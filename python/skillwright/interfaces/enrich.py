@@ -551,6 +551,17 @@ class EnrichReport:
             for i in self.inventory.interfaces
         )
 
+    def summary(self) -> list[str]:
+        """What happened, as short phrases for a status line or a summary."""
+        parts = [f"{self.described} described by {self.engine}"]
+        if self.cached:
+            parts.append(f"{self.cached} from the cache")
+        if self.kept:
+            parts.append(f"{self.kept} report descriptions kept (verdicts filled)")
+        if self.notes:
+            parts.append(f"{len(self.notes)} fell back to the rules engine")
+        return parts
+
 
 def enrich(
     inventory: Inventory,

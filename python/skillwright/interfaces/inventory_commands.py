@@ -257,14 +257,7 @@ def _run(loaded: Inventory, engine: Engine, replace: bool) -> EnrichReport:
 
 def _summarise(report: EnrichReport, target: Path, out: Console, err: Console) -> None:
     total = len(report.inventory.interfaces)
-    parts = [f"{report.described} described by {report.engine}"]
-    if report.cached:
-        parts.append(f"{report.cached} from the cache")
-    if report.kept:
-        parts.append(f"{report.kept} report descriptions kept (verdicts filled)")
-    if report.notes:
-        parts.append(f"{len(report.notes)} fell back to the rules engine")
-    out.print(f"{total} interfaces: {', '.join(parts)}", markup=False, soft_wrap=True)
+    out.print(f"{total} interfaces: {', '.join(report.summary())}", markup=False, soft_wrap=True)
     out.print(
         f"relevance: {report.control} control, {report.infrastructure} infrastructure",
         markup=False,

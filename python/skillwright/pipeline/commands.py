@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING
 
 import click
 
+from skillwright.cli_options import capability_options, interfaces_option, spec_option
+
 if TYPE_CHECKING:
     from rich.console import Console
 
@@ -92,28 +94,9 @@ def _summary(outcome: Outcome) -> None:
 
 
 @click.command("generate")
-@click.option(
-    "--capability",
-    "capability_file",
-    required=True,
-    type=click.Path(path_type=Path),
-    help="The capability model (.ttl) to implement.",
-)
-@click.option("--capability-iri", metavar="IRI", help="Which capability, if the file has several.")
-@click.option(
-    "--spec",
-    "spec_file",
-    required=True,
-    type=click.Path(path_type=Path),
-    help="The skill specification (.json or .yaml).",
-)
-@click.option(
-    "--interfaces",
-    "source",
-    required=True,
-    type=click.Path(path_type=Path),
-    help="The robot's interfaces: an .mcap file, a rosbag2 folder, a report or an inventory.",
-)
+@capability_options
+@spec_option(required=True)
+@interfaces_option(required=True)
 @click.option("--model", "model_id", metavar="ID", help="Model id or alias from models.toml.")
 @click.option("--skeleton", is_flag=True, help="Write the skeleton only; no model.")
 @click.option("-k", "k", default=4, show_default=True, help="Interfaces to retrieve.")

@@ -15,6 +15,8 @@ from typing import TYPE_CHECKING
 
 import click
 
+from skillwright.cli_options import capability_options, interfaces_option, spec_option
+
 if TYPE_CHECKING:
     from skillwright.interfaces.inventory import Inventory
     from skillwright.retrieval.retrieve import Embedder, Hit
@@ -23,29 +25,9 @@ __all__ = ["retrieve"]
 
 
 @click.command("retrieve")
-@click.option(
-    "--capability",
-    "capability_file",
-    required=True,
-    type=click.Path(path_type=Path),
-    help="The capability model (Turtle or another RDF syntax).",
-)
-@click.option(
-    "--capability-iri", metavar="IRI", help="Which capability, when the file holds several."
-)
-@click.option(
-    "--spec",
-    "spec_file",
-    type=click.Path(path_type=Path),
-    help="The skill specification (JSON or YAML); its state texts sharpen the ranking.",
-)
-@click.option(
-    "--interfaces",
-    "source",
-    required=True,
-    type=click.Path(path_type=Path),
-    help="The robot's interfaces: anything `skillwright discover` reads, or a saved inventory.",
-)
+@capability_options
+@spec_option(required=False, extra_help=" Its state texts sharpen the ranking.")
+@interfaces_option(required=True)
 @click.option(
     "-k",
     "k",

@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 
 import click
 
+from skillwright.cli_options import capability_options, interfaces_option, spec_option
+
 if TYPE_CHECKING:
     from rich.console import Console
 
@@ -32,26 +34,9 @@ def print_findings(console: Console, path: object, findings: Sequence[Finding]) 
 
 @click.command("check")
 @click.argument("skill_file", type=click.Path(path_type=Path))
-@click.option(
-    "--capability",
-    "capability_file",
-    required=True,
-    type=click.Path(path_type=Path),
-    help="The capability model the skill implements.",
-)
-@click.option(
-    "--capability-iri", metavar="IRI", help="Which capability, when the file holds several."
-)
-@click.option(
-    "--spec", "spec_file", required=True, type=click.Path(path_type=Path), help="The skill spec."
-)
-@click.option(
-    "--interfaces",
-    "source",
-    type=click.Path(path_type=Path),
-    help="The robot's interfaces: an .mcap file, a rosbag2 folder or an inventory .json. "
-    "Without it, interface grounding is not checked.",
-)
+@capability_options
+@spec_option(required=True)
+@interfaces_option(required=False, extra_help=" Without it, interface grounding is not checked.")
 @click.option(
     "--retrieved",
     multiple=True,

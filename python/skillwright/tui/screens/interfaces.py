@@ -384,13 +384,7 @@ class InterfacesPane(Pane):
         finally:
             if generator is not None:
                 generator.close()
-        summary = [f"{report.described} described by {report.engine}"]
-        if report.cached:
-            summary.append(f"{report.cached} from the cache")
-        if report.kept:
-            summary.append(f"{report.kept} report descriptions kept")
-        if report.notes:
-            summary.append(f"{len(report.notes)} fell back to the rules")
+        summary = report.summary()
         summary.append(f"{report.control} control, {report.infrastructure} infrastructure")
         self.post_message(InventoryEnriched(report.inventory, target, "; ".join(summary)))
 
