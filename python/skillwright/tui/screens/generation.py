@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 from rich.text import Text
 from textual import on, work
 from textual.app import ComposeResult, SystemCommand
-from textual.containers import Horizontal, Vertical
+from textual.containers import Horizontal, Vertical, VerticalScroll
 from textual.widgets import Button, OptionList, Select, Static
 from textual.widgets.option_list import Option
 from textual.worker import Worker
@@ -63,7 +63,7 @@ class GenerationPane(Pane):
             yield Button("Generate ^G", id="generation-start", variant="primary", compact=True)
             yield Button("Cancel Esc", id="generation-cancel", compact=True)
         with Horizontal(id="generation-body"):
-            with Vertical(id="generation-side"):
+            with VerticalScroll(id="generation-side"):
                 yield Static(_IDLE, id="generation-stages", markup=False)
                 yield Static("", id="generation-stats", markup=False)
             with Vertical(id="generation-main"):
