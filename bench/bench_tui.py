@@ -25,7 +25,9 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO_ROOT))  # for tests.fixtures (the tiny model writer)
@@ -91,6 +93,16 @@ def startup_table(rounds: int) -> None:
         print(f"{label:<26}{best:>9.3f}{median:>10.3f}{best / lazy:>8.2f}")
 
 
+async def _until(
+    pilot: Any, condition: Callable[[], object], what: str, limit: float = 120
+) -> None:
+    deadline = time.monotonic() + limit
+    while not condition():
+        if time.monotonic() > deadline:
+            raise RuntimeError(f"waited {limit} s for {what}")
+        await pilot.pause(0.02)
+
+
 async def _key_latencies(workspace: Path, models: Path) -> tuple[list[float], list[float]]:
     from textual import events
 
@@ -115,7 +127,10 @@ async def _key_latencies(workspace: Path, models: Path) -> tuple[list[float], li
     async def key(pilot: object, name: str, done: object) -> float:
         started = time.perf_counter()
         app._driver.send_message(events.Key(name, name if len(name) == 1 else None))  # type: ignore[union-attr]
+        deadline = started + 30
         while not done():  # type: ignore[operator]
+            if time.perf_counter() > deadline:
+                raise RuntimeError(f"key {name} not handled in 30 s")
             await asyncio.sleep(0.002)
         return time.perf_counter() - started
 
@@ -131,18 +146,19 @@ async def _key_latencies(workspace: Path, models: Path) -> tuple[list[float], li
 
     async with app.run_test(size=(120, 40)) as pilot:
         pane = app.query_one(GenerationPane)
-        while not (app.loaded.capability and app.loaded.inventory and app.spec_pane().spec):
-            await pilot.pause(0.05)
+        await _until(
+            pilot,
+            lambda: app.loaded.capability and app.loaded.inventory and app.spec_pane().spec,
+            "inputs loaded",
+        )
         idle = await round_trip(pilot)
         pane.start()
-        while "model" not in pane.stages:
-            await pilot.pause(0.02)
+        await _until(pilot, lambda: "model" in pane.stages or not pane.running, "model stage")
         busy = await round_trip(pilot)
         if not pane.running:
             raise RuntimeError("the generation ended before the keys were measured")
         pane.cancel_job()
-        while pane.running:
-            await pilot.pause(0.05)
+        await _until(pilot, lambda: not pane.running, "generation cancelled")
     return idle, busy
 
 
