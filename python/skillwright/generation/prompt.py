@@ -19,6 +19,7 @@ import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Literal
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.errors import ContextOverflowError
@@ -47,8 +48,15 @@ GUIDE_PATH = Path(__file__).with_name("guide.md")
 
 _USES = {"publish": "publishes to it", "subscribe": "subscribes to it", "call": "calls it"}
 _ROLE_ORDER = ("message", "request", "response", "goal", "result", "feedback")
-DefinitionStyle = str  # "raw", "uncommented", "fields3", "fields2"
-_STYLES: tuple[DefinitionStyle, ...] = ("raw", "uncommented", "fields3", "fields2")
+DefinitionStyle = Literal["raw", "uncommented", "fields3", "fields2"]
+"""How interface definitions are shown: as recorded, without comments, or as field lists."""
+
+# Definition styles from fullest to shortest, with what each gives up.
+_SHORTENINGS: tuple[tuple[DefinitionStyle, str], ...] = (
+    ("uncommented", "definitions without comments"),
+    ("fields3", "definitions as field lists (3 levels)"),
+    ("fields2", "definitions as field lists (2 levels)"),
+)
 
 
 def _value(component_value: object, interpretation: str | None) -> str:
@@ -237,22 +245,12 @@ def fit_prompt(
     """The fullest prompt that leaves ``answer_tokens`` of the context for the answer."""
     budget = context_length - answer_tokens
     shortened: list[str] = []
-    attempts: list[tuple[DefinitionStyle, int, str]] = [
-        (style, len(examples), label)
-        for style, label in zip(
-            _STYLES,
-            (
-                "",
-                "definitions without comments",
-                "definitions as field lists (3 levels)",
-                "definitions as field lists (2 levels)",
-            ),
-            strict=True,
-        )
-    ]
+    total = len(examples)
+    attempts: list[tuple[DefinitionStyle, int, str]] = [("raw", total, "")]
+    attempts += [(style, total, label) for style, label in _SHORTENINGS]
     attempts += [
-        ("fields2", n, f"{len(examples) - n} of {len(examples)} few-shot examples left out")
-        for n in range(len(examples) - 1, -1, -1)
+        ("fields2", n, f"{total - n} of {total} few-shot examples left out")
+        for n in range(total - 1, -1, -1)
     ]
     tokens: int | None = None
     for style, count, label in attempts:

@@ -14,6 +14,7 @@ import ast
 import json
 import re
 from collections.abc import Sequence
+from typing import Literal
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParameter
@@ -39,7 +40,7 @@ _COMMAND_TYPES = re.compile(
 _COMMAND_NAMES = re.compile(r"(cmd|command|goal|setpoint|target)", re.IGNORECASE)
 
 
-def topic_role(name: str, type_name: str) -> str:
+def topic_role(name: str, type_name: str) -> Literal["publish", "subscribe"]:
     """Whether a skill publishes to a topic (a command) or subscribes to it (a reading).
 
     Sources that know the graph (publisher and subscriber counts) decide better; this is

@@ -83,7 +83,7 @@ def _summary(outcome: Outcome) -> None:
         console.print(f"note: {note}", style="yellow", highlight=False, markup=False)
     checks = record.checks
     verdict = "[green]passed[/]" if checks.passed else "[red]failed[/]"
-    what = "skeleton" if outcome.mode == "skeleton" else f"skill written by {record.model.id}"  # type: ignore[union-attr]
+    what = "skeleton" if record.model is None else f"skill written by {record.model.id}"
     console.print(
         f"{what}: {outcome.skill_path}\nchecks {verdict}: {checks.errors} error(s), "
         f"{checks.warnings} warning(s)\nrecord: {outcome.record_path}",

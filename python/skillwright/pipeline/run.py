@@ -277,9 +277,8 @@ def _interface_refs(
     out = []
     for hit in chosen:
         interface = inventory.interface(hit.name, hit.kind)  # type: ignore[arg-type]
-        role = cast(
-            "Literal['publish', 'subscribe', 'call']",
-            topic_role(hit.name, hit.type_name) if hit.kind == "topic" else "call",
+        role: Literal["publish", "subscribe", "call"] = (
+            topic_role(hit.name, hit.type_name) if hit.kind == "topic" else "call"
         )
         ref = InterfaceRef(name=hit.name, kind=interface.kind, type_name=hit.type_name, role=role)
         out.append((interface, ref))
