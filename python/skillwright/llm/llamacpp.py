@@ -33,9 +33,52 @@ if TYPE_CHECKING:
     from llama_cpp import Llama
     from llama_cpp.llama_grammar import LlamaGrammar
 
-__all__ = ["LlamaCppGenerator", "load_llamacpp", "render_chat"]
+__all__ = ["LlamaCppGenerator", "load_llamacpp", "render_chat", "route_native_logs"]
 
 log = logging.getLogger(__name__)
+native_log = logging.getLogger("skillwright.llama_cpp")
+"""Where llama.cpp's own log lines go (see :func:`route_native_logs`)."""
+
+# ggml's log levels (ggml.h): 0 none, 1 debug, 2 info, 3 warn, 4 error, 5 continues the last
+# line. llama.cpp's "info" lines are hundreds of load details, so they become DEBUG here.
+_NATIVE_LEVELS = {
+    0: logging.DEBUG,
+    1: logging.DEBUG,
+    2: logging.DEBUG,
+    3: logging.WARNING,
+    4: logging.ERROR,
+}
+_native: list[Any] = []  # holds the ctypes callback: it must outlive every call into llama.cpp
+
+
+def route_native_logs() -> None:
+    """Sends llama.cpp's own log output to the Python logger ``skillwright.llama_cpp``.
+
+    By default llama-cpp-python prints them straight to the process's stderr, where they
+    garble a terminal UI; as log records they reach whatever handler the CLI or the TUI has.
+    Pieces of a line (ggml sends some in parts) are joined before they are logged.
+    """
+    if _native:
+        return
+    import ctypes
+
+    import llama_cpp
+
+    pending: list[str] = []
+    level_of_line = [logging.DEBUG]
+
+    def forward(level: int, text: bytes, _user_data: Any) -> None:
+        if level != 5:
+            level_of_line[0] = _NATIVE_LEVELS.get(level, logging.DEBUG)
+        pending.append(text.decode("utf-8", errors="replace"))
+        if pending[-1].endswith("\n"):
+            line = "".join(pending).strip()
+            pending.clear()
+            if line:
+                native_log.log(level_of_line[0], "llama.cpp: %s", line)
+
+    _native.append(llama_cpp.llama_log_callback(forward))
+    llama_cpp.llama_log_set(_native[0], ctypes.c_void_p(0))
 
 
 def render_chat(
@@ -141,7 +184,8 @@ class LlamaCppGenerator:
         shortens it by a token).
         """
         self._check_open()
-        whole = self._tokenize(self.render(prompt.messages, add_generation_prompt=True))
+        rendered = self.render(prompt.messages, add_generation_prompt=True)
+        whole = self._tokenize(rendered + prompt.answer_prefix)
         if not prompt.prefix_messages:
             return [], whole
         head = self._tokenize(
@@ -376,6 +420,17 @@ def _grammar(schema: dict[str, Any]) -> LlamaGrammar:
         ) from None
 
 
+def _generation_threads() -> int:
+    """Threads for generating tokens when models.toml does not say.
+
+    Generation is memory-bound, so on big machines half the cores (llama-cpp-python's own
+    default) is enough; on small ones every core counts: measured on 2 cores with the 1.5B
+    default model, 6.2 tokens/s with 2 threads against 4.4 with 1.
+    """
+    cores = os.cpu_count() or 1
+    return cores if cores <= 4 else cores // 2
+
+
 def load_llamacpp(
     entry: LlamaCppModel,
     registry: Registry,
@@ -404,13 +459,14 @@ def load_llamacpp(
         )
     from llama_cpp import Llama
 
+    route_native_logs()
     started = time.perf_counter()
     try:
         llama = Llama(
             model_path=str(model_file.path),
             n_ctx=entry.context_length,
             n_batch=min(entry.batch_size, entry.context_length),
-            n_threads=entry.threads,
+            n_threads=entry.threads or _generation_threads(),
             # Prompt evaluation is compute-bound: use every core unless told otherwise
             # (llama-cpp-python's default is half of them).
             n_threads_batch=entry.threads or os.cpu_count() or 1,
