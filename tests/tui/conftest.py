@@ -17,6 +17,7 @@ from textual.pilot import Pilot
 from textual.widgets import OptionList
 
 from skillwright.tui.app import SkillwrightApp, make_app
+from skillwright.tui.screens.base import Pane
 from skillwright.tui.session import SessionState, save_session
 from skillwright.tui.workspace import Workspace
 from tests.conftest import SHIPPED_CAPABILITIES
@@ -60,7 +61,7 @@ generation = "tiny"
 [[llm]]
 id = "tiny"
 file = "{model_file.as_posix()}"
-context_length = 16384
+context_length = 32768
 batch_size = 512
 threads = 1
 
@@ -105,7 +106,13 @@ async def running(app: App[None], size: tuple[int, int] = (120, 40)) -> AsyncIte
     """
     async with app.run_test(size=size) as pilot:
         await pilot.pause()
-        yield pilot
+        try:
+            yield pilot
+        finally:
+            # A test that fails mid-run leaves without the app's quit path: stop its jobs, or
+            # their threads would hold the test run until they finish on their own.
+            for pane in app.query(Pane):
+                pane.cancel_job()
 
 
 async def wait_until(
