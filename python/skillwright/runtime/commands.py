@@ -52,7 +52,9 @@ class _Progress:
 
     def __call__(self, progress: RunProgress) -> None:
         if progress.event == "episode-start":
-            what = "normal run" if progress.episode == "normal" else "run with a Stop during execute"
+            what = (
+                "normal run" if progress.episode == "normal" else "run with a Stop during execute"
+            )
             self.console.print(f"[bold]{what}[/] ...", highlight=False)
         elif progress.event == "state-end":
             self.console.print(
@@ -81,8 +83,7 @@ def _summary(console: Console, path: Path, report: RunReport) -> None:
         sent = ", ".join(f"{count} on {topic}" for topic, count in sorted(published.items()))
         console.print(
             f"{episode.name} run: {states or 'no state ran'}; {episode.virtual_seconds:.2f} s "
-            f"simulated in {episode.wall_seconds:.2f} s"
-            + (f"; published {sent}" if sent else ""),
+            f"simulated in {episode.wall_seconds:.2f} s" + (f"; published {sent}" if sent else ""),
             highlight=False,
             markup=False,
         )
@@ -173,7 +174,9 @@ def run(
             on_progress=None if as_json else _Progress(err_console()),
         )
     except KeyboardInterrupt:
-        raise GenerationCancelledError("run interrupted; the sandboxed process was killed") from None
+        raise GenerationCancelledError(
+            "run interrupted; the sandboxed process was killed"
+        ) from None
     if out_file is not None:
         from skillwright.fileio import write_atomic
 
