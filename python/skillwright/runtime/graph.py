@@ -99,6 +99,10 @@ class _GoalRecord:
     line: int
 
 
+def _article(kind: str) -> str:
+    return f"an {kind}" if kind[0] in "aeiou" else f"a {kind}"
+
+
 def _shift_stamps(value: Any, offset_ns: int) -> Any:
     """Moves every ``stamp`` (builtin_interfaces/Time) in a message by ``offset_ns``."""
     if isinstance(value, dict):
@@ -568,7 +572,7 @@ class GraphHost:
         if info is None:
             other = self._kind_of(endpoint.name)
             if other is not None:
-                problem = f"{endpoint.name} is a {other} of the robot, not a topic"
+                problem = f"{endpoint.name} is {_article(other)} of the robot, not a topic"
             else:
                 problem = f"the robot has no topic {endpoint.name}" + self._suggest(
                     endpoint.name, list(self._topics)
@@ -619,7 +623,7 @@ class GraphHost:
         if robot_type is None:
             other = self._kind_of(endpoint.name)
             problem = (
-                f"{endpoint.name} is a {other} of the robot, not a {kind}"
+                f"{endpoint.name} is {_article(other)} of the robot, not {_article(kind)}"
                 if other is not None
                 else f"the robot has no {kind} {endpoint.name}"
                 + self._suggest(endpoint.name, list(known))
