@@ -86,10 +86,11 @@ def _summary(console: Console, path: Path, report: RunReport) -> None:
             f"simulated in {episode.wall_seconds:.2f} s" + (f"; published {sent}" if sent else ""),
             highlight=False,
             markup=False,
+            soft_wrap=True,
         )
         if episode.outputs:
             shown = ", ".join(f"{k} = {v}" for k, v in episode.outputs.items())
-            console.print(f"  outputs: {escape(shown)}", highlight=False)
+            console.print(f"  outputs: {escape(shown)}", highlight=False, soft_wrap=True)
     print_findings(console, path, report.findings)
     errors = sum(f.severity == "error" for f in report.findings)
     warnings = len(report.findings) - errors
@@ -100,6 +101,7 @@ def _summary(console: Console, path: Path, report: RunReport) -> None:
         f"{escape(str(path))}: run {verdict}, {errors} error(s), {warnings} warning(s) "
         f"(world: {trace.world or 'none'}; network isolation: {network})",
         highlight=False,
+        soft_wrap=True,
     )
 
 
