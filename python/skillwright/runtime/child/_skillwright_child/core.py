@@ -19,11 +19,14 @@ import itertools
 import sys
 import threading
 import time as _time
-from collections.abc import Callable
-from typing import Any
 
 from _skillwright_child.messages import TypeCatalog, from_dict, to_dict
 from _skillwright_child.wire import Wire
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from typing import Any
 
 _real_sleep = _time.sleep
 _real_monotonic = _time.monotonic

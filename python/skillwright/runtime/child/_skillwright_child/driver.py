@@ -15,11 +15,13 @@ import contextlib
 import math
 import sys
 import threading
-import traceback
 import types
-from typing import Any
 
 from _skillwright_child.core import Core, Interrupted
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 ERROR_PATH = ("aborting", "clearing", "resetting")
 STOP_PATH = ("stopping", "resetting")
@@ -106,6 +108,8 @@ class Driver:
     # --- reporting -----------------------------------------------------------------
 
     def _skill_frames(self, tb: types.TracebackType | None) -> list[list]:
+        import traceback
+
         frames = []
         for entry in traceback.extract_tb(tb):
             if entry.filename == self.skill_file:
