@@ -305,6 +305,17 @@ class Episode:
         }
 
     def _handle(self, frame: dict[str, Any]) -> dict[str, Any] | None:
+        # The trace shows the skill's own time for what it did; the graph may be up to a
+        # lookahead ahead of it.
+        t = frame.get("t")
+        if isinstance(t, (int, float)) and not isinstance(t, bool):
+            self._recorder.now = min(max(float(t), 0.0), self._graph.now)
+        try:
+            return self._dispatch(frame)
+        finally:
+            self._recorder.now = self._graph.now
+
+    def _dispatch(self, frame: dict[str, Any]) -> dict[str, Any] | None:
         op = frame["op"]
         graph = self._graph
         recorder = self._recorder
