@@ -43,9 +43,9 @@ _POLL_SECONDS = 0.05
 _GRACE_SECONDS = 5.0
 """Wall seconds a child gets to report where it was after an interrupt, before the kill
 (generous: on a loaded machine the child may wait that long for a core)."""
-_STALL_FACTOR = 10.0
-"""A state that uses no CPU and sends nothing for this many busy-deadlines (wall) is
-blocked in a wait the simulation cannot see (a lock, ``input()``)."""
+_STALL_SECONDS = 30.0
+"""A state that uses no CPU and sends nothing for this long (wall; at least ten busy
+deadlines) is blocked in a wait the simulation cannot see (a lock, ``input()``)."""
 _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
@@ -172,10 +172,11 @@ class Episode:
         wire = Wire(child.sock)
         deadlines = self._scenario.deadlines
         run_deadline = child.started + deadlines.run
-        last = time.monotonic()
+        last = sampled = time.monotonic()
         last_cpu = child.cpu_seconds()
         interrupted_at: float | None = None
         self._interrupt_reason = "busy"
+        self._stall_seconds = max(_STALL_SECONDS, 10 * deadlines.busy)
         while not self._done:
             if self._cancel is not None and self._cancel.is_set():
                 raise GenerationCancelledError("the run was cancelled; nothing was kept")
@@ -191,7 +192,7 @@ class Episode:
                 # seconds without a turn on a core.
                 cpu = child.cpu_seconds()
                 spun = cpu is None or last_cpu is None or cpu - last_cpu > deadlines.busy
-                stalled = now - last > deadlines.busy * _STALL_FACTOR
+                stalled = now - last > self._stall_seconds
                 if spun or stalled:
                     self._interrupt_reason = "busy" if spun else "blocked"
                     child.interrupt()
@@ -223,7 +224,10 @@ class Episode:
             if frame["op"] == "stack":
                 interrupted_at = None
             last = time.monotonic()
-            last_cpu = child.cpu_seconds()
+            # Reading /proc on every frame would cost more than the exchange itself; a
+            # sample at most a quarter second old is as good for a deadline of seconds.
+            if last - sampled > 0.25:
+                sampled, last_cpu = last, child.cpu_seconds()
 
     def _kill(self, reason: str, message: str) -> None:
         self._result.trace.ended = "killed"
@@ -267,10 +271,10 @@ class Episode:
             inner = frames[-1]
             where = f" at line {inner[0]} in {inner[1]}()"
         if self._interrupt_reason == "blocked":
-            seconds = self._scenario.deadlines.busy * _STALL_FACTOR
             return (
-                f"it waited {seconds:g} s of wall time{where} in a way the simulation cannot "
-                "see (a lock, input(), a raw socket or file), so virtual time stood still; "
+                f"it waited {self._stall_seconds:g} s of wall time{where} in a way the "
+                "simulation cannot see (a lock, input(), a raw socket or file), so virtual "
+                "time stood still; "
                 "wait with time.sleep, rclpy.spin_once or a future instead"
             )
         return (

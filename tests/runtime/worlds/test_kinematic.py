@@ -58,9 +58,7 @@ def test_navigation_drives_to_the_goal_and_succeeds(mr1_inventory: Inventory) ->
     assert [r["status"] for r in outcome] == [GoalStatus.SUCCEEDED]
     feedback = [d["data"]["distance_remaining"] for _, d in seen if d.get("kind") == "feedback"]
     assert feedback[0] > feedback[-1]
-    base = next(
-        t for t in _last(seen, tf)["transforms"] if t["child_frame_id"] == "base_link"
-    )
+    base = next(t for t in _last(seen, tf)["transforms"] if t["child_frame_id"] == "base_link")
     position = base["transform"]["translation"]
     assert math.hypot(position["x"] - 2.0, position["y"] - 1.0) <= 0.06
 
