@@ -9,6 +9,7 @@ oversized frames end the episode with a ``run.protocol`` finding.
 
 from __future__ import annotations
 
+import re
 import select
 import threading
 import time
@@ -46,6 +47,10 @@ _GRACE_SECONDS = 5.0
 _STALL_SECONDS = 30.0
 """A state that uses no CPU and sends nothing for this long (wall; at least ten busy
 deadlines) is blocked in a wait the simulation cannot see (a lock, ``input()``)."""
+_IMPORT_NAME = re.compile(
+    r"cannot import name '(?P<name>\w+)' from '(?P<package>\w+)\.(?P<namespace>\w+)'"
+)
+_NO_MODULE = re.compile(r"No module named '(?P<module>[\w.]+)'")
 _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
@@ -480,6 +485,8 @@ class Episode:
             )
         elif kind == "sandbox":
             text = f"{phase}: {message}"
+        elif kind == "import":
+            text = f"{phase}: {self._import_problem(message)}"
         else:
             text = (
                 f"{phase} raised {type_name}: {message}"
@@ -487,6 +494,25 @@ class Episode:
                 else f"{phase} raised {type_name}"
             )
         self._recorder.finding(check, text, line=line)
+
+    def _import_problem(self, message: str) -> str:
+        """What an ImportError means here: a type or package the robot does not have, or a
+        library the sandbox does not offer."""
+        wanted = _IMPORT_NAME.match(message)
+        if wanted is not None and wanted["namespace"] in {"msg", "srv", "action"}:
+            type_name = f"{wanted['package']}/{wanted['namespace']}/{wanted['name']}"
+            answer = self._registry.describe(type_name)
+            if not answer.get("ok"):
+                return str(answer["error"])
+        missing = _NO_MODULE.match(message)
+        if missing is not None:
+            package = missing["module"].split(".")[0]
+            return (
+                f"{message}: the robot has no ROS 2 package {package}, and a skill may use only "
+                "rclpy, tf2_ros, pySkillUp, the robot's message packages, the Python standard "
+                "library and numpy"
+            )
+        return message
 
     def _advance(self, frame: dict[str, Any]) -> dict[str, Any]:
         until = frame.get("until")

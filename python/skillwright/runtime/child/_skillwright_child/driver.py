@@ -104,6 +104,7 @@ class Driver:
         self.reads: set[str] = set()
         self.writes: set[str] = set()
         self.threads: list[threading.Thread] = []
+        self.reported: set[tuple[str, int]] = set()
 
     # --- reporting -----------------------------------------------------------------
 
@@ -119,6 +120,11 @@ class Driver:
     def report_error(self, phase: str, error: BaseException) -> None:
         frames = self._skill_frames(error.__traceback__)
         line = frames[-1][0] if frames else 0
+        # A callback that fails fails again at every message; once is enough.
+        key = (type(error).__name__, line)
+        if key in self.reported:
+            return
+        self.reported.add(key)
         if isinstance(error, SyntaxError) and error.filename == self.skill_file:
             line = error.lineno or 0
         try:
