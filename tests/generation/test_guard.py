@@ -7,9 +7,9 @@ from pathlib import Path
 import pytest
 
 from skillwright.generation.guard import RepetitionGuard
-from tests.conftest import REPO_ROOT
+from tests.conftest import SHIPPED_CAPABILITIES
 
-EXAMPLES = REPO_ROOT / "tests" / "fixtures" / "skills"
+EXAMPLES = SHIPPED_CAPABILITIES / "skills"
 
 
 def _feed(text: str, chunk: int = 5) -> tuple[bool, int]:

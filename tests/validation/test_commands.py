@@ -8,10 +8,10 @@ from pathlib import Path
 from click.testing import CliRunner
 
 from skillwright.cli import main
-from tests.conftest import REPO_ROOT, SHIPPED_CAPABILITIES
+from tests.conftest import SHIPPED_CAPABILITIES
 
 RECORDING = SHIPPED_CAPABILITIES / "recordings" / "mr1"
-GOOD = REPO_ROOT / "tests" / "fixtures" / "skills" / "navigate_to_point.py"
+GOOD = SHIPPED_CAPABILITIES / "skills" / "navigate_to_point.py"
 
 
 def args(skill: Path, *extra: str) -> list[str]:
