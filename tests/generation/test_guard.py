@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 from pathlib import Path
 
 import pytest
@@ -36,10 +37,23 @@ def test_a_loop_is_found_before_the_text_ends(text: str) -> None:
     assert at < len(text)
 
 
+def _methods(source: str) -> list[str]:
+    """Each function of a skill as its own text: the guard watches one method's answer."""
+    lines = source.splitlines(keepends=True)
+    return [
+        "".join(lines[node.lineno - 1 : node.end_lineno])
+        for node in ast.walk(ast.parse(source))
+        if isinstance(node, ast.FunctionDef)
+    ]
+
+
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.py")), ids=lambda p: p.stem)
 def test_real_skill_code_is_not_mistaken_for_a_loop(path: Path) -> None:
-    looped, _ = _feed(path.read_text(encoding="utf-8"))
-    assert not looped
+    methods = _methods(path.read_text(encoding="utf-8"))
+    assert methods
+    for method in methods:
+        looped, _ = _feed(method)
+        assert not looped, method
 
 
 def test_the_guard_says_what_was_repeated() -> None:

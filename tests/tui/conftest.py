@@ -91,9 +91,11 @@ def preset_session(workspace: Path, **values: object) -> SessionState:
 
 
 def app_for(workspace: Path, models_file: Path | None = None) -> SkillwrightApp:
-    """The app as the CLI builds it, saving the session quickly for the tests."""
+    """The app as the CLI builds it, saving the session quickly for the tests; without
+    animations, so what a snapshot shows does not depend on when it is taken."""
     app = make_app(workspace, models_file=models_file)
     app.save_delay = 0.05
+    app.animation_level = "none"
     return app
 
 

@@ -9,6 +9,7 @@ path evaluate exactly the same batches, so they give the same tokens.
 
 from __future__ import annotations
 
+import codecs
 import json
 import logging
 import os
@@ -255,7 +256,7 @@ class LlamaCppGenerator:
         grammar: LlamaGrammar | None,
         cancel: threading.Event | None,
     ) -> Iterator[str]:
-        from llama_cpp import StoppingCriteriaList
+        import llama_cpp
 
         if not self._busy.acquire(blocking=False):
             raise ModelError(
@@ -273,64 +274,57 @@ class LlamaCppGenerator:
                 stream.finish_reason = "cancelled"
                 return
             sampling = self.entry.sampling
-            stream.completion_tokens = 0
-            prompt_length = len(prefix) + len(rest)
-
-            halted = False
-
-            def count(input_ids: Any, _logits: Any) -> bool:
-                # Called after every sampled token with the tokens before it: the only exact
-                # token count (stream chunks do not map one-to-one to tokens). It also enforces
-                # max_tokens, which llama-cpp-python overruns while a UTF-8 character is
-                # incomplete: the token after the limit is dropped, never shown.
-                nonlocal halted
-                if cancel is not None and cancel.is_set():
-                    # Tokens held back (a possible stop sequence, an unfinished UTF-8
-                    # character) yield no chunk, so the loop below may not look for a while.
-                    return True
-                done = len(input_ids) - prompt_length + 1
-                stream.completion_tokens = min(max_tokens, max(stream.completion_tokens or 0, done))
-                if done > max_tokens and not halted:
-                    halted = True  # the library calls once more at the end: answer False then
-                    return True
-                return False
-
-            completion: Iterator[Any] = self.llama.create_completion(
-                prompt=prefix + rest,
-                max_tokens=max_tokens,
-                temperature=sampling.temperature
-                if options.temperature is None
-                else options.temperature,
-                top_p=sampling.top_p if options.top_p is None else options.top_p,
+            llama = self.llama
+            llama.set_seed(sampling.seed if options.seed is None else options.seed)
+            # The token loop is ours rather than llama-cpp-python's create_completion: that one
+            # detokenises the whole answer after every token and holds back bytes that are not
+            # yet valid UTF-8 (so a model that writes such bytes streams nothing, ever slower).
+            # Here every token's bytes go through an incremental decoder, and only text that
+            # could begin a stop string is held back.
+            decoder = codecs.getincrementaldecoder("utf-8")(errors="replace")
+            splitter = _StopSplitter(options.stop)
+            tokens = llama.generate(
+                prefix + rest,
                 top_k=sampling.top_k,
+                top_p=sampling.top_p if options.top_p is None else options.top_p,
                 min_p=sampling.min_p,
+                temp=sampling.temperature if options.temperature is None else options.temperature,
                 repeat_penalty=sampling.repeat_penalty,
-                seed=sampling.seed if options.seed is None else options.seed,
-                stop=list(options.stop),
                 grammar=grammar,
-                stopping_criteria=StoppingCriteriaList([count]),
-                stream=True,
-            )  # type: ignore[assignment]
+            )
+            written = 0
+            finish = "length"
             try:
-                for chunk in completion:
-                    choice = chunk["choices"][0]
-                    if choice["text"]:
-                        yield choice["text"]
-                    if choice.get("finish_reason"):
-                        stream.finish_reason = choice["finish_reason"]
+                for token in tokens:
+                    if cancel is not None and cancel.is_set():
+                        finish = "cancelled"
+                        break
+                    if llama_cpp.llama_vocab_is_eog(llama._model.vocab, token):
+                        finish = "stop"
+                        break
+                    written += 1
+                    stream.completion_tokens = written
+                    text, stopped = splitter.feed(decoder.decode(llama.detokenize([token])))
+                    if text:
+                        yield text
+                    if stopped:
+                        finish = "stop"
+                        break
+                    if written >= max_tokens:
+                        break
                     # Checked after each token: a cancel set while the caller handled the last
                     # chunk stops generation before another token is computed.
                     if cancel is not None and cancel.is_set():
-                        stream.finish_reason = "cancelled"
-                        return
+                        finish = "cancelled"
+                        break
             finally:
-                close = getattr(completion, "close", None)
-                if close is not None:
-                    close()
-            if cancel is not None and cancel.is_set():
-                stream.finish_reason = "cancelled"
-            elif stream.finish_reason is None:
-                stream.finish_reason = "stop"
+                tokens.close()
+            stream.completion_tokens = written
+            if finish != "cancelled":
+                tail, _ = splitter.feed(decoder.decode(b"", final=True), final=True)
+                if tail:
+                    yield tail
+            stream.finish_reason = finish
         finally:
             self._busy.release()
 
@@ -413,6 +407,38 @@ class LlamaCppGenerator:
         # llama.cpp would crash the process on a freed model; refuse instead.
         if self._closed:
             raise ModelError(f"model {self.model_id!r} was closed; load it again to use it")
+
+
+class _StopSplitter:
+    """Passes streamed text on up to the first stop string, holding back only a tail that
+    could be the start of one."""
+
+    def __init__(self, stops: Sequence[str]) -> None:
+        self.stops = [stop for stop in stops if stop]
+        self.pending = ""
+
+    def feed(self, text: str, *, final: bool = False) -> tuple[str, bool]:
+        """Text that is safe to show, and whether a stop string was reached."""
+        self.pending += text
+        cuts = [self.pending.find(stop) for stop in self.stops]
+        found = [cut for cut in cuts if cut >= 0]
+        if found:
+            shown, self.pending = self.pending[: min(found)], ""
+            return shown, True
+        keep = 0 if final else self._open_tail()
+        cut = len(self.pending) - keep
+        shown, self.pending = self.pending[:cut], self.pending[cut:]
+        return shown, False
+
+    def _open_tail(self) -> int:
+        """Length of the longest end of the pending text that begins some stop string."""
+        longest = 0
+        for stop in self.stops:
+            for size in range(min(len(stop) - 1, len(self.pending)), longest, -1):
+                if self.pending.endswith(stop[:size]):
+                    longest = size
+                    break
+        return longest
 
 
 def _grammar(schema: dict[str, Any]) -> LlamaGrammar:
