@@ -205,6 +205,14 @@ def test_answers_are_bounded_and_later_repairs_sample_with_a_seed(case: _Case) -
     assert sum(a.chosen for a in tries) == 1
 
 
+def test_a_repair_of_a_looping_answer_samples_at_once(case: _Case) -> None:
+    loop = "        self.cmd_vel_publisher.publish(Twist())\n" * 40 + "```"
+    model = MethodScript({**GOOD, "stopping": [loop, STOPPING]})
+    authored = case.write(model)
+    tries = [a for a in authored.attempts if a.target == "stopping"]
+    assert [(a.finish, a.temperature) for a in tries] == [("repetition", 0.0), ("stop", 0.6)]
+
+
 def test_a_looping_answer_is_cut_off_and_counts_as_failed(case: _Case) -> None:
     loop = "        self.cmd_vel_publisher.publish(Twist())\n" * 40 + "```"
     model = MethodScript({**GOOD, "stopping": [loop, STOPPING]})
