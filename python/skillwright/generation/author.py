@@ -239,6 +239,11 @@ class _Author:
                 None,
             )
         text = target.prefill + response
+        # The closing fence right after the prefilled lines (the method was complete with
+        # them) is not preceded by a newline of the answer, so the stop strings miss it.
+        fence_at = text.find("\n```")
+        if fence_at >= 0:
+            text = text[: fence_at + 1]
         method = parse_method(text)
         if method is None:
             return "unparsable", _syntax_note(text, target.name), None
