@@ -185,6 +185,24 @@ def test_subscription_qos_follows_the_offered_profiles(
     assert subscription_qos(role, profiles) == expected
 
 
+def test_the_transform_tree_is_read_through_a_tf2_buffer_and_a_helper() -> None:
+    capability, spec = shipped("get-position")
+    tf = InterfaceRef(
+        name="/tf", kind="topic", type_name="tf2_msgs/msg/TFMessage", role="subscribe"
+    )
+    skeleton = build_skeleton(capability, spec, [tf])
+    code = skeleton.code
+    assert "from tf2_ros import Buffer, TransformException, TransformListener" in code
+    assert "from rclpy.time import Time" in code
+    assert "self.tf_buffer = Buffer()" in code
+    assert "self.tf_listener = TransformListener(self.tf_buffer, self.node)" in code
+    assert "self.tf_listener.unregister()" in code
+    assert "TFMessage" not in code
+    assert "_on_tf" not in code
+    assert "_transform" in skeleton.helpers
+    ast.parse(code)
+
+
 def test_services_and_actions_get_clients_and_are_released() -> None:
     capability, spec = shipped("navigate-to-point")
     code = build_skeleton(capability, spec, [NAVIGATE, SAVE_MAP]).code

@@ -56,7 +56,8 @@ def test_json_report(tmp_path: Path) -> None:
     result = CliRunner().invoke(main, [*args(GOOD), "--json"])
     report = json.loads(result.stdout)
     assert report["findings"] == []
-    assert report["used_interfaces"] == ["/cmd_vel", "/navigate_to_pose"]
+    # The skill reads the robot pose through a tf2 listener: that is a use of /tf.
+    assert report["used_interfaces"] == ["/cmd_vel", "/navigate_to_pose", "/tf"]
 
 
 def test_missing_skill_file_is_an_input_error(tmp_path: Path) -> None:

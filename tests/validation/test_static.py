@@ -329,3 +329,31 @@ def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillS
     )
     (text,) = messages(run(source, move_forward), "inputs")
     assert "self.in_linear_velocity holds the capability input inLinearVelocity" in text
+
+
+def test_a_tf2_listener_counts_as_using_the_transform_tree(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "import rclpy\n",
+        "import rclpy\nfrom tf2_ros import Buffer, TransformListener\n",
+    ).replace(
+        "    def starting(self) -> None:\n",
+        "    def starting(self) -> None:\n"
+        "        self.tf_listener = TransformListener(Buffer(), self.node)\n",
+    )
+    assert "TransformListener(Buffer()" in source
+    capability, spec = move_forward
+    tf = CatalogEntry(name="/tf", kind="topic", type_name="tf2_msgs/msg/TFMessage")
+    with_tf = Catalog(entries={**CATALOG.entries, "/tf": tf}, fields=CATALOG.fields)
+    report = check_skill(
+        source,
+        capability=capability,
+        spec=spec,
+        catalog=with_tf,
+        retrieved=["/cmd_vel", "/odom", "/tf"],
+    )
+    assert not any("/tf" in m for m in messages(report))
+    # On a robot without a transform tree the listener would never hear anything.
+    without = messages(run(source, move_forward), "grounding")
+    assert any(m.startswith("topic /tf does not exist on this robot") for m in without)

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from skillwright.generation.card import latest_message_attribute
 from skillwright.generation.model import InterfaceRef, Skeleton
 from skillwright.generation.names import python_import
-from skillwright.generation.skeleton import SKELETON_NOTE, handle_attribute
+from skillwright.generation.skeleton import SKELETON_NOTE, handle_attribute, is_tf
 from skillwright.interfaces.inventory import Interface, MessageField
 
 __all__ = [
@@ -97,7 +97,9 @@ def usage(skeleton: Skeleton, methods: Mapping[str, str]) -> Usage:
     used = []
     for interface in skeleton.interfaces:
         names = {handle_attribute(interface)}
-        if interface.role == "subscribe":
+        if is_tf(interface):
+            names |= {"tf_buffer", "_transform"}
+        elif interface.role == "subscribe":
             names.add(latest_message_attribute(interface))
         via_helper = (
             "_stop_base" in helpers

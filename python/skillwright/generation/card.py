@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from skillwright.capability.model import Capability
 from skillwright.generation.model import InterfaceRef, Skeleton
 from skillwright.generation.names import python_import, snake_case
-from skillwright.generation.skeleton import class_constants, handle_attribute
+from skillwright.generation.skeleton import class_constants, handle_attribute, is_tf
 from skillwright.interfaces.inventory import Interface, MessageField
 
 __all__ = ["CardInterface", "field_paths", "latest_message_attribute", "task_card"]
@@ -38,6 +38,9 @@ _HELPER_LINES = {
     "_result_of": "self._result_of(future, timeout, what) waits for a future and returns its "
     "result",
     "_stop_base": "self._stop_base() commands zero velocity",
+    "_transform": "self._transform(target_frame, source_frame, timeout) returns the latest "
+    "TransformStamped (transform.translation.{x,y,z}, transform.rotation.{x,y,z,w}) or raises "
+    "RuntimeError",
 }
 _ROLE_WORDS = {
     "message": "",
@@ -127,6 +130,11 @@ def _interface_line(item: CardInterface) -> str:
     if ref.kind == "topic" and ref.role == "publish":
         return f"- {handle} publishes {cls} on {ref.name}. {cls}: " + _definition(
             item.interface, "message"
+        )
+    if is_tf(ref):
+        return (
+            f"- self.tf_buffer: a tf2 Buffer that {handle} (a TransformListener) fills from "
+            f"{ref.name} and /tf_static; read it with self._transform"
         )
     if ref.kind == "topic":
         latest = f"self.{latest_message_attribute(ref)}"

@@ -148,8 +148,21 @@ class _Writer:
         return "\n".join(self.lines) + "\n"
 
 
+def is_tf(interface: InterfaceRef) -> bool:
+    """Whether ``interface`` is the transform tree (``/tf``): skills read it through a tf2
+    buffer and listener, which also take in ``/tf_static``, not through a plain subscription."""
+    return (
+        interface.kind == "topic"
+        and interface.role == "subscribe"
+        and interface.type_name == "tf2_msgs/msg/TFMessage"
+        and interface.name.rsplit("/", 1)[-1] == "tf"
+    )
+
+
 def handle_attribute(interface: InterfaceRef) -> str:
     """The attribute holding the handle of ``interface``: ``cmd_vel_publisher``."""
+    if is_tf(interface):
+        return "tf_listener"
     suffix = {"publish": "publisher", "subscribe": "subscription"}.get(interface.role, "client")
     return attribute_name(interface.name, suffix)
 
@@ -169,6 +182,11 @@ def _create_lines(interface: InterfaceRef, indent: str) -> list[str]:
         return [f"{indent}{handle} = self.node.create_client({cls}, {name})"]
     if interface.role == "publish":
         return [f"{indent}{handle} = self.node.create_publisher({cls}, {name}, 10)"]
+    if is_tf(interface):
+        return [
+            f"{indent}self.tf_buffer = Buffer()",
+            f"{indent}{handle} = TransformListener(self.tf_buffer, self.node)",
+        ]
     callback = f"self._on_{snake_case(interface.name)}"
     return [
         f"{indent}{handle} = self.node.create_subscription(",
@@ -214,6 +232,8 @@ def _release_lines(interface: InterfaceRef, indent: str) -> list[str]:
         release = f"self.node.destroy_client({handle})"
     elif interface.role == "publish":
         release = f"self.node.destroy_publisher({handle})"
+    elif is_tf(interface):
+        release = f"{handle}.unregister()"
     else:
         release = f"self.node.destroy_subscription({handle})"
     return [
@@ -232,6 +252,12 @@ def _module_head(
 ) -> None:
     imports: dict[str, set[str]] = {}
     for interface in interfaces:
+        if is_tf(interface):
+            imports.setdefault("tf2_ros", set()).update({"Buffer", "TransformListener"})
+            if "_transform" in helpers:
+                imports["tf2_ros"].add("TransformException")
+                imports.setdefault("rclpy.time", set()).add("Time")
+            continue
         module, name = python_import(interface.type_name, interface.kind)
         imports.setdefault(module, set()).add(name)
     header = f"skill for the capability {capability.name}"
@@ -300,7 +326,9 @@ def _init(
         out.add(f"        self.{parameter.attribute}: {parameter.python_type} = {default}")
     for interface in interfaces:
         out.add(f"        self.{handle_attribute(interface)} = None")
-        if interface.role == "subscribe":
+        if is_tf(interface):
+            out.add("        self.tf_buffer: Buffer | None = None")
+        elif interface.role == "subscribe":
             cls = type_class(interface)
             out.add(f"        self.{snake_case(interface.name)}_msg: {cls} | None = None")
     if "starting" not in spec.states and interfaces:
@@ -328,7 +356,7 @@ def _accessors(out: _Writer, parameters: Sequence[SkeletonParameter]) -> None:
 
 def _callbacks(out: _Writer, interfaces: Sequence[InterfaceRef]) -> None:
     for interface in interfaces:
-        if interface.role != "subscribe":
+        if interface.role != "subscribe" or is_tf(interface):
             continue
         attribute = snake_case(interface.name)
         out.add(
@@ -374,6 +402,26 @@ def skeleton_helpers(interfaces: Sequence[InterfaceRef]) -> dict[str, list[str]]
             '        result; raises RuntimeError naming ``what`` after ``timeout`` seconds."""',
             "        self._wait_until(future.done, timeout, what)",
             "        return future.result()",
+        ]
+    if any(is_tf(i) for i in interfaces):
+        helpers["_transform"] = [
+            "    def _transform(self, target_frame: str, source_frame: str, timeout: float):",
+            '        """The latest transform from ``source_frame`` into ``target_frame`` (a',
+            "        TransformStamped) from the tf2 buffer; raises RuntimeError after ``timeout``",
+            '        seconds without one."""',
+            "        deadline = time.monotonic() + timeout",
+            "        while True:",
+            "            try:",
+            "                return self.tf_buffer.lookup_transform(",
+            "                    target_frame, source_frame, Time()",
+            "                )",
+            "            except TransformException as error:",
+            "                if time.monotonic() > deadline:",
+            "                    raise RuntimeError(",
+            '                        f"no transform from {source_frame} to {target_frame} "',
+            '                        f"within {timeout:g} s ({error})"',
+            "                    ) from None",
+            "            time.sleep(0.05)",
         ]
     twists = [i for i in interfaces if _is_twist_publisher(i)]
     if twists:

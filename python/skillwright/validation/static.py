@@ -396,6 +396,11 @@ def _uses(tree: ast.Module, imports: dict[str, str], ctx: _Context) -> list[_Use
         if not isinstance(node, ast.Call):
             continue
         call_name = _call_name(node)
+        if call_name == "TransformListener":
+            # A tf2 listener subscribes to the transform tree itself.
+            line, column = node.lineno, node.col_offset + 1
+            uses.append(_Use("/tf", "topic", "tf2_msgs/msg/TFMessage", line, column))
+            continue
         if call_name not in _HANDLE_CALLS:
             continue
         args = list(node.args)
