@@ -64,13 +64,16 @@ class GridFrame:
 class OccupancyMap:
     """Hit and pass counts per cell, from scans traced at known poses."""
 
-    def __init__(self, frame: GridFrame) -> None:
+    def __init__(self, frame: GridFrame, reference: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
         import numpy as np
 
         self.frame = frame
         self.hits = np.zeros((frame.height, frame.width), dtype=np.int32)
         self.passes = np.zeros((frame.height, frame.width), dtype=np.int32)
         self.scans = 0
+        self.reference = reference
+        """A pose (x, y, heading) whose axes :attr:`extent` is measured along."""
+        self._bounds = [math.inf, -math.inf, math.inf, -math.inf]
 
     def integrate(
         self,
@@ -103,14 +106,36 @@ class OccupancyMap:
         self.scans += 1
 
     def _count(self, target: NDArray[np.int32], px: NDArray[np.float64], py: NDArray[np.float64]) -> None:
+        """Count each cell the points fall in once (repeated indices add one, not several)."""
         import numpy as np
 
         frame = self.frame
         columns = np.floor((px - frame.origin_x) / frame.resolution).astype(np.int64)
         rows = np.floor((py - frame.origin_y) / frame.resolution).astype(np.int64)
         keep = (columns >= 0) & (columns < frame.width) & (rows >= 0) & (rows < frame.height)
-        cells = np.unique(rows[keep] * frame.width + columns[keep])
-        target.ravel()[cells] += 1
+        columns, rows = columns[keep], rows[keep]
+        target.ravel()[rows * frame.width + columns] += 1
+        if columns.size:
+            # Known cells never become unknown again, so the extent only grows.
+            rx, ry, heading = self.reference
+            cx = frame.origin_x + (columns + 0.5) * frame.resolution - rx
+            cy = frame.origin_y + (rows + 0.5) * frame.resolution - ry
+            along = cx * math.cos(heading) + cy * math.sin(heading)
+            across = -cx * math.sin(heading) + cy * math.cos(heading)
+            bounds = self._bounds
+            bounds[0] = min(bounds[0], float(along.min()))
+            bounds[1] = max(bounds[1], float(along.max()))
+            bounds[2] = min(bounds[2], float(across.min()))
+            bounds[3] = max(bounds[3], float(across.max()))
+
+    @property
+    def extent(self) -> tuple[float, float]:
+        """Extent of the known cells along and across the reference heading [m]."""
+        lo_along, hi_along, lo_across, hi_across = self._bounds
+        if lo_along > hi_along:
+            return (0.0, 0.0)
+        res = self.frame.resolution
+        return (hi_along - lo_along + res, hi_across - lo_across + res)
 
     def states(self) -> NDArray[np.int8]:
         """Per cell: ``-1`` unknown, ``0`` free, ``100`` occupied (rows from the bottom)."""
@@ -122,23 +147,6 @@ class OccupancyMap:
         states[seen] = FREE
         states[occupied] = OCCUPIED
         return states
-
-    def known_extent(self, x: float, y: float, heading: float) -> tuple[float, float]:
-        """Extent of the known cells along and across ``heading`` from ``(x, y)`` [m]."""
-        import numpy as np
-
-        rows, columns = np.nonzero(self.states() != UNKNOWN)
-        if rows.size == 0:
-            return (0.0, 0.0)
-        frame = self.frame
-        cx = frame.origin_x + (columns + 0.5) * frame.resolution - x
-        cy = frame.origin_y + (rows + 0.5) * frame.resolution - y
-        along = cx * math.cos(heading) + cy * math.sin(heading)
-        across = -cx * math.sin(heading) + cy * math.cos(heading)
-        return (
-            float(along.max() - along.min()) + frame.resolution,
-            float(across.max() - across.min()) + frame.resolution,
-        )
 
     def cropped(self) -> tuple[GridFrame, NDArray[np.int8]]:
         """The known part of the map (with one unknown cell around it), as published."""

@@ -1,0 +1,649 @@
+"""Oracles derived from the capability model, judged on the simulator's ground truth.
+
+For one run of a skill in a scenario:
+
+* ``outcome`` — the run ended as the scenario expects (completed, stopped, or aborted
+  because the skill refused its inputs).
+* ``constraint:<name>`` — each OpenMath constraint of the capability holds for the inputs
+  and the outputs **the skill reported**; constraints on inputs alone are preconditions.
+* ``truth:<name>`` — the same constraint with the outputs replaced by what the simulator
+  **measured** (the distance really travelled, the heading really reached), so a skill
+  that reports the right number without doing the work fails.
+* ``output:<name>`` — each reported output equals its measured value, within the tolerance
+  of its unit (angles on the circle).
+* ``limit:<property>`` — the resource's velocity requirements (``linearVelocity <= 0.8``)
+  are never exceeded: neither by a command the skill published nor by the base's measured
+  velocity.
+* ``contact`` — the chassis never touched anything.
+* ``rest:<state>`` — when completing (or stopping, or aborting) ended, nothing kept the base
+  moving: the command in force was zero and no navigation goal was running. It does not
+  apply after completing when the capability promises motion (an output velocity that is
+  not asserted to be zero, as set-velocity's).
+
+Resource properties that are actual values (``heading``, ``positionX``) take the measured
+value of the moment execute began; outputs are measured when execute returned.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from skillwright.capability.model import Capability, Constraint, DataElement
+from skillwright.sim.openmath import (
+    UNIT_TOLERANCES,
+    EvaluationError,
+    Value,
+    as_value,
+    evaluate,
+    is_output_variable,
+)
+from skillwright.sim.scenario import Scenario, infer_quantity
+from skillwright.sim.truth import GroundTruth, wrap_pi, wrap_two_pi
+
+__all__ = ["RunView", "StateSpan", "Verdict", "judge"]
+
+REST_LINEAR = 0.01
+REST_ANGULAR = 0.02
+MEASURED_LIMIT_SLACK = {"m/s": 0.02, "rad/s": 0.03}
+"""Measured velocities may overshoot a limit this much (servo tracking, not the skill)."""
+_VELOCITY_UNITS = ("m/s", "rad/s")
+
+
+class Verdict(BaseModel):
+    """The judgement of one oracle on one run."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    oracle: str = Field(description="Identifier, e.g. `constraint:distanceCovered`.")
+    kind: Literal[
+        "outcome", "precondition", "constraint", "truth", "output", "limit", "contact", "rest"
+    ] = Field(description="Which family of oracle.")
+    check: str = Field(description="What it checks, e.g. `abs(outDistance - inDistance) <= 0.02`.")
+    passed: bool | None = Field(description="True, False, or None when it does not apply.")
+    message: str = Field(description="The verdict in words, with the values compared.")
+    measured: dict[str, Any] = Field(
+        default_factory=dict, description="The values involved, by name."
+    )
+    tolerance: float | None = Field(default=None, description="The tolerance used, if any.")
+    time: float | None = Field(
+        default=None, description="Virtual time the verdict refers to (e.g. first violation)."
+    )
+    state: str | None = Field(default=None, description="The PackML state running then.")
+
+
+@dataclass(frozen=True)
+class StateSpan:
+    """One state method run: when, and how it ended."""
+
+    name: str
+    start: float
+    end: float
+    outcome: str = "returned"
+
+
+@dataclass
+class RunView:
+    """What the oracles need to know about a run, whatever ran it."""
+
+    states: list[StateSpan]
+    outputs: dict[str, Any]
+    ended: Literal["completed", "stopped", "aborted", "failed"]
+    end_time: float
+    message: str = ""
+    """Why the run aborted or failed, in the runtime's words."""
+    notes: list[str] = field(default_factory=list)
+
+    def state_at(self, t: float) -> str | None:
+        """The state running at ``t``."""
+        for span in self.states:
+            if span.start - 1e-9 <= t <= span.end + 1e-9:
+                return span.name
+        return None
+
+    def span(self, name: str) -> StateSpan | None:
+        """The last run of the state ``name``."""
+        found = None
+        for span in self.states:
+            if span.name == name:
+                found = span
+        return found
+
+
+@dataclass
+class _Context:
+    capability: Capability
+    scenario: Scenario
+    run: RunView
+    truth: GroundTruth
+    units: dict[str, str | None]
+    tolerances: dict[str, float]
+    exec_start: float
+    exec_end: float
+
+
+def _elements(capability: Capability, direction: str) -> list[tuple[DataElement, Any]]:
+    parameters = capability.inputs if direction == "input" else capability.outputs
+    return [(e, p) for p in parameters for e in p.components]
+
+
+def measure(quantity: str, truth: GroundTruth, start: float, end: float) -> Value | None:
+    """The simulator's value of a quantity (see :data:`~skillwright.sim.scenario.QUANTITIES`)
+    for an execute state that ran from ``start`` to ``end``."""
+    sample = truth.at(end)
+    if quantity.startswith("tcp_position_"):
+        return sample.tcp["xyz".index(quantity[-1])]
+    simple: dict[str, float] = {
+        "position_x": sample.x,
+        "position_y": sample.y,
+        "heading": wrap_two_pi(sample.yaw),
+        "linear_velocity_x": sample.vx,
+        "linear_velocity_y": sample.vy,
+        "angular_velocity": sample.wz,
+    }
+    if quantity in simple:
+        return simple[quantity]
+    if quantity == "travelled_distance":
+        return truth.displacement(start, end)
+    if quantity == "path_length":
+        return truth.path_length(start, end)
+    if quantity == "command_duration":
+        return truth.command_duration(start, end)
+    if quantity in ("nearest_obstacle_distance", "nearest_obstacle_bearing"):
+        nearest = truth.nearest_at(end)
+        if nearest is None:
+            return None
+        return nearest[0] if quantity.endswith("distance") else wrap_pi(nearest[1])
+    if quantity in ("map_length", "map_width"):
+        extent = truth.extent_at(end)
+        if extent is None:
+            return None
+        return extent[0] if quantity == "map_length" else extent[1]
+    if quantity == "map_file":
+        saved = [m for m in truth.saved_maps if m["t"] <= end + 1e-9]
+        return saved[-1]["name"] if saved else None
+    return None
+
+
+def _values(
+    context: _Context, outputs: Mapping[str, Value | None]
+) -> dict[str, Value]:
+    """Variables of the constraints by IRI: inputs, outputs, resource properties."""
+    capability = context.capability
+    values: dict[str, Value] = {}
+    for element, _p in _elements(capability, "input"):
+        value = as_value(context.scenario.inputs.get(element.name))
+        if value is not None and element.iri:
+            values[element.iri] = value
+    for element, _p in _elements(capability, "output"):
+        value = outputs.get(element.name)
+        if value is not None and element.iri:
+            values[element.iri] = value
+    if capability.resource is not None:
+        for prop in capability.resource.properties:
+            for instance in prop.instances:
+                if instance.iri is None:
+                    continue
+                if instance.value is not None:
+                    values[instance.iri] = instance.value
+                    continue
+                quantity = infer_quantity(instance)
+                if quantity is None:
+                    continue
+                measured = measure(quantity, context.truth, context.exec_start, context.exec_start)
+                if measured is not None:
+                    values[instance.iri] = measured
+    return values
+
+
+def _units(capability: Capability) -> dict[str, str | None]:
+    units: dict[str, str | None] = {}
+    elements = [e for e, _ in _elements(capability, "input") + _elements(capability, "output")]
+    if capability.resource is not None:
+        elements += [i for p in capability.resource.properties for i in p.instances]
+    for element in elements:
+        if element.iri:
+            units[element.iri] = (element.unit or "").strip() or None
+        units.setdefault(element.name, (element.unit or "").strip() or None)
+    return units
+
+
+def _tolerance_for(context: _Context, name: str, unit: str | None) -> float:
+    scenario_tolerances = context.scenario.tolerances
+    if name in scenario_tolerances:
+        return scenario_tolerances[name]
+    return context.tolerances.get(unit or "", 0.0)
+
+
+def _constraint_verdicts(context: _Context) -> list[Verdict]:
+    capability = context.capability
+    output_iris = {e.iri for e, _ in _elements(capability, "output") if e.iri}
+    reported = {
+        name: as_value(value) for name, value in context.run.outputs.items()
+    }
+    quantities = context.scenario.ground_truth
+    measured: dict[str, Value | None] = {
+        name: measure(q, context.truth, context.exec_start, context.exec_end)
+        for name, q in quantities.items()
+    }
+    verdicts: list[Verdict] = []
+    for constraint in capability.constraints:
+        tolerances = dict(context.tolerances)
+        if constraint.name in context.scenario.tolerances:
+            for unit in UNIT_TOLERANCES:
+                tolerances[unit] = context.scenario.tolerances[constraint.name]
+        if not is_output_variable(constraint.expression, output_iris):
+            verdicts.append(_judge(constraint, "precondition", context, reported, tolerances))
+            continue
+        verdicts.append(_judge(constraint, "constraint", context, reported, tolerances))
+        names = {e.name for e, _ in _elements(capability, "output") if e.iri and _mentions(constraint, e.iri)}
+        if names and all(measured.get(n) is not None for n in names):
+            verdicts.append(_judge(constraint, "truth", context, measured, tolerances))
+        else:
+            missing = sorted(n for n in names if measured.get(n) is None)
+            verdicts.append(
+                Verdict(
+                    oracle=f"truth:{constraint.name}",
+                    kind="truth",
+                    check=constraint.text,
+                    passed=None,
+                    message="not checked on ground truth: nothing measured for "
+                    + ", ".join(missing),
+                )
+            )
+    return verdicts
+
+
+def _mentions(constraint: Constraint, iri: str) -> bool:
+    from skillwright.sim.openmath import variables
+
+    return any(v.refers_to == iri for v in variables(constraint.expression))
+
+
+def _judge(
+    constraint: Constraint,
+    kind: Literal["precondition", "constraint", "truth"],
+    context: _Context,
+    outputs: Mapping[str, Value | None],
+    tolerances: Mapping[str, float],
+) -> Verdict:
+    oracle = f"{kind}:{constraint.name}"
+    values = _values(context, outputs)
+    shown = {}
+    from skillwright.sim.openmath import variables
+
+    for variable in variables(constraint.expression):
+        key = variable.refers_to or variable.text
+        if key in values:
+            shown[variable.text] = values[key]
+    try:
+        result = evaluate(constraint.expression, values, context.units, tolerances)
+    except EvaluationError as error:
+        missing = str(error)
+        passed = False if kind == "constraint" else None
+        return Verdict(
+            oracle=oracle,
+            kind=kind,
+            check=constraint.text,
+            passed=passed,
+            message=f"cannot be evaluated: {missing}"
+            + (" (an output the skill never set?)" if kind == "constraint" else ""),
+            measured=shown,
+        )
+    holds = result.value is True
+    source = {"constraint": "as reported", "truth": "as measured", "precondition": "inputs"}[kind]
+    detail = "; ".join(result.checks)
+    if kind == "precondition" and not holds:
+        message = (
+            f"the scenario's inputs violate it ({detail}); a correct skill refuses them, so "
+            "the scenario should expect: aborted"
+        )
+    else:
+        message = f"{'holds' if holds else 'violated'} {source}: {detail}"
+    return Verdict(
+        oracle=oracle,
+        kind=kind,
+        check=constraint.text,
+        passed=holds,
+        message=message,
+        measured=shown,
+        time=context.exec_end,
+        state="execute",
+    )
+
+
+def _output_verdicts(context: _Context) -> list[Verdict]:
+    verdicts = []
+    for element, _parameter in _elements(context.capability, "output"):
+        name = element.name
+        quantity = context.scenario.ground_truth.get(name)
+        oracle = f"output:{name}"
+        reported = context.run.outputs.get(name)
+        if quantity is None:
+            verdicts.append(
+                Verdict(
+                    oracle=oracle,
+                    kind="output",
+                    check=f"{name} equals what the simulator measures",
+                    passed=None,
+                    message="not checked: the scenario binds no measured quantity to it",
+                )
+            )
+            continue
+        measured = measure(quantity, context.truth, context.exec_start, context.exec_end)
+        unit = (element.unit or "").strip() or None
+        tolerance = _tolerance_for(context, name, unit)
+        check = f"{name} = {quantity}"
+        values = {"reported": reported, "measured": measured}
+        if measured is None:
+            verdicts.append(
+                Verdict(
+                    oracle=oracle,
+                    kind="output",
+                    check=check,
+                    passed=False if quantity == "map_file" else None,
+                    message=(
+                        "no map was saved through the map-saver service"
+                        if quantity == "map_file"
+                        else f"nothing measured for {quantity} (the world has no such sensor)"
+                    ),
+                    measured=values,
+                    state="execute",
+                )
+            )
+            continue
+        value = as_value(reported)
+        if value is None:
+            verdicts.append(
+                Verdict(
+                    oracle=oracle,
+                    kind="output",
+                    check=check,
+                    passed=False,
+                    message=f"the skill did not report {name} (got {reported!r})",
+                    measured=values,
+                    time=context.exec_end,
+                    state="execute",
+                )
+            )
+            continue
+        if quantity == "map_file":
+            from skillwright.sim.mapfiles import safe_map_name
+
+            passed = isinstance(value, str) and safe_map_name(value) == measured
+            message = (
+                f"reported {value!r} names the saved map {measured!r}"
+                if passed
+                else f"reported {value!r}, but the map saved was {measured!r}"
+            )
+        elif isinstance(value, bool | str) or isinstance(measured, bool | str):
+            passed = value == measured
+            message = f"reported {value!r}, measured {measured!r}"
+        else:
+            difference = (
+                abs(math.remainder(value - float(measured), 2 * math.pi))
+                if unit == "rad"
+                else abs(value - float(measured))
+            )
+            passed = difference <= tolerance + 1e-9
+            message = (
+                f"reported {value:.4g}, measured {float(measured):.4g}: "
+                f"{'within' if passed else 'off by'} {difference:.3g}"
+                f"{' ' + unit if unit else ''} (tolerance {tolerance:g})"
+            )
+        verdicts.append(
+            Verdict(
+                oracle=oracle,
+                kind="output",
+                check=check,
+                passed=passed,
+                message=message,
+                measured=values,
+                tolerance=tolerance,
+                time=context.exec_end,
+                state="execute",
+            )
+        )
+    return verdicts
+
+
+def _limit_verdicts(context: _Context) -> list[Verdict]:
+    capability = context.capability
+    if capability.resource is None:
+        return []
+    verdicts = []
+    truth = context.truth
+    for prop in capability.resource.properties:
+        for instance in prop.instances:
+            unit = (instance.unit or "").strip()
+            if (
+                instance.expression_goal != "Requirement"
+                or unit not in _VELOCITY_UNITS
+                or not isinstance(instance.value, int | float)
+                or instance.logic_interpretation not in ("<=", "<")
+            ):
+                continue
+            limit = float(instance.value)
+            angular = unit == "rad/s"
+            oracle = f"limit:{prop.name}"
+            check = f"{prop.name} <= {limit:g} {unit}"
+            worst_command = 0.0
+            first: tuple[float, str] | None = None
+            for command in truth.commands:
+                size = abs(command.wz) if angular else max(abs(command.vx), abs(command.vy))
+                worst_command = max(worst_command, size)
+                if size > limit + 1e-6 and first is None:
+                    first = (command.t, f"the skill commanded {size:.3g} {unit}")
+            slack = MEASURED_LIMIT_SLACK[unit]
+            worst_measured = 0.0
+            for sample in truth.samples:
+                size = abs(sample.wz) if angular else max(abs(sample.vx), abs(sample.vy))
+                worst_measured = max(worst_measured, size)
+                if size > limit + slack and (first is None or sample.t < first[0]):
+                    first = (sample.t, f"the base moved at {size:.3g} {unit}")
+                    break
+            measured = {"max_commanded": worst_command, "max_measured": worst_measured, "limit": limit}
+            if first is None:
+                verdicts.append(
+                    Verdict(
+                        oracle=oracle,
+                        kind="limit",
+                        check=check,
+                        passed=True,
+                        message=f"kept: at most {worst_command:.3g} {unit} commanded, "
+                        f"{worst_measured:.3g} {unit} measured",
+                        measured=measured,
+                        tolerance=slack,
+                    )
+                )
+            else:
+                t, what = first
+                verdicts.append(
+                    Verdict(
+                        oracle=oracle,
+                        kind="limit",
+                        check=check,
+                        passed=False,
+                        message=f"exceeded at t={t:.2f} s: {what}, more than {limit:g} {unit}",
+                        measured=measured,
+                        tolerance=slack,
+                        time=t,
+                        state=context.run.state_at(t),
+                    )
+                )
+    return verdicts
+
+
+def _contact_verdict(context: _Context) -> Verdict:
+    contacts = context.truth.contacts
+    if not contacts:
+        return Verdict(
+            oracle="contact",
+            kind="contact",
+            check="the chassis touches nothing",
+            passed=True,
+            message="no contact with any obstacle",
+        )
+    first = contacts[0]
+    return Verdict(
+        oracle="contact",
+        kind="contact",
+        check="the chassis touches nothing",
+        passed=False,
+        message=f"the chassis hit {first.geom} at t={first.t:.2f} s at ({first.x:.2f}, "
+        f"{first.y:.2f})" + (f", {len(contacts) - 1} more contact(s)" if len(contacts) > 1 else ""),
+        measured={"contacts": len(contacts), "first_with": first.geom},
+        time=first.t,
+        state=context.run.state_at(first.t),
+    )
+
+
+def _promises_motion(capability: Capability) -> str | None:
+    """An output velocity the capability does not assert to be zero (motion goes on)."""
+    for element, _p in _elements(capability, "output"):
+        unit = (element.unit or "").strip()
+        if unit in _VELOCITY_UNITS and element.value in (None, ""):
+            return element.name
+    return None
+
+
+def _rest_verdict(context: _Context, state: str) -> Verdict:
+    oracle = f"rest:{state}"
+    check = f"nothing keeps the base moving once {state} has ended"
+    span = context.run.span(state)
+    if span is None:
+        # A skill without that state: its predecessor's end is the moment that counts.
+        span = context.run.states[-1] if context.run.states else None
+    if span is None:
+        return Verdict(oracle=oracle, kind="rest", check=check, passed=None, message="no state ran")
+    t = span.end
+    sample = context.truth.at(t)
+    vx, vy, wz = sample.command
+    measured = {
+        "time": t,
+        "command": [vx, vy, wz],
+        "speed": sample.speed,
+        "yaw_rate": sample.wz,
+        "motion_goal": sample.motion_goal,
+    }
+    if sample.motion_goal:
+        return Verdict(
+            oracle=oracle,
+            kind="rest",
+            check=check,
+            passed=False,
+            message=f"when {span.name} ended at t={t:.2f} s a navigation or arm goal was still "
+            "running; cancel it",
+            measured=measured,
+            time=t,
+            state=span.name,
+        )
+    if abs(vx) > REST_LINEAR or abs(vy) > REST_LINEAR or abs(wz) > REST_ANGULAR:
+        last = context.truth.skill_command_at(t)
+        origin = (
+            f"; the skill's last command (t={last.t:.2f} s, in {context.run.state_at(last.t) or 'no state'}) "
+            "was not zero"
+            if last is not None
+            else ""
+        )
+        return Verdict(
+            oracle=oracle,
+            kind="rest",
+            check=check,
+            passed=False,
+            message=f"when {span.name} ended at t={t:.2f} s the base was still commanded to move "
+            f"(vx {vx:.3g} m/s, vy {vy:.3g} m/s, wz {wz:.3g} rad/s){origin}",
+            measured=measured,
+            time=t,
+            state=(
+                context.run.state_at(last.t) or span.name
+                if last is not None
+                else span.name
+            ),
+        )
+    settled = next(
+        (
+            s.t
+            for s in context.truth.between(t, context.truth.end)
+            if s.speed < REST_LINEAR and abs(s.wz) < REST_ANGULAR
+        ),
+        None,
+    )
+    message = f"zero command in force when {span.name} ended at t={t:.2f} s"
+    if settled is not None:
+        message += f"; at rest from t={settled:.2f} s"
+    return Verdict(
+        oracle=oracle, kind="rest", check=check, passed=True, message=message, measured=measured, time=t
+    )
+
+
+def _outcome_verdict(context: _Context) -> Verdict:
+    expected = context.scenario.expected
+    run = context.run
+    passed = run.ended == expected
+    message = f"the run {run.ended}" + (f" ({run.message})" if run.message else "")
+    if not passed:
+        message += f"; the scenario expects it to have {expected}"
+    failing = next((s for s in run.states if s.outcome != "returned"), None)
+    return Verdict(
+        oracle="outcome",
+        kind="outcome",
+        check=f"the run {expected}",
+        passed=passed,
+        message=message,
+        measured={"ended": run.ended, "expected": expected},
+        time=run.end_time,
+        state=failing.name if failing is not None else None,
+    )
+
+
+def judge(
+    capability: Capability, scenario: Scenario, run: RunView, truth: GroundTruth
+) -> list[Verdict]:
+    """Every oracle's verdict on one run (those the scenario skips are left out)."""
+    execute = run.span("execute")
+    exec_start = execute.start if execute is not None else 0.0
+    exec_end = execute.end if execute is not None else run.end_time
+    tolerances = dict(UNIT_TOLERANCES)
+    for key, value in scenario.tolerances.items():
+        if key in UNIT_TOLERANCES or "/" in key or key.isalpha() and len(key) <= 4:
+            tolerances[key] = value
+    context = _Context(
+        capability=capability,
+        scenario=scenario,
+        run=run,
+        truth=truth,
+        units=_units(capability),
+        tolerances=tolerances,
+        exec_start=exec_start,
+        exec_end=exec_end,
+    )
+    verdicts = [_outcome_verdict(context)]
+    expected = scenario.expected
+    if expected == "completed" and run.ended == "completed":
+        verdicts += _constraint_verdicts(context)
+        verdicts += _output_verdicts(context)
+        moving = _promises_motion(capability)
+        if moving is None:
+            verdicts.append(_rest_verdict(context, "completing" if run.span("completing") else "execute"))
+        else:
+            verdicts.append(
+                Verdict(
+                    oracle="rest:completing",
+                    kind="rest",
+                    check="nothing keeps the base moving once completing has ended",
+                    passed=None,
+                    message=f"does not apply: the capability leaves the base moving ({moving})",
+                )
+            )
+    elif expected == "stopped" and run.ended == "stopped":
+        verdicts.append(_rest_verdict(context, "stopping"))
+    elif expected == "aborted" and run.ended == "aborted":
+        verdicts.append(_rest_verdict(context, "aborting" if run.span("aborting") else run.states[-1].name if run.states else "execute"))
+    verdicts += _limit_verdicts(context)
+    verdicts.append(_contact_verdict(context))
+    return [v for v in verdicts if v.oracle not in scenario.skip and v.kind not in scenario.skip]
