@@ -233,28 +233,22 @@ def _recording_path(inventory: Inventory) -> Path | None:
     return None
 
 
-def _first_messages(path: Path, topics: set[str]) -> dict[str, tuple[str, Any]]:
-    """The first message (type name, deserialised object) on each of ``topics``."""
-    from rosbags.rosbag2.storage_mcap import McapReader
-    from rosbags.typesys import Stores, get_typestore
+def _first_messages(
+    path: Path, topics: dict[str, str], inventory: Inventory
+) -> dict[str, dict[str, Any]]:
+    """The first message on each of ``topics`` (name -> type), decoded to a dict."""
+    from skillwright.runtime.cdr import CdrDecoder
+    from skillwright.runtime.mcapread import read_messages
+    from skillwright.runtime.typesys import TypeRegistry
 
-    store = get_typestore(Stores.ROS2_JAZZY)
-    found: dict[str, tuple[str, Any]] = {}
-    reader = McapReader(path)
-    reader.open()
-    try:
-        connections = [c for c in reader.connections if c.topic in topics]
-        for connection, _time, raw in reader.messages(connections):
-            if connection.topic in found:
-                continue
-            found[connection.topic] = (
-                connection.msgtype,
-                store.deserialize_cdr(raw, connection.msgtype),
-            )
-            if len(found) == len(topics):
-                break
-    finally:
-        reader.close()
+    decoder = CdrDecoder(TypeRegistry(inventory))
+    found: dict[str, dict[str, Any]] = {}
+    for _time, topic, payload in read_messages(path, set(topics)):
+        if topic in found:
+            continue
+        found[topic] = decoder.decode(topics[topic], payload)
+        if len(found) == len(topics):
+            break
     return found
 
 
@@ -266,9 +260,10 @@ def recorded_facts(inventory: Inventory, bindings: Bindings) -> RecordedFacts:
     """
     facts = RecordedFacts()
     path = _recording_path(inventory)
-    wanted = {*bindings.scan_topics, *bindings.odometry_topics}
+    wanted = {t: "sensor_msgs/msg/LaserScan" for t in bindings.scan_topics}
+    wanted.update({t: "nav_msgs/msg/Odometry" for t in bindings.odometry_topics})
     if bindings.map_topic:
-        wanted.add(bindings.map_topic)
+        wanted[bindings.map_topic] = "nav_msgs/msg/OccupancyGrid"
     if path is None or not wanted:
         if bindings.scan_topics:
             facts.notes.append(
@@ -278,7 +273,7 @@ def recorded_facts(inventory: Inventory, bindings: Bindings) -> RecordedFacts:
         facts.scans = {topic: ScanGeometry() for topic in bindings.scan_topics}
         return facts
     try:
-        first = _first_messages(path, wanted)
+        first = _first_messages(path, wanted, inventory)
     except Exception as error:  # a damaged recording still gives a usable world
         facts.notes.append(f"{path}: recorded messages unreadable ({error}); defaults used")
         first = {}
@@ -287,26 +282,26 @@ def recorded_facts(inventory: Inventory, bindings: Bindings) -> RecordedFacts:
             facts.scans[topic] = ScanGeometry()
             facts.notes.append(f"{topic}: no recorded scan; default geometry used")
             continue
-        scan = first[topic][1]
-        count = len(scan.ranges)
+        scan = first[topic]
+        count = len(scan["ranges"])
         facts.scans[topic] = ScanGeometry(
-            angle_min=float(scan.angle_min),
-            angle_increment=float(scan.angle_increment),
+            angle_min=float(scan["angle_min"]),
+            angle_increment=float(scan["angle_increment"]),
             count=count if count > 0 else 360,
-            range_min=float(scan.range_min),
-            range_max=float(scan.range_max),
-            scan_time=float(scan.scan_time) or 0.1,
-            frame_id=str(scan.header.frame_id) or "laser_link",
+            range_min=float(scan["range_min"]),
+            range_max=float(scan["range_max"]),
+            scan_time=float(scan["scan_time"]) or 0.1,
+            frame_id=str(scan["header"]["frame_id"]) or "laser_link",
             recorded=count > 0,
         )
     for topic in bindings.odometry_topics:
         if topic in first:
-            odometry = first[topic][1]
-            facts.odom_frame = str(odometry.header.frame_id) or None
-            facts.base_frame = str(odometry.child_frame_id) or None
+            odometry = first[topic]
+            facts.odom_frame = str(odometry["header"]["frame_id"]) or None
+            facts.base_frame = str(odometry["child_frame_id"]) or None
             break
     if bindings.map_topic and bindings.map_topic in first:
-        grid = first[bindings.map_topic][1]
-        facts.map_frame = str(grid.header.frame_id) or None
-        facts.map_resolution = float(grid.info.resolution) or None
+        grid = first[bindings.map_topic]
+        facts.map_frame = str(grid["header"]["frame_id"]) or None
+        facts.map_resolution = float(grid["info"]["resolution"]) or None
     return facts

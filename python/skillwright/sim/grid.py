@@ -149,7 +149,7 @@ class OccupancyMap:
         return states
 
     def cropped(self) -> tuple[GridFrame, NDArray[np.int8]]:
-        """The known part of the map (with one unknown cell around it), as published."""
+        """The bounding box of the known cells, as published (SLAM grows its map that way)."""
         import numpy as np
 
         states = self.states()
@@ -157,10 +157,8 @@ class OccupancyMap:
         if rows.size == 0:
             frame = GridFrame(self.frame.origin_x, self.frame.origin_y, self.frame.resolution, 1, 1)
             return frame, np.full((1, 1), UNKNOWN, dtype=np.int8)
-        r0 = max(int(rows.min()) - 1, 0)
-        r1 = min(int(rows.max()) + 2, self.frame.height)
-        c0 = max(int(columns.min()) - 1, 0)
-        c1 = min(int(columns.max()) + 2, self.frame.width)
+        r0, r1 = int(rows.min()), int(rows.max()) + 1
+        c0, c1 = int(columns.min()), int(columns.max()) + 1
         res = self.frame.resolution
         frame = GridFrame(
             self.frame.origin_x + c0 * res, self.frame.origin_y + r0 * res, res, c1 - c0, r1 - r0

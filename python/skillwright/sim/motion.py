@@ -159,6 +159,7 @@ class BaseMotionServer:
         self.config = config
         self.task: _BaseTask | None = None
         self.next_tick: float | None = None
+        self._entry: dict[str, Any] = {}
 
     def handler(self, action: str, kind: str, type_name: str) -> _ActionAdapter:
         """The action handler for ``action`` (served as ``kind``)."""
@@ -190,7 +191,7 @@ class BaseMotionServer:
         task.time_allowance = from_duration(request.get("time_allowance"))
         refusal = self._prepare(task, request)
         goal.accept()
-        entry = {"action": goal.action, "kind": kind, "accepted": now, "goal": request}
+        entry = {"action": goal.action, "serves": kind, "accepted": now, "goal": request}
         if refusal is not None:
             goal.abort(self._result(task, error=True))
             world.record_goal({**entry, "outcome": "aborted", "finished": now, "reason": refusal})
@@ -199,6 +200,8 @@ class BaseMotionServer:
             self._finish("aborted", "pre-empted by a new goal")
         task.goal = goal
         self.task = task
+        if task.legs:
+            entry["target_xy"] = [task.legs[-1][0], task.legs[-1][1]]
         self._entry = entry
         self.next_tick = now + CONTROL_PERIOD
         world.record_goal({**entry, "outcome": "executing"})
@@ -451,7 +454,7 @@ class ArmServer:
         """Check the motion request, refuse it with MoveIt's code or start moving."""
         now = self.world.now
         goal.accept()
-        entry = {"action": goal.action, "kind": "move_group", "accepted": now, "goal": goal.request}
+        entry = {"action": goal.action, "serves": "move_group", "accepted": now, "goal": goal.request}
         code, reason, target = self._target(goal.request)
         if code != MOVEIT_SUCCESS or target is None:
             goal.abort(self._result(code))

@@ -521,32 +521,35 @@ def _rest_verdict(context: _Context, state: str) -> Verdict:
     if span is None:
         return Verdict(oracle=oracle, kind="rest", check=check, passed=None, message="no state ran")
     t = span.end
-    sample = context.truth.at(t)
-    vx, vy, wz = sample.command
+    truth = context.truth
+    in_force = truth.command_in_force(t)
+    vx, vy, wz = in_force[1:4] if in_force is not None else (0.0, 0.0, 0.0)
+    goals = truth.goals_active_at(t)
+    sample = truth.at(t)
     measured = {
         "time": t,
         "command": [vx, vy, wz],
         "speed": sample.speed,
         "yaw_rate": sample.wz,
-        "motion_goal": sample.motion_goal,
+        "goals": goals,
     }
-    if sample.motion_goal:
+    if goals:
         return Verdict(
             oracle=oracle,
             kind="rest",
             check=check,
             passed=False,
-            message=f"when {span.name} ended at t={t:.2f} s a navigation or arm goal was still "
-            "running; cancel it",
+            message=f"when {span.name} ended at t={t:.2f} s the goal of {', '.join(goals)} was "
+            "still running; cancel it",
             measured=measured,
             time=t,
             state=span.name,
         )
     if abs(vx) > REST_LINEAR or abs(vy) > REST_LINEAR or abs(wz) > REST_ANGULAR:
-        last = context.truth.skill_command_at(t)
+        last = truth.skill_command_at(t)
+        where = context.run.state_at(last.t) if last is not None else None
         origin = (
-            f"; the skill's last command (t={last.t:.2f} s, in {context.run.state_at(last.t) or 'no state'}) "
-            "was not zero"
+            f"; the skill's last command (t={last.t:.2f} s, in {where or 'no state'}) was not zero"
             if last is not None
             else ""
         )
@@ -559,11 +562,7 @@ def _rest_verdict(context: _Context, state: str) -> Verdict:
             f"(vx {vx:.3g} m/s, vy {vy:.3g} m/s, wz {wz:.3g} rad/s){origin}",
             measured=measured,
             time=t,
-            state=(
-                context.run.state_at(last.t) or span.name
-                if last is not None
-                else span.name
-            ),
+            state=span.name if state != "completing" else (where or span.name),
         )
     settled = next(
         (
@@ -581,8 +580,7 @@ def _rest_verdict(context: _Context, state: str) -> Verdict:
     )
 
 
-def _outcome_verdict(context: _Context) -> Verdict:
-    expected = context.scenario.expected
+def _outcome_verdict(context: _Context, expected: str) -> Verdict:
     run = context.run
     passed = run.ended == expected
     message = f"the run {run.ended}" + (f" ({run.message})" if run.message else "")
@@ -601,17 +599,25 @@ def _outcome_verdict(context: _Context) -> Verdict:
     )
 
 
+Expected = Literal["completed", "stopped", "aborted"]
+
+
 def judge(
-    capability: Capability, scenario: Scenario, run: RunView, truth: GroundTruth
+    capability: Capability,
+    scenario: Scenario,
+    run: RunView,
+    truth: GroundTruth,
+    expected: Expected,
 ) -> list[Verdict]:
-    """Every oracle's verdict on one run (those the scenario skips are left out)."""
+    """Every oracle's verdict on one run that should have ended ``expected`` (oracles the
+    scenario skips are left out)."""
     execute = run.span("execute")
     exec_start = execute.start if execute is not None else 0.0
     exec_end = execute.end if execute is not None else run.end_time
+    names = {e.name for e, _ in _elements(capability, "output")}
+    names |= {c.name for c in capability.constraints}
     tolerances = dict(UNIT_TOLERANCES)
-    for key, value in scenario.tolerances.items():
-        if key in UNIT_TOLERANCES or "/" in key or key.isalpha() and len(key) <= 4:
-            tolerances[key] = value
+    tolerances.update({k: v for k, v in scenario.tolerances.items() if k not in names})
     context = _Context(
         capability=capability,
         scenario=scenario,
@@ -622,14 +628,14 @@ def judge(
         exec_start=exec_start,
         exec_end=exec_end,
     )
-    verdicts = [_outcome_verdict(context)]
-    expected = scenario.expected
-    if expected == "completed" and run.ended == "completed":
+    verdicts = [_outcome_verdict(context, expected)]
+    if run.ended == expected == "completed":
         verdicts += _constraint_verdicts(context)
         verdicts += _output_verdicts(context)
         moving = _promises_motion(capability)
         if moving is None:
-            verdicts.append(_rest_verdict(context, "completing" if run.span("completing") else "execute"))
+            last = "completing" if run.span("completing") else "execute"
+            verdicts.append(_rest_verdict(context, last))
         else:
             verdicts.append(
                 Verdict(
@@ -640,10 +646,12 @@ def judge(
                     message=f"does not apply: the capability leaves the base moving ({moving})",
                 )
             )
-    elif expected == "stopped" and run.ended == "stopped":
+    elif run.ended == expected == "stopped":
         verdicts.append(_rest_verdict(context, "stopping"))
-    elif expected == "aborted" and run.ended == "aborted":
-        verdicts.append(_rest_verdict(context, "aborting" if run.span("aborting") else run.states[-1].name if run.states else "execute"))
+    elif run.ended == expected == "aborted":
+        aborting = run.span("aborting")
+        last = aborting.name if aborting is not None else (run.states[-1].name if run.states else "execute")
+        verdicts.append(_rest_verdict(context, last))
     verdicts += _limit_verdicts(context)
     verdicts.append(_contact_verdict(context))
     return [v for v in verdicts if v.oracle not in scenario.skip and v.kind not in scenario.skip]

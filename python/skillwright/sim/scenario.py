@@ -113,13 +113,24 @@ class Scenario(_Model):
     stop_after: float | None = Field(
         default=None,
         gt=0,
-        description="Ask the skill to stop this many virtual seconds after execute began; "
-        "the stopping path is then checked instead of the outputs.",
+        description="In the second run, stop the skill this many virtual seconds after execute "
+        "began (default: half of execute's duration in the first run).",
     )
-    expect: Literal["completed", "aborted", "stopped"] | None = Field(
-        default=None,
-        description="How the run should end: completed (default), stopped (default with "
-        "stop_after) or aborted (the skill must refuse the inputs).",
+    stop_run: Literal["auto", "always", "never"] = Field(
+        default="auto",
+        description="Whether the skill is run a second time and stopped during execute; "
+        "`auto`: when the first run moved the base or sent goals.",
+    )
+    expect: Literal["completed", "aborted"] = Field(
+        default="completed",
+        description="How the first run should end: completed, or aborted (the skill must "
+        "refuse the scenario's inputs).",
+    )
+    runtime: dict[str, Any] = Field(
+        default_factory=dict,
+        description="Settings of the simulated runtime for interfaces the world does not "
+        "serve: `topics`, `services`, `actions`, `deadlines`, `limits`, `replay`, `settle` "
+        "(see `skillwright run`'s scenarios).",
     )
     ground_truth: dict[str, str] = Field(
         default_factory=dict,
@@ -132,13 +143,6 @@ class Scenario(_Model):
     skip: list[str] = Field(
         default_factory=list, description="Oracles to leave out, by id (e.g. `contact`)."
     )
-
-    @property
-    def expected(self) -> Literal["completed", "aborted", "stopped"]:
-        """How the run should end."""
-        if self.expect is not None:
-            return self.expect
-        return "stopped" if self.stop_after is not None else "completed"
 
 
 class ScenarioFile(_Model):
@@ -402,6 +406,27 @@ def _check_against(path: Path, parsed: ScenarioFile, capability: Capability) -> 
             resolve_world(scenario.world, path.parent)
         except InputFileNotFoundError as error:
             raise FileFormatError(f"{_where(path, text, (*at, 'world'))}: {error}") from None
+        _check_runtime(path, text, at, scenario)
+
+
+_RUNTIME_KEYS = ("topics", "services", "actions", "deadlines", "limits", "replay", "settle")
+
+
+def _check_runtime(path: Path, text: str, at: tuple[Any, ...], scenario: Scenario) -> None:
+    from skillwright.runtime.scenario import RunScenario
+
+    for key in scenario.runtime:
+        if key not in _RUNTIME_KEYS:
+            raise FileFormatError(
+                f"{_where(path, text, (*at, 'runtime', key))}: unknown runtime setting {key!r}; "
+                f"use {', '.join(_RUNTIME_KEYS)}"
+            )
+    try:
+        RunScenario.model_validate(scenario.runtime)
+    except ValidationError as error:
+        first = error.errors()[0]
+        location = (*at, "runtime", *first["loc"])
+        raise FileFormatError(f"{_where(path, text, location)}: {first['msg']}") from None
 
 
 def scenarios_for(capability: Capability, scenario_file: Path | None = None) -> ScenarioSet:

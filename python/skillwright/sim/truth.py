@@ -78,6 +78,8 @@ class GroundTruth:
 
     samples: list[Sample] = field(default_factory=list)
     commands: list[CommandRecord] = field(default_factory=list)
+    drive: list[tuple[float, float, float, float, str]] = field(default_factory=list)
+    """Every command the base driver received: (t, vx, vy, wz, from ``skill`` or ``world``)."""
     contacts: list[ContactRecord] = field(default_factory=list)
     goals: list[dict[str, Any]] = field(default_factory=list)
     """Motion goals served: action, time accepted, outcome, time finished, target."""
@@ -173,6 +175,26 @@ class GroundTruth:
             found = (along, across)
         return found
 
-    def goal_active_at(self, t: float) -> bool:
-        """Whether a motion goal of the world was being executed at ``t``."""
-        return self.at(t).motion_goal
+    def command_in_force(self, t: float) -> tuple[float, float, float, float, str] | None:
+        """The last command the driver received at or before ``t`` (``None``: none yet)."""
+        found = None
+        for entry in self.drive:
+            if entry[0] > t + 1e-9:
+                break
+            found = entry
+        return found
+
+    def goals_active_at(self, t: float) -> list[str]:
+        """Actions whose goals the world was still executing at ``t``."""
+        finished: dict[tuple[str, float], float] = {}
+        for goal in self.goals:
+            if goal.get("outcome") != "executing" and goal.get("finished") is not None:
+                finished[(str(goal["action"]), float(goal["accepted"]))] = float(goal["finished"])
+        active = set()
+        for goal in self.goals:
+            if goal.get("outcome") != "executing" or float(goal["accepted"]) > t + 1e-9:
+                continue
+            end = finished.get((str(goal["action"]), float(goal["accepted"])))
+            if end is None or end > t + 1e-9:
+                active.add(str(goal["action"]))
+        return sorted(active)

@@ -22,6 +22,7 @@ pose.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -184,6 +185,8 @@ class MujocoWorld:
         self.streams: list[_Stream] = []
         self.base_server = BaseMotionServer(self, self.nav_config)
         self.arm: ArmServer | None = None
+        self.wall_seconds = 0.0
+        """Wall time spent in :meth:`advance` (the world's own cost)."""
         self._record()
 
     # --- model -------------------------------------------------------------------------
@@ -325,6 +328,13 @@ class MujocoWorld:
 
     def advance(self, until: float) -> None:
         """Step physics to ``until``, running controllers and publishing what falls due."""
+        started = time.perf_counter()
+        try:
+            self._advance(until)
+        finally:
+            self.wall_seconds += time.perf_counter() - started
+
+    def _advance(self, until: float) -> None:
         while True:
             due = self.next_event()
             if due is None or due > until + 1e-9:
@@ -365,6 +375,7 @@ class MujocoWorld:
     def drive(self, command: Command) -> None:
         """A command from the world's own controllers (navigation)."""
         self.driver.receive(command, self.now)
+        self.truth.drive.append((self.now, command.vx, command.vy, command.wz, "world"))
 
     def plan(
         self, start: tuple[float, float], goal: tuple[float, float]
@@ -401,7 +412,7 @@ class MujocoWorld:
         """Log a motion goal's progress in the ground truth and the run's trace."""
         self.truth.goals.append(entry)
         if self.host is not None:
-            self.host.record("world.goal", {k: v for k, v in entry.items() if k != "goal"})
+            self.host.record("goal", {k: v for k, v in entry.items() if k != "goal"})
 
     # --- physics ------------------------------------------------------------------------
     def _step_to(self, t: float) -> None:
@@ -461,7 +472,7 @@ class MujocoWorld:
                 x, y = (float(v) for v in data.contact.pos[index][:2])
                 self.truth.contacts.append(ContactRecord(float(data.time), name, x, y))
                 if self.host is not None:
-                    self.host.record("world.contact", {"t": float(data.time), "with": name, "x": x, "y": y})
+                    self.host.record("contact", {"with": name, "x": x, "y": y})
         self._touching = touching
 
     def _record(self) -> None:
@@ -497,6 +508,7 @@ class MujocoWorld:
         )
         topic = self.bindings.command_topic or ""
         self.truth.commands.append(CommandRecord(t, topic, command.vx, command.vy, command.wz))
+        self.truth.drive.append((t, command.vx, command.vy, command.wz, "skill"))
         self.driver.receive(command, t)
 
     # --- publications -------------------------------------------------------------------
@@ -816,7 +828,7 @@ class MujocoWorld:
                 saved["t"] = self.now
                 self.truth.saved_maps.append(saved)
                 if self.host is not None:
-                    self.host.record("world.map_saved", saved)
+                    self.host.record("map_saved", {k: v for k, v in saved.items() if k != "t"})
             ok = saved is not None
             if kind == "nav2_save_map":
                 return fill(template, {"result": ok})
@@ -864,6 +876,28 @@ class MujocoWorld:
             return fill(template, {"pose_stamped": poses, "fk_link_names": links, "error_code": {"val": 1}})
 
         return handle
+
+    def obstacle_outlines(self) -> list[tuple[str, float, float, float, float, float]]:
+        """Static obstacles seen from above: (``box`` or ``circle``, centre x, y, half sizes
+        or radius, yaw)."""
+        model, data = self.model, self.data
+        box = int(self._mj.mjtGeom.mjGEOM_BOX)
+        outlines = []
+        for geom in self._obstacle_geoms():
+            cx, cy = (float(v) for v in data.geom_xpos[geom][:2])
+            size = model.geom_size[geom]
+            matrix = data.geom_xmat[geom]
+            yaw = math.atan2(float(matrix[3]), float(matrix[0]))
+            if int(model.geom_type[geom]) == box:
+                outlines.append(("box", cx, cy, float(size[0]), float(size[1]), yaw))
+            else:
+                outlines.append(("circle", cx, cy, float(size[0]), float(size[0]), 0.0))
+        return outlines
+
+    def footprint(self) -> tuple[float, float]:
+        """Half length and half width of the chassis."""
+        size = self.model.geom_size[self._chassis]
+        return float(size[0]), float(size[1])
 
     # --- planning -----------------------------------------------------------------------
     def _planning_grid(self, start: tuple[float, float], goal: tuple[float, float]) -> tuple[Any, Any]:
