@@ -30,6 +30,7 @@ COMMANDS: dict[str, str] = {
     "retrieve": "skillwright.retrieval.commands:retrieve",
     "spec": "skillwright.spec.commands:spec",
     "tui": "skillwright.tui.commands:tui",
+    "validate": "skillwright.sim.commands:validate",
 }
 
 

@@ -222,7 +222,12 @@ def bind_interfaces(inventory: Inventory) -> Bindings:
     return bindings
 
 
-def _recording_path(inventory: Inventory) -> Path | None:
+def _recording_path(inventory: Inventory, recording: Path | None) -> Path | None:
+    if recording is not None:
+        from skillwright.runtime.run import recording_files
+
+        files = recording_files(recording)
+        return files[0] if files else None
     for source in inventory.sources:
         if source.kind not in ("mcap", "rosbag2"):
             continue
@@ -252,14 +257,17 @@ def _first_messages(
     return found
 
 
-def recorded_facts(inventory: Inventory, bindings: Bindings) -> RecordedFacts:
-    """Scan geometry and frame names from the recording the inventory was made from.
+def recorded_facts(
+    inventory: Inventory, bindings: Bindings, recording: Path | None = None
+) -> RecordedFacts:
+    """Scan geometry and frame names from ``recording``, else from the recording the
+    inventory was made from.
 
     Sources without messages (a report, a live graph) or a recording that is no longer where
     the inventory says give the defaults, with a note saying so.
     """
     facts = RecordedFacts()
-    path = _recording_path(inventory)
+    path = _recording_path(inventory, recording)
     wanted = {t: "sensor_msgs/msg/LaserScan" for t in bindings.scan_topics}
     wanted.update({t: "nav_msgs/msg/Odometry" for t in bindings.odometry_topics})
     if bindings.map_topic:

@@ -167,11 +167,12 @@ class OccupancyMap:
 
 
 def _line_free(blocked: NDArray[np.bool_], a: tuple[int, int], b: tuple[int, int]) -> bool:
-    steps = max(abs(b[0] - a[0]), abs(b[1] - a[1])) * 2 + 1
+    """Whether the straight line between two cell centres crosses only free cells."""
+    steps = max(abs(b[0] - a[0]), abs(b[1] - a[1])) * 5 + 1
     for k in range(steps + 1):
         t = k / steps
-        column = round(a[0] + (b[0] - a[0]) * t)
-        row = round(a[1] + (b[1] - a[1]) * t)
+        column = math.floor(a[0] + 0.5 + (b[0] - a[0]) * t)
+        row = math.floor(a[1] + 0.5 + (b[1] - a[1]) * t)
         if blocked[row, column]:
             return False
     return True

@@ -319,9 +319,10 @@ class BaseMotionServer:
             )
             self.world.drive(Command(wz=rate))
             return
+        # Waypoints are corners around obstacles: reach each one before heading for the next.
         while len(task.waypoints) > 1 and math.hypot(
             task.waypoints[0][0] - x, task.waypoints[0][1] - y
-        ) < 0.4:
+        ) < 0.15:
             task.waypoints.pop(0)
         tx, ty = task.waypoints[0]
         dx, dy = tx - x, ty - y

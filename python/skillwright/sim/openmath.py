@@ -151,8 +151,10 @@ def evaluate(
             for key in (node.refers_to, node.text):
                 if key and key in values:
                     return values[key]
-            constant = _CONSTANTS.get(symbol(node.refers_to))
-            if constant is not None:
+            # nums1#pi and nums1#e: the reader names them by their local name when the
+            # model declares them as individuals rather than referring to them as inputs.
+            constant = _CONSTANTS.get(symbol(node.refers_to)) or _CONSTANTS.get(f"nums1#{node.text}")
+            if constant is not None and node.refers_to in (None, f"http://www.openmath.org/cd/nums1#{node.text}"):
                 return constant
             raise EvaluationError(f"no value for {node.text}")
         name = symbol(node.operator)

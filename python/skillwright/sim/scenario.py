@@ -177,7 +177,9 @@ def infer_quantity(element: DataElement, parameter: Parameter | None = None) -> 
     name = element.name.lower()
     unit = (element.unit or "").strip()
     words = _words(parameter, element)
-    axis = name[-1] if name[-1:] in "xyz" else ""
+    # An axis is a capital X/Y/Z after the name (outPositionX) or a suffix _x/_y/_z.
+    found = re.search(r"[a-z0-9]([XYZ])$|_([xyzXYZ])$", element.name)
+    axis = (found.group(1) or found.group(2)).lower() if found else ""
     arm = any(w in words for w in ("tool", "tcp", "end effector", "end-effector", "arm"))
     if "position" in name and axis:
         if arm:

@@ -152,6 +152,7 @@ def validate_skill(
     *,
     scenario_file: Path | None = None,
     scenarios: ScenarioSet | None = None,
+    recording: Path | None = None,
     output_dir: Path | None = None,
     only: list[str] | None = None,
     plot: bool = True,
@@ -162,6 +163,8 @@ def validate_skill(
 
     ``scenarios`` (or ``scenario_file``) chooses the scenarios, else the shipped file for the
     capability or one derived from it; ``only`` keeps the scenarios with those names.
+    ``recording`` is the MCAP file or rosbag2 folder to replay and to read the lidar's geometry
+    from (default: the inventory's own source when it is a recording that still exists).
     ``output_dir`` receives per scenario the trajectory plot ``<name>.png`` (with ``plot``),
     the trace with ground truth ``<name>.trace.json`` and maps the skill saved; without it
     nothing is written.
@@ -174,7 +177,7 @@ def validate_skill(
     chosen = scenarios or scenarios_for(capability, scenario_file)
     selected = [s for s in chosen.scenarios if not only or s.name in only]
     bindings = bind_interfaces(inventory)
-    facts = recorded_facts(inventory, bindings)
+    facts = recorded_facts(inventory, bindings, recording)
     report = ValidationReport(
         skill=str(skill),
         capability=capability.iri,
@@ -234,7 +237,13 @@ def validate_skill(
             }
         )
         run = run_skill(
-            skill, inventory, scenario=run_scenario, world=make_world, on_progress=progress, cancel=cancel
+            skill,
+            inventory,
+            scenario=run_scenario,
+            world=make_world,
+            recording=recording,
+            on_progress=progress,
+            cancel=cancel,
         )
         report.findings.extend(run.findings)
         scenario_report = ScenarioReport(

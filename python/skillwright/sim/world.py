@@ -915,8 +915,10 @@ class MujocoWorld:
         xs = frame.origin_x + (np.arange(frame.width) + 0.5) * frame.resolution
         ys = frame.origin_y + (np.arange(frame.height) + 0.5) * frame.resolution
         px, py = np.meshgrid(xs, ys)
-        # The base's centre keeps half its width plus a margin from every obstacle.
-        radius = float(self.model.geom_size[self._chassis][1]) + 0.05
+        # The base turns as it drives, so its centre keeps the chassis' circumscribed radius
+        # plus a margin from every obstacle.
+        half_length, half_width = self.footprint()
+        radius = math.hypot(half_length, half_width) + 0.05
         blocked = np.zeros(px.shape, dtype=bool)
         for geom in self._obstacle_geoms():
             blocked |= self._footprint_distance(geom, px, py) <= radius
