@@ -148,6 +148,8 @@ def measure(quantity: str, truth: GroundTruth, start: float, end: float) -> Valu
     if quantity in simple:
         return simple[quantity]
     if quantity == "travelled_distance":
+        return truth.travelled(start, end)
+    if quantity == "displacement":
         return truth.displacement(start, end)
     if quantity == "path_length":
         return truth.path_length(start, end)
@@ -231,7 +233,11 @@ def _constraint_verdicts(context: _Context) -> list[Verdict]:
         for name, q in quantities.items()
     }
     verdicts: list[Verdict] = []
-    for constraint in capability.constraints:
+    # Preconditions (on inputs alone) first: they say whether the rest can hold at all.
+    ordered = sorted(
+        capability.constraints, key=lambda c: is_output_variable(c.expression, output_iris)
+    )
+    for constraint in ordered:
         tolerances = dict(context.tolerances)
         if constraint.name in context.scenario.tolerances:
             for unit in UNIT_TOLERANCES:

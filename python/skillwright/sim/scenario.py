@@ -50,7 +50,9 @@ QUANTITIES: dict[str, str] = {
     "linear_velocity_x": "forward velocity of the base when execute ended [m/s]",
     "linear_velocity_y": "leftward velocity of the base when execute ended [m/s]",
     "angular_velocity": "yaw rate of the base when execute ended [rad/s]",
-    "travelled_distance": "straight-line distance the base moved during execute [m]",
+    "travelled_distance": "distance the base moved during execute along its heading at the "
+    "start of execute; negative when it went backwards [m]",
+    "displacement": "straight-line distance the base moved during execute, in any direction [m]",
     "path_length": "length of the path the base drove during execute [m]",
     "command_duration": "how long the skill's velocity commands kept the base moving [s]",
     "nearest_obstacle_distance": "range of the nearest return of the last scan, without noise [m]",

@@ -121,6 +121,11 @@ class GroundTruth:
         a, b = self.at(t0), self.at(t1)
         return math.hypot(b.x - a.x, b.y - a.y)
 
+    def travelled(self, t0: float, t1: float) -> float:
+        """Distance moved between two times along the heading at ``t0`` (negative: backwards)."""
+        a, b = self.at(t0), self.at(t1)
+        return (b.x - a.x) * math.cos(a.yaw) + (b.y - a.y) * math.sin(a.yaw)
+
     def path_length(self, t0: float, t1: float) -> float:
         """Length of the path the base drove between two times [m]."""
         samples = self.between(t0, t1)
