@@ -19,7 +19,8 @@ def mr1_capabilities() -> dict[str, Capability]:
     from skillwright.capability.reader import load_capability
 
     return {
-        path.stem: load_capability(path).capability for path in sorted(SHIPPED_CAPABILITIES.glob("*.ttl"))
+        path.stem: load_capability(path).capability
+        for path in sorted(SHIPPED_CAPABILITIES.glob("*.ttl"))
     }
 
 

@@ -75,7 +75,7 @@ class FakeHost:
     def stamp(self, t: float | None = None) -> Message:
         t = self.now if t is None else t
         whole = math.floor(t)
-        return {"sec": int(whole), "nanosec": int(round((t - whole) * 1e9)) % 1_000_000_000}
+        return {"sec": int(whole), "nanosec": round((t - whole) * 1e9) % 1_000_000_000}
 
     def own_topic(self, topic: str) -> None:
         self.owned.add(topic)
@@ -86,7 +86,9 @@ class FakeHost:
     def on_publish(self, topic: str, callback: Callable[[float, Message], None]) -> None:
         self.listeners.setdefault(topic, []).append(callback)
 
-    def serve_service(self, name: str, handler: Callable[[Message], ServiceReply | Message]) -> None:
+    def serve_service(
+        self, name: str, handler: Callable[[Message], ServiceReply | Message]
+    ) -> None:
         self.services[name] = handler
 
     def serve_action(self, name: str, handler: ActionHandler) -> None:
@@ -98,8 +100,14 @@ class FakeHost:
     def message(self, type_name: str) -> Message:
         package, kind, rest = type_name.split("/")
         base, _, part = rest.partition("_")
-        role = {"Goal": "goal", "Result": "result", "Feedback": "feedback",
-                "Request": "request", "Response": "response", "": "message"}[part]
+        role = {
+            "Goal": "goal",
+            "Result": "result",
+            "Feedback": "feedback",
+            "Request": "request",
+            "Response": "response",
+            "": "message",
+        }[part]
         wanted = f"{package}/{kind}/{base}"
         for interface in self.inventory.interfaces:
             if interface.type_name == wanted and role in interface.definitions:
@@ -108,7 +116,9 @@ class FakeHost:
         raise KeyError(type_name)
 
     def has_interface(self, name: str, kind: str | None = None) -> bool:
-        return any(i.name == name and (kind is None or i.kind == kind) for i in self.inventory.interfaces)
+        return any(
+            i.name == name and (kind is None or i.kind == kind) for i in self.inventory.interfaces
+        )
 
     def type_of(self, name: str) -> str | None:
         for interface in self.inventory.interfaces:
@@ -116,7 +126,9 @@ class FakeHost:
                 return interface.type_name
         return None
 
-    def report(self, check: str, message: str, severity: str = "error", line: int | None = None) -> None:
+    def report(
+        self, check: str, message: str, severity: str = "error", line: int | None = None
+    ) -> None:
         self.findings.append((check, message))
 
     def record(self, kind: str, data: Any) -> None:

@@ -16,7 +16,9 @@ def test_the_shipped_worlds_and_scenarios_are_found() -> None:
     assert len(scenario_files()) == 9
 
 
-def test_a_world_file_resolves_relative_to_a_folder_and_a_bad_name_says_what_exists(tmp_path: Path) -> None:
+def test_a_world_file_resolves_relative_to_a_folder_and_a_bad_name_says_what_exists(
+    tmp_path: Path,
+) -> None:
     (tmp_path / "mine.xml").write_text("<mujoco/>")
     assert resolve_world("mine.xml", tmp_path) == tmp_path / "mine.xml"
     with pytest.raises(InputFileNotFoundError, match="open_floor, corridor, walled_room"):

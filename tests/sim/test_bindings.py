@@ -13,7 +13,15 @@ from skillwright.sim.bindings import ScanGeometry, bind_interfaces, nominal_rate
 
 @pytest.mark.parametrize(
     ("measured", "nominal"),
-    [(49.93, 50.0), (9.718, 10.0), (4.69, 5.0), (0.52, 0.5), (0.839, 0.839), (None, 7.0), (0.0, 7.0)],
+    [
+        (49.93, 50.0),
+        (9.718, 10.0),
+        (4.69, 5.0),
+        (0.52, 0.5),
+        (0.839, 0.839),
+        (None, 7.0),
+        (0.0, 7.0),
+    ],
 )
 def test_a_measured_rate_snaps_to_the_nominal_rate_within_ten_percent(
     measured: float | None, nominal: float
@@ -38,7 +46,8 @@ def test_the_mr1_recording_binds_every_role(mr1_inventory: Inventory) -> None:
         "/spin": "spin",
     }
     assert set(bindings.services.values()) == {"nav2_save_map", "slam_save_map", "compute_fk"}
-    assert bindings.rates["/odom"] == 50.0 and bindings.rates["/scan"] == 10.0
+    assert bindings.rates["/odom"] == 50.0
+    assert bindings.rates["/scan"] == 10.0
     assert bindings.has_localisation
     assert "/cmd_vel" not in bindings.owned_topics()
 
@@ -53,7 +62,11 @@ def test_the_scan_geometry_and_frames_come_from_the_first_recorded_messages(
     assert scan.count == 360
     assert scan.angle_min == pytest.approx(-math.pi)
     assert scan.angle_max == pytest.approx(math.pi - 2 * math.pi / 360, abs=1e-6)
-    assert (scan.range_min, scan.range_max, scan.frame_id) == (pytest.approx(0.05), 12.0, "laser_link")
+    assert (scan.range_min, scan.range_max, scan.frame_id) == (
+        pytest.approx(0.05),
+        12.0,
+        "laser_link",
+    )
     assert (facts.odom_frame, facts.base_frame, facts.map_frame) == ("odom", "base_link", "map")
     assert facts.map_resolution == pytest.approx(0.05)
     assert facts.notes == []
@@ -62,7 +75,9 @@ def test_the_scan_geometry_and_frames_come_from_the_first_recorded_messages(
 def test_a_report_without_messages_gives_default_geometry_and_says_so(shared_data: Path) -> None:
     from skillwright.interfaces.load import load_inventory
 
-    inventory = load_inventory(shared_data / "cap2skill" / "interface-reports" / "ros2_system_report.json")
+    inventory = load_inventory(
+        shared_data / "cap2skill" / "interface-reports" / "ros2_system_report.json"
+    )
     bindings = bind_interfaces(inventory)
     assert bindings.command_topic == "/cmd_vel"
     assert bindings.odometry_topics == ["/odom"]

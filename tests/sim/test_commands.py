@@ -38,7 +38,9 @@ def _args(tmp_path: Path, *extra: str) -> list[str]:
     ]
 
 
-def test_validate_prints_verdicts_and_artefacts_and_exits_zero_when_all_pass(tmp_path: Path) -> None:
+def test_validate_prints_verdicts_and_artefacts_and_exits_zero_when_all_pass(
+    tmp_path: Path,
+) -> None:
     result = CliRunner().invoke(main, _args(tmp_path, "--no-plot"))
     assert result.exit_code == 0, result.output
     assert "truth:distanceCovered" in result.stdout
@@ -58,7 +60,17 @@ def test_validate_json_has_the_overall_verdict_and_every_oracle(tmp_path: Path) 
 
 
 def test_validate_reports_bad_input_with_exit_status_two(tmp_path: Path) -> None:
-    missing = CliRunner().invoke(main, ["validate", str(tmp_path / "none.py"), "--capability", str(CAPABILITY), "--interfaces", str(RECORDING)])
+    missing = CliRunner().invoke(
+        main,
+        [
+            "validate",
+            str(tmp_path / "none.py"),
+            "--capability",
+            str(CAPABILITY),
+            "--interfaces",
+            str(RECORDING),
+        ],
+    )
     assert missing.exit_code == 2
     assert "no such file" in missing.stderr
     unknown = CliRunner().invoke(main, [*_args(tmp_path)[:-4], "--only", "nope"])
@@ -71,8 +83,16 @@ def test_validate_with_a_spec_stops_at_failed_static_checks(tmp_path: Path) -> N
     broken.write_text("def (:\n")
     result = CliRunner().invoke(
         main,
-        ["validate", str(broken), "--capability", str(CAPABILITY), "--interfaces", str(RECORDING),
-         "--spec", str(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")],
+        [
+            "validate",
+            str(broken),
+            "--capability",
+            str(CAPABILITY),
+            "--interfaces",
+            str(RECORDING),
+            "--spec",
+            str(SHIPPED_CAPABILITIES / "move-forward.spec.yaml"),
+        ],
     )
     assert result.exit_code == 1
     assert "the static checks failed; the skill was not run" in _text(result.stdout)

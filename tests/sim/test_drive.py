@@ -14,7 +14,12 @@ LIMITS = DriveLimits(wheel_speed_max=30.0, accel_linear=1.0, accel_lateral=1.0, 
 
 @pytest.mark.parametrize(
     "command",
-    [Command(0.5, 0.0, 0.0), Command(0.0, -0.3, 0.0), Command(0.0, 0.0, 1.0), Command(0.2, 0.1, -0.4)],
+    [
+        Command(0.5, 0.0, 0.0),
+        Command(0.0, -0.3, 0.0),
+        Command(0.0, 0.0, 1.0),
+        Command(0.2, 0.1, -0.4),
+    ],
 )
 def test_wheel_speeds_and_forward_kinematics_are_inverse(command: Command) -> None:
     back = KINEMATICS.body_velocity(KINEMATICS.wheel_speeds(command))
@@ -42,7 +47,9 @@ def test_acceleration_is_limited_per_period() -> None:
 
 
 def test_saturated_wheels_keep_the_direction_of_motion() -> None:
-    limits = DriveLimits(wheel_speed_max=10.0, accel_linear=100.0, accel_lateral=100.0, accel_angular=100.0)
+    limits = DriveLimits(
+        wheel_speed_max=10.0, accel_linear=100.0, accel_lateral=100.0, accel_angular=100.0
+    )
     driver = DriverState(KINEMATICS, limits)
     driver.receive(Command(vx=1.0, vy=0.5), 0.0)
     wheels = driver.step(0.0, 1.0)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -53,7 +54,7 @@ def test_an_empty_map_has_no_extent() -> None:
 def _blocked_with_wall(frame: GridFrame) -> np.ndarray:
     blocked = np.zeros((frame.height, frame.width), dtype=bool)
     for row in range(frame.height):
-        x, y = frame.centre(0, row)
+        _x, y = frame.centre(0, row)
         if y < 3.0:
             column, _ = frame.cell(2.0, y)
             blocked[row, column - 2 : column + 3] = True
@@ -65,15 +66,18 @@ def test_a_path_goes_around_an_obstacle_and_never_through_blocked_cells() -> Non
     blocked = _blocked_with_wall(frame)
     path = plan_path(blocked, frame, (0.5, 0.5), (3.5, 0.5))
     assert path is not None
-    assert path[0] == (0.5, 0.5) and path[-1] == (3.5, 0.5)
+    assert path[0] == (0.5, 0.5)
+    assert path[-1] == (3.5, 0.5)
     assert max(y for _, y in path) > 3.0
-    for (x0, y0), (x1, y1) in zip(path, path[1:]):
+    for (x0, y0), (x1, y1) in itertools.pairwise(path):
         for t in np.linspace(0, 1, 50):
             column, row = frame.cell(x0 + (x1 - x0) * t, y0 + (y1 - y0) * t)
             assert not blocked[row, column]
 
 
 @pytest.mark.parametrize("goal", [(2.0, 0.5), (9.0, 9.0)])
-def test_no_path_to_a_goal_inside_an_obstacle_or_outside_the_grid(goal: tuple[float, float]) -> None:
+def test_no_path_to_a_goal_inside_an_obstacle_or_outside_the_grid(
+    goal: tuple[float, float],
+) -> None:
     frame = GridFrame.covering(0, 0, 4, 4, 0.1)
     assert plan_path(_blocked_with_wall(frame), frame, (0.5, 0.5), goal) is None

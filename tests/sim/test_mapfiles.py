@@ -39,7 +39,8 @@ def test_a_saved_map_is_a_trinary_pgm_with_its_yaml(tmp_path: Path) -> None:
     width, height = (int(v) for v in header.split()[1:3])
     assert len(pixels) == width * height
     assert set(pixels) <= {0, 205, 254}
-    assert "image: lab.pgm" in yaml.read_text() and "resolution: 0.1" in yaml.read_text()
+    assert "image: lab.pgm" in yaml.read_text()
+    assert "resolution: 0.1" in yaml.read_text()
 
 
 def test_without_a_folder_nothing_is_written(tmp_path: Path) -> None:

@@ -11,7 +11,9 @@ from skillwright.sim.motion import duration, fill, from_duration, yaw_of
 
 def test_fill_keeps_the_fields_a_type_has_and_drops_the_others() -> None:
     template = {"error_code": 0, "total_elapsed_time": {"sec": 0, "nanosec": 0}}
-    filled = fill(template, {"error_code": 9000, "error_msg": "x", "total_elapsed_time": {"sec": 3}})
+    filled = fill(
+        template, {"error_code": 9000, "error_msg": "x", "total_elapsed_time": {"sec": 3}}
+    )
     assert filled == {"error_code": 9000, "total_elapsed_time": {"sec": 3, "nanosec": 0}}
     assert template["error_code"] == 0
 

@@ -30,13 +30,29 @@ def _truth(
     """The base drives ``distance`` along x between 1 s and the time it needs, then rests."""
     truth = GroundTruth()
     stop = 1.0 + distance / speed if speed else 1.0
-    for k in range(0, 301):
+    for k in range(301):
         t = k * 0.02
         moving = 1.0 < t < stop
         x = min(max(t - 1.0, 0.0) * speed, distance)
         yaw = heading if final_yaw is None or t < 3.0 else final_yaw
-        truth.add(Sample(t, x, 0.0, yaw, speed if moving else 0.0, 0.0, 0.0, (0.0, 0.0, 0.0), False, (0.0, 0.0, 0.0)))
-    truth.commands = [CommandRecord(1.0, "/cmd_vel", speed, 0.0, 0.0), CommandRecord(stop, "/cmd_vel", last_command, 0.0, 0.0)]
+        truth.add(
+            Sample(
+                t,
+                x,
+                0.0,
+                yaw,
+                speed if moving else 0.0,
+                0.0,
+                0.0,
+                (0.0, 0.0, 0.0),
+                False,
+                (0.0, 0.0, 0.0),
+            )
+        )
+    truth.commands = [
+        CommandRecord(1.0, "/cmd_vel", speed, 0.0, 0.0),
+        CommandRecord(stop, "/cmd_vel", last_command, 0.0, 0.0),
+    ]
     truth.drive = [(c.t, c.vx, c.vy, c.wz, "skill") for c in truth.commands]
     return truth
 
@@ -58,7 +74,11 @@ MOVE = Scenario(
 
 def test_a_correct_run_passes_every_oracle(mr1_capabilities: dict[str, Capability]) -> None:
     verdicts = judge(
-        mr1_capabilities["move-forward"], MOVE, _run({"outDistance": 1.505, "outLinearVelocity": 0.0}), _truth(1.5), "completed"
+        mr1_capabilities["move-forward"],
+        MOVE,
+        _run({"outDistance": 1.505, "outLinearVelocity": 0.0}),
+        _truth(1.5),
+        "completed",
     )
     failed = [v for v in verdicts if v.passed is False]
     assert failed == []
@@ -75,9 +95,17 @@ def test_a_correct_run_passes_every_oracle(mr1_capabilities: dict[str, Capabilit
     ]
 
 
-def test_a_made_up_output_fails_on_ground_truth_but_not_as_reported(mr1_capabilities: dict[str, Capability]) -> None:
+def test_a_made_up_output_fails_on_ground_truth_but_not_as_reported(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
     verdicts = _by_oracle(
-        judge(mr1_capabilities["move-forward"], MOVE, _run({"outDistance": 1.5, "outLinearVelocity": 0.0}), _truth(0.7), "completed")
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5, "outLinearVelocity": 0.0}),
+            _truth(0.7),
+            "completed",
+        )
     )
     assert verdicts["constraint:distanceCovered"].passed is True
     assert verdicts["truth:distanceCovered"].passed is False
@@ -87,18 +115,34 @@ def test_a_made_up_output_fails_on_ground_truth_but_not_as_reported(mr1_capabili
 
 
 def test_an_output_never_set_fails_its_constraint(mr1_capabilities: dict[str, Capability]) -> None:
-    verdicts = _by_oracle(judge(mr1_capabilities["move-forward"], MOVE, _run({"outDistance": None}), _truth(1.5), "completed"))
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": None}),
+            _truth(1.5),
+            "completed",
+        )
+    )
     assert verdicts["constraint:distanceCovered"].passed is False
     assert "never set" in verdicts["constraint:distanceCovered"].message
     assert verdicts["output:outDistance"].passed is False
 
 
-def test_a_command_over_the_limit_fails_with_its_time_and_state(mr1_capabilities: dict[str, Capability]) -> None:
+def test_a_command_over_the_limit_fails_with_its_time_and_state(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
     truth = _truth(1.5)
     truth.commands.insert(1, CommandRecord(2.0, "/cmd_vel", 1.1, 0.0, 0.0))
-    verdict = _by_oracle(judge(mr1_capabilities["move-forward"], MOVE, _run({"outDistance": 1.5, "outLinearVelocity": 0.0}), truth, "completed"))[
-        "limit:linearVelocity"
-    ]
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5, "outLinearVelocity": 0.0}),
+            truth,
+            "completed",
+        )
+    )["limit:linearVelocity"]
     assert verdict.passed is False
     assert (verdict.time, verdict.state) == (2.0, "execute")
     assert "the skill commanded 1.1 m/s, more than 0.8 m/s" in verdict.message
@@ -107,8 +151,11 @@ def test_a_command_over_the_limit_fails_with_its_time_and_state(mr1_capabilities
 def test_a_contact_fails_naming_what_was_hit(mr1_capabilities: dict[str, Capability]) -> None:
     truth = _truth(1.5)
     truth.contacts.append(ContactRecord(3.2, "obstacle", 4.0, 0.2))
-    verdict = _by_oracle(judge(mr1_capabilities["move-forward"], MOVE, _run({}), truth, "completed"))["contact"]
-    assert verdict.passed is False and verdict.state == "execute"
+    verdict = _by_oracle(
+        judge(mr1_capabilities["move-forward"], MOVE, _run({}), truth, "completed")
+    )["contact"]
+    assert verdict.passed is False
+    assert verdict.state == "execute"
     assert "hit obstacle at t=3.20 s" in verdict.message
 
 
@@ -116,7 +163,13 @@ def test_a_base_still_commanded_to_move_after_completing_fails_at_the_state_that
     mr1_capabilities: dict[str, Capability],
 ) -> None:
     verdict = _by_oracle(
-        judge(mr1_capabilities["move-forward"], MOVE, _run({"outDistance": 1.5}), _truth(1.5, last_command=0.4), "completed")
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5}),
+            _truth(1.5, last_command=0.4),
+            "completed",
+        )
     )["rest:completing"]
     assert verdict.passed is False
     assert verdict.state == "execute"
@@ -126,8 +179,15 @@ def test_a_base_still_commanded_to_move_after_completing_fails_at_the_state_that
 def test_a_running_goal_after_stopping_fails_rest(mr1_capabilities: dict[str, Capability]) -> None:
     truth = _truth(1.5)
     truth.goals = [{"action": "/navigate_to_pose", "accepted": 1.0, "outcome": "executing"}]
-    run = RunView(states=[StateSpan("execute", 0.5, 2.0, "interrupted"), StateSpan("stopping", 2.0, 2.1)], outputs={}, ended="stopped", end_time=2.1)
-    verdict = _by_oracle(judge(mr1_capabilities["navigate-to-point"], Scenario(name="s"), run, truth, "stopped"))["rest:stopping"]
+    run = RunView(
+        states=[StateSpan("execute", 0.5, 2.0, "interrupted"), StateSpan("stopping", 2.0, 2.1)],
+        outputs={},
+        ended="stopped",
+        end_time=2.1,
+    )
+    verdict = _by_oracle(
+        judge(mr1_capabilities["navigate-to-point"], Scenario(name="s"), run, truth, "stopped")
+    )["rest:stopping"]
     assert verdict.passed is False
     assert "the goal of /navigate_to_pose was still running" in verdict.message
 
@@ -137,21 +197,41 @@ def test_rest_after_completing_does_not_apply_when_the_capability_keeps_moving(
 ) -> None:
     scenario = Scenario(name="s", inputs={"inLinearVelocity": 0.4, "inAngularVelocity": 0.0})
     verdict = _by_oracle(
-        judge(mr1_capabilities["set-velocity"], scenario, _run({"outLinearVelocity": 0.4}), _truth(1.5, last_command=0.4), "completed")
+        judge(
+            mr1_capabilities["set-velocity"],
+            scenario,
+            _run({"outLinearVelocity": 0.4}),
+            _truth(1.5, last_command=0.4),
+            "completed",
+        )
     )["rest:completing"]
     assert verdict.passed is None
     assert "leaves the base moving" in verdict.message
 
 
-def test_a_skill_that_completes_what_it_should_refuse_fails_the_outcome_only(mr1_capabilities: dict[str, Capability]) -> None:
-    scenario = MOVE.model_copy(update={"inputs": {"inDistance": -1.0, "inLinearVelocity": 0.4}, "expect": "aborted"})
-    verdicts = _by_oracle(judge(mr1_capabilities["move-forward"], scenario, _run({"outDistance": 0.0}), _truth(0.0), "aborted"))
+def test_a_skill_that_completes_what_it_should_refuse_fails_the_outcome_only(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    scenario = MOVE.model_copy(
+        update={"inputs": {"inDistance": -1.0, "inLinearVelocity": 0.4}, "expect": "aborted"}
+    )
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            scenario,
+            _run({"outDistance": 0.0}),
+            _truth(0.0),
+            "aborted",
+        )
+    )
     assert verdicts["outcome"].passed is False
     assert "expects it to have aborted" in verdicts["outcome"].message
     assert not any(o.startswith(("constraint:", "output:")) for o in verdicts)
 
 
-def test_the_resource_heading_is_taken_when_execute_begins(mr1_capabilities: dict[str, Capability]) -> None:
+def test_the_resource_heading_is_taken_when_execute_begins(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
     scenario = Scenario(
         name="s",
         inputs={"inAngle": -1.0, "inAngularVelocity": 0.5},
@@ -159,11 +239,21 @@ def test_the_resource_heading_is_taken_when_execute_begins(mr1_capabilities: dic
     )
     truth = _truth(0.0, speed=0.0, heading=0.5, final_yaw=0.5 - 1.0)
     reported = {"outHeading": 2 * math.pi - 0.5, "outAngularVelocity": 0.0}
-    verdicts = _by_oracle(judge(mr1_capabilities["rotate"], scenario, _run(reported), truth, "completed"))
+    verdicts = _by_oracle(
+        judge(mr1_capabilities["rotate"], scenario, _run(reported), truth, "completed")
+    )
     assert verdicts["constraint:headingTarget"].passed is True
     assert verdicts["truth:headingTarget"].passed is True
     assert verdicts["output:outHeading"].passed is True
-    wrong = _by_oracle(judge(mr1_capabilities["rotate"], scenario, _run({**reported, "outHeading": 1.5}), truth, "completed"))
+    wrong = _by_oracle(
+        judge(
+            mr1_capabilities["rotate"],
+            scenario,
+            _run({**reported, "outHeading": 1.5}),
+            truth,
+            "completed",
+        )
+    )
     assert wrong["constraint:headingTarget"].passed is False
 
 
@@ -178,5 +268,14 @@ def test_a_scenario_tolerance_for_an_output_replaces_the_units(
     mr1_capabilities: dict[str, Capability], tolerance: float, passed: bool
 ) -> None:
     scenario = MOVE.model_copy(update={"tolerances": {"outDistance": tolerance}})
-    verdict = _by_oracle(judge(mr1_capabilities["move-forward"], scenario, _run({"outDistance": 1.52}), _truth(1.5), "completed"))["output:outDistance"]
-    assert verdict.passed is passed and verdict.tolerance == tolerance
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            scenario,
+            _run({"outDistance": 1.52}),
+            _truth(1.5),
+            "completed",
+        )
+    )["output:outDistance"]
+    assert verdict.passed is passed
+    assert verdict.tolerance == tolerance

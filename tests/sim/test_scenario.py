@@ -64,7 +64,9 @@ def test_what_an_output_measures_is_inferred_from_its_name_unit_and_comment(
 def test_a_capability_without_a_file_gets_a_derived_scenario_within_its_limits(
     mr1_capabilities: dict[str, Capability],
 ) -> None:
-    capability = mr1_capabilities["set-velocity"].model_copy(update={"iri": "urn:other", "name": "other"})
+    capability = mr1_capabilities["set-velocity"].model_copy(
+        update={"iri": "urn:other", "name": "other"}
+    )
     chosen = scenarios_for(capability)
     assert chosen.source == "derived from other"
     assert "no scenario file" in chosen.notes[0]
@@ -100,7 +102,10 @@ def test_a_users_file_fills_missing_inputs_and_bindings_and_says_so(
     [
         ("capability: x\nscenarios: [\n", r"mine.yaml:3:1: YAML syntax error"),
         ("- a\n- b\n", "a mapping with `capability` and `scenarios`"),
-        (f"capability: {MOVE_FORWARD}\nscenarios: []\n", r"mine.yaml:2: scenarios: List should have at least 1 item"),
+        (
+            f"capability: {MOVE_FORWARD}\nscenarios: []\n",
+            r"mine.yaml:2: scenarios: List should have at least 1 item",
+        ),
         (
             f"capability: {MOVE_FORWARD}\nscenarios:\n  - name: a\n    duration: -1\n",
             r"mine.yaml:4: scenarios.0.duration: Input should be greater than 0",
@@ -125,19 +130,36 @@ def test_a_malformed_file_is_an_error_naming_file_line_and_field(
 @pytest.mark.parametrize(
     ("body", "message"),
     [
-        ("    inputs: {inDistanse: 1.0}\n", r"mine.yaml:5: scenarios.0.inputs.inDistanse: moveForward has no input 'inDistanse'; its inputs are inDistance, inLinearVelocity"),
-        ("    ground_truth: {outDistance: odometer}\n", r"mine.yaml:5: .*'odometer' is not something the simulator measures"),
+        (
+            "    inputs: {inDistanse: 1.0}\n",
+            r"mine.yaml:5: scenarios.0.inputs.inDistanse: moveForward has no input 'inDistanse'; its inputs are inDistance, inLinearVelocity",
+        ),
+        (
+            "    ground_truth: {outDistance: odometer}\n",
+            r"mine.yaml:5: .*'odometer' is not something the simulator measures",
+        ),
         ("    ground_truth: {outSpeed: heading}\n", r"has no output 'outSpeed'"),
-        ("    world: moon\n", r"mine.yaml:5: scenarios.0.world: world 'moon': not one of the shipped worlds"),
-        ("    runtime: {actoins: {}}\n", r"mine.yaml:5: scenarios.0.runtime.actoins: unknown runtime setting"),
-        ("    runtime: {deadlines: {state: -2}}\n", r"scenarios.0.runtime.deadlines.state: Input should be greater than 0"),
+        (
+            "    world: moon\n",
+            r"mine.yaml:5: scenarios.0.world: world 'moon': not one of the shipped worlds",
+        ),
+        (
+            "    runtime: {actoins: {}}\n",
+            r"mine.yaml:5: scenarios.0.runtime.actoins: unknown runtime setting",
+        ),
+        (
+            "    runtime: {deadlines: {state: -2}}\n",
+            r"scenarios.0.runtime.deadlines.state: Input should be greater than 0",
+        ),
         ("    tolerances: {m: -1}\n", r"a tolerance is a non-negative number"),
     ],
 )
 def test_names_the_capability_does_not_have_are_errors_with_the_line(
     tmp_path: Path, mr1_capabilities: dict[str, Capability], body: str, message: str
 ) -> None:
-    path = _write(tmp_path, f"capability: {MOVE_FORWARD}\nscenarios:\n  - name: a\n    duration: 5\n{body}")
+    path = _write(
+        tmp_path, f"capability: {MOVE_FORWARD}\nscenarios:\n  - name: a\n    duration: 5\n{body}"
+    )
     with pytest.raises(FileFormatError, match=message):
         scenarios_for(mr1_capabilities["move-forward"], path)
 
@@ -146,7 +168,9 @@ def test_a_file_for_another_capability_is_refused(
     tmp_path: Path, mr1_capabilities: dict[str, Capability]
 ) -> None:
     path = _write(tmp_path, f"capability: {MOVE_FORWARD}\nscenarios:\n  - name: a\n")
-    with pytest.raises(FileFormatError, match="the scenarios are for .*moveForward, not for .*rotate"):
+    with pytest.raises(
+        FileFormatError, match=r"the scenarios are for .*moveForward, not for .*rotate"
+    ):
         scenarios_for(mr1_capabilities["rotate"], path)
 
 
@@ -161,8 +185,12 @@ def test_a_world_file_is_found_relative_to_the_scenario_file(
     from skillwright.sim.assets import sim_dir
 
     (tmp_path / "mine.xml").write_text(
-        (sim_dir() / "worlds" / "open_floor.xml").read_text().replace("../mr1.xml", str(sim_dir() / "mr1.xml"))
+        (sim_dir() / "worlds" / "open_floor.xml")
+        .read_text()
+        .replace("../mr1.xml", str(sim_dir() / "mr1.xml"))
     )
-    path = _write(tmp_path, f"capability: {MOVE_FORWARD}\nscenarios:\n  - name: a\n    world: mine.xml\n")
+    path = _write(
+        tmp_path, f"capability: {MOVE_FORWARD}\nscenarios:\n  - name: a\n    world: mine.xml\n"
+    )
     chosen = scenarios_for(mr1_capabilities["move-forward"], path)
     assert chosen.folder == str(tmp_path)

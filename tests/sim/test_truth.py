@@ -15,9 +15,15 @@ def _sample(t: float, x: float, y: float = 0.0) -> Sample:
 
 @pytest.mark.parametrize(
     ("angle", "pi_wrapped", "two_pi_wrapped"),
-    [(0.0, 0.0, 0.0), (3 * math.pi / 2, -math.pi / 2, 3 * math.pi / 2), (-0.5, -0.5, 2 * math.pi - 0.5)],
+    [
+        (0.0, 0.0, 0.0),
+        (3 * math.pi / 2, -math.pi / 2, 3 * math.pi / 2),
+        (-0.5, -0.5, 2 * math.pi - 0.5),
+    ],
 )
-def test_angles_wrap_into_their_ranges(angle: float, pi_wrapped: float, two_pi_wrapped: float) -> None:
+def test_angles_wrap_into_their_ranges(
+    angle: float, pi_wrapped: float, two_pi_wrapped: float
+) -> None:
     assert wrap_pi(angle) == pytest.approx(pi_wrapped)
     assert wrap_two_pi(angle) == pytest.approx(two_pi_wrapped)
 

@@ -44,10 +44,14 @@ def test_a_correct_skill_passes_every_scenario_and_leaves_plots_and_traces(
     assert [e.episode for e in metre.episodes] == ["normal", "stop"]
     assert [e.ended for e in metre.episodes] == ["completed", "stopped"]
     assert [e.episode for e in fast.episodes] == ["normal"]
-    assert metre.plot and Path(metre.plot).read_bytes().startswith(b"\x89PNG")
-    assert metre.trace and '"ground_truth"' in Path(metre.trace).read_text()
-    assert progress[0] == "scenario-start" and progress[-1] == "scenario-end"
-    assert metre.episodes[0].virtual_seconds > 2.0 and metre.episodes[0].world_seconds > 0
+    assert metre.plot
+    assert Path(metre.plot).read_bytes().startswith(b"\x89PNG")
+    assert metre.trace
+    assert '"ground_truth"' in Path(metre.trace).read_text()
+    assert progress[0] == "scenario-start"
+    assert progress[-1] == "scenario-end"
+    assert metre.episodes[0].virtual_seconds > 2.0
+    assert metre.episodes[0].world_seconds > 0
 
 
 MUTANTS = {
@@ -61,10 +65,19 @@ MUTANTS = {
     ),
     "exceeds the speed limit": (
         "fast",
-        [("top = min(abs(self.in_linear_velocity), self.SPEED_LIMIT)", "top = abs(self.in_linear_velocity)")],
+        [
+            (
+                "top = min(abs(self.in_linear_velocity), self.SPEED_LIMIT)",
+                "top = abs(self.in_linear_velocity)",
+            )
+        ],
         {"limit:linearVelocity"},
     ),
-    "wrong sign": ("fast", [("command.linear.x = max(", "command.linear.x = -max(")], {"truth:distanceCovered"}),
+    "wrong sign": (
+        "fast",
+        [("command.linear.x = max(", "command.linear.x = -max(")],
+        {"truth:distanceCovered"},
+    ),
     "never stops": (
         "fast",
         [("        self.publisher.publish(Twist())\n", "        self.active = False\n")],
@@ -80,18 +93,30 @@ def test_a_mutant_fails_the_oracle_that_describes_its_fault(
     scenario, edits, oracles = MUTANTS[mutant]
     skill = _mutant(tmp_path, *edits)
     report = validate_skill(
-        skill, mr1_capabilities["move-forward"], mr1_inventory, scenario_file=SCENARIOS, only=[scenario]
+        skill,
+        mr1_capabilities["move-forward"],
+        mr1_inventory,
+        scenario_file=SCENARIOS,
+        only=[scenario],
     )
-    failed = {v.oracle for e in report.scenarios[0].episodes for v in e.verdicts if v.passed is False}
+    failed = {
+        v.oracle for e in report.scenarios[0].episodes for v in e.verdicts if v.passed is False
+    }
     assert oracles <= failed
     assert not report.passed
     lines = {f.line for f in report.findings if f.check.startswith("behaviour.")}
     text = skill.read_text().splitlines()
-    assert all(text[line - 1].lstrip().startswith("def ") for line in lines), "findings point at state methods"
+    assert all(text[line - 1].lstrip().startswith("def ") for line in lines), (
+        "findings point at state methods"
+    )
 
 
 def test_only_selects_scenarios_and_the_shipped_ones_are_used_by_default(
     mr1_capabilities: dict[str, Capability],
 ) -> None:
     chosen = scenarios_for(mr1_capabilities["move-forward"])
-    assert [s.name for s in chosen.scenarios] == ["straight_ahead", "too_fast_asked", "backwards_refused"]
+    assert [s.name for s in chosen.scenarios] == [
+        "straight_ahead",
+        "too_fast_asked",
+        "backwards_refused",
+    ]

@@ -39,7 +39,10 @@ def _world(
 def _pose(goal_x: float, goal_y: float) -> dict[str, object]:
     return {
         "header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": "map"},
-        "pose": {"position": {"x": goal_x, "y": goal_y, "z": 0.0}, "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}},
+        "pose": {
+            "position": {"x": goal_x, "y": goal_y, "z": 0.0},
+            "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0},
+        },
     }
 
 
@@ -61,7 +64,8 @@ def test_a_velocity_command_drives_the_base_and_odometry_follows(mr1_inventory: 
     odometry = host.messages("/odom")
     assert len(odometry) == pytest.approx(4.0 * 50, abs=1)
     last = odometry[-1][1]
-    assert last["header"]["frame_id"] == "odom" and last["child_frame_id"] == "base_link"
+    assert last["header"]["frame_id"] == "odom"
+    assert last["child_frame_id"] == "base_link"
     # Odometry starts at the start pose and measures along the base's own heading.
     assert last["pose"]["pose"]["position"]["x"] == pytest.approx(end.y - 2.0, abs=0.02)
     assert [c.vx for c in world.truth.commands] == [0.5, 0.0]
@@ -77,7 +81,8 @@ def test_scans_have_the_recorded_geometry_and_see_the_corridor(mr1_inventory: In
     scans = host.messages("/scan")
     assert [round(t, 3) for t, _ in scans] == [0.107, 0.207]
     scan = scans[-1][1]
-    assert len(scan["ranges"]) == 360 and scan["header"]["frame_id"] == "laser_link"
+    assert len(scan["ranges"]) == 360
+    assert scan["header"]["frame_id"] == "laser_link"
     ahead = scan["ranges"][180]
     left = scan["ranges"][270]
     behind = scan["ranges"][0]
@@ -87,12 +92,15 @@ def test_scans_have_the_recorded_geometry_and_see_the_corridor(mr1_inventory: In
     assert world.truth.nearest[-1][1] == pytest.approx(1.0, abs=0.005)
 
 
-def test_driving_into_the_obstacle_is_a_contact_and_the_chassis_stops_at_it(mr1_inventory: Inventory) -> None:
+def test_driving_into_the_obstacle_is_a_contact_and_the_chassis_stops_at_it(
+    mr1_inventory: Inventory,
+) -> None:
     world, host = _world(mr1_inventory, "corridor", (2.5, 0.0, 0.0))
     host.skill_publishes("/cmd_vel", FORWARD)
     host.run_until(5.0)
     contacts = world.truth.contacts
-    assert contacts and contacts[0].geom == "obstacle"
+    assert contacts
+    assert contacts[0].geom == "obstacle"
     assert world.truth.at(5.0).x == pytest.approx(4.0 - 0.35, abs=0.02)
     odometry = host.messages("/odom")[-1][1]["pose"]["pose"]["position"]["x"]
     assert odometry > 4.0 - 0.35 - 2.5 + 0.3, "the wheels slip on: odometry runs ahead"
@@ -104,16 +112,22 @@ def test_navigation_goes_around_the_shelf_to_the_goal(mr1_inventory: Inventory) 
     goal = host.send_goal("/navigate_to_pose", {"pose": _pose(6.5, 0.3), "behavior_tree": ""})
     host.run_until(40.0)
     events = host.goals[goal.goal_id]
-    assert events.accepted and events.status == GoalStatus.SUCCEEDED
+    assert events.accepted
+    assert events.status == GoalStatus.SUCCEEDED
     end = world.truth.at(events.finished_at or 0.0)
     assert math.hypot(end.x - 6.5, end.y - 0.3) <= 0.1
     assert world.truth.contacts == []
-    assert min(s.y for s in world.truth.samples) < -0.3, "the path leaves the line through the shelf"
-    assert events.feedback and events.feedback[-1]["distance_remaining"] < 0.5
+    assert min(s.y for s in world.truth.samples) < -0.3, (
+        "the path leaves the line through the shelf"
+    )
+    assert events.feedback
+    assert events.feedback[-1]["distance_remaining"] < 0.5
     assert max(s.speed for s in world.truth.samples) <= 0.52
 
 
-def test_a_goal_inside_the_shelf_is_aborted_and_a_cancelled_goal_stops_the_base(mr1_inventory: Inventory) -> None:
+def test_a_goal_inside_the_shelf_is_aborted_and_a_cancelled_goal_stops_the_base(
+    mr1_inventory: Inventory,
+) -> None:
     world, host = _world(mr1_inventory, "walled_room", (0.0, 0.3, 0.0))
     blocked = host.send_goal("/navigate_to_pose", {"pose": _pose(4.7, 0.3), "behavior_tree": ""})
     assert host.goals[blocked.goal_id].status == GoalStatus.ABORTED
@@ -128,7 +142,9 @@ def test_a_goal_inside_the_shelf_is_aborted_and_a_cancelled_goal_stops_the_base(
 
 def test_spin_turns_by_the_target_angle(mr1_inventory: Inventory) -> None:
     world, host = _world(mr1_inventory, "open_floor")
-    goal = host.send_goal("/spin", {"target_yaw": -1.5, "time_allowance": {"sec": 10, "nanosec": 0}})
+    goal = host.send_goal(
+        "/spin", {"target_yaw": -1.5, "time_allowance": {"sec": 10, "nanosec": 0}}
+    )
     host.run_until(6.0)
     assert host.goals[goal.goal_id].status == GoalStatus.SUCCEEDED
     assert world.truth.at(6.0).yaw == pytest.approx(-1.5, abs=0.03)
@@ -136,14 +152,22 @@ def test_spin_turns_by_the_target_angle(mr1_inventory: Inventory) -> None:
 
 @pytest.mark.parametrize(
     ("group", "target", "code"),
-    [("mr1_arm", (0.4, 0.2, 0.3), 1), ("mr1_arm", (0.8, 0.5, 0.3), -31), ("arm", (0.4, 0.2, 0.3), -15)],
+    [
+        ("mr1_arm", (0.4, 0.2, 0.3), 1),
+        ("mr1_arm", (0.8, 0.5, 0.3), -31),
+        ("arm", (0.4, 0.2, 0.3), -15),
+    ],
 )
 def test_the_arm_moves_its_tool_to_targets_within_reach_only(
     mr1_inventory: Inventory, group: str, target: tuple[float, float, float], code: int
 ) -> None:
     world, host = _world(mr1_inventory, "open_floor")
     region = {"primitive_poses": [{"position": dict(zip("xyz", target, strict=True))}]}
-    constraint = {"header": {"frame_id": "arm_base_link"}, "link_name": "tool0", "constraint_region": region}
+    constraint = {
+        "header": {"frame_id": "arm_base_link"},
+        "link_name": "tool0",
+        "constraint_region": region,
+    }
     request = {
         "request": {
             "group_name": group,
@@ -155,26 +179,40 @@ def test_the_arm_moves_its_tool_to_targets_within_reach_only(
     goal = host.send_goal("/move_action", request)
     host.run_until(5.0)
     events = host.goals[goal.goal_id]
-    assert events.result is not None and events.result["error_code"]["val"] == code
+    assert events.result is not None
+    assert events.result["error_code"]["val"] == code
     if code == 1:
         assert events.status == GoalStatus.SUCCEEDED
-        assert world.arm is not None and world.arm.tcp == pytest.approx(target)
-        tf = [t for _, m in host.messages("/tf") for t in m["transforms"] if t["child_frame_id"] == "tool0"]
-        assert tf[-1]["transform"]["translation"] == pytest.approx(dict(zip("xyz", target, strict=True)))
-        fk = host.call("/compute_fk", {"header": {"frame_id": "arm_base_link"}, "fk_link_names": ["tool0"]})
+        assert world.arm is not None
+        assert world.arm.tcp == pytest.approx(target)
+        tf = [
+            t
+            for _, m in host.messages("/tf")
+            for t in m["transforms"]
+            if t["child_frame_id"] == "tool0"
+        ]
+        assert tf[-1]["transform"]["translation"] == pytest.approx(
+            dict(zip("xyz", target, strict=True))
+        )
+        fk = host.call(
+            "/compute_fk", {"header": {"frame_id": "arm_base_link"}, "fk_link_names": ["tool0"]}
+        )
         assert fk["error_code"]["val"] == 1
         assert fk["pose_stamped"][0]["pose"]["position"]["z"] == pytest.approx(target[2])
     else:
         assert events.status == GoalStatus.ABORTED
 
 
-def test_the_map_grows_from_the_lidar_and_saves_to_the_run_folder(mr1_inventory: Inventory, tmp_path: Path) -> None:
+def test_the_map_grows_from_the_lidar_and_saves_to_the_run_folder(
+    mr1_inventory: Inventory, tmp_path: Path
+) -> None:
     world, host = _world(mr1_inventory, "walled_room", (0.0, 0.0, 0.0), output_dir=tmp_path)
     host.run_until(2.1)
     grid = host.messages("/map")[-1][1]
     assert grid["info"]["resolution"] == pytest.approx(0.05)
     assert grid["info"]["width"] * 0.05 == pytest.approx(9.9, abs=0.15)
-    assert 100 in grid["data"] and 0 in grid["data"]
+    assert 100 in grid["data"]
+    assert 0 in grid["data"]
     answer = host.call("/map_saver/save_map", {"map_url": "../../etc/room", "map_topic": "/map"})
     assert answer["result"] is True
     assert sorted(p.name for p in tmp_path.iterdir()) == ["room.pgm", "room.yaml"]
@@ -182,7 +220,9 @@ def test_the_map_grows_from_the_lidar_and_saves_to_the_run_folder(mr1_inventory:
     assert world.truth.saved_maps[0]["name"] == "room"
 
 
-def test_a_seed_makes_the_noise_repeat_and_another_seed_changes_it(mr1_inventory: Inventory) -> None:
+def test_a_seed_makes_the_noise_repeat_and_another_seed_changes_it(
+    mr1_inventory: Inventory,
+) -> None:
     def ranges(seed: int) -> list[float]:
         _, host = _world(mr1_inventory, "corridor", seed=seed)
         host.run_until(0.15)
@@ -195,7 +235,9 @@ def test_a_seed_makes_the_noise_repeat_and_another_seed_changes_it(mr1_inventory
 def test_the_papers_robot_runs_in_the_same_worlds(shared_data: Path) -> None:
     from skillwright.interfaces.load import load_inventory
 
-    inventory = load_inventory(shared_data / "cap2skill" / "interface-reports" / "ros2_system_report.json")
+    inventory = load_inventory(
+        shared_data / "cap2skill" / "interface-reports" / "ros2_system_report.json"
+    )
     world, host = _world(inventory, "corridor")
     host.skill_publishes("/cmd_vel", FORWARD)
     host.run_until(1.0)

@@ -12,6 +12,7 @@ of the recording itself when the inventory was made from one (see :func:`recorde
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -150,16 +151,19 @@ def _rate(interface: Interface) -> float | None:
     return None if interface.traffic is None else interface.traffic.rate_hz
 
 
+_COMMAND_NAMES: tuple[Callable[[str], bool], ...] = (
+    lambda s: s == "cmd_vel",
+    lambda s: s.startswith("cmd_vel") and "nav" not in s,
+    lambda s: "cmd" in s and "nav" not in s,
+    lambda s: "cmd" in s,
+)
+"""Tests of a Twist topic's last name part, best first (Nav2's ``cmd_vel_nav`` comes last:
+the velocity smoother turns it into ``cmd_vel``)."""
+
+
 def _command_topic(candidates: list[Interface]) -> Interface | None:
     """The base's velocity command among the Twist topics: ``cmd_vel`` by name first."""
-    if not candidates:
-        return None
-    for test in (
-        lambda s: s == "cmd_vel",
-        lambda s: s.startswith("cmd_vel") and "nav" not in s,
-        lambda s: "cmd" in s and "nav" not in s,
-        lambda s: "cmd" in s,
-    ):
+    for test in _COMMAND_NAMES:
         found = [c for c in candidates if test(_segment(c.name))]
         if found:
             return min(found, key=lambda c: (len(c.name), c.name))
@@ -268,8 +272,8 @@ def recorded_facts(
     """
     facts = RecordedFacts()
     path = _recording_path(inventory, recording)
-    wanted = {t: "sensor_msgs/msg/LaserScan" for t in bindings.scan_topics}
-    wanted.update({t: "nav_msgs/msg/Odometry" for t in bindings.odometry_topics})
+    wanted = dict.fromkeys(bindings.scan_topics, "sensor_msgs/msg/LaserScan")
+    wanted.update(dict.fromkeys(bindings.odometry_topics, "nav_msgs/msg/Odometry"))
     if bindings.map_topic:
         wanted[bindings.map_topic] = "nav_msgs/msg/OccupancyGrid"
     if path is None or not wanted:

@@ -68,7 +68,9 @@ def print_report(console: Console, report: ValidationReport) -> None:
             table.add_column("", width=4)
             table.add_column("verdict", overflow="fold")
             for verdict in episode.verdicts:
-                table.add_row(escape(verdict.oracle), _MARKS[verdict.passed], escape(verdict.message))
+                table.add_row(
+                    escape(verdict.oracle), _MARKS[verdict.passed], escape(verdict.message)
+                )
             console.print(table)
         for label, path in (("plot", scenario.plot), ("trace", scenario.trace)):
             if path:
@@ -78,9 +80,9 @@ def print_report(console: Console, report: ValidationReport) -> None:
         console.print(f"note: {escape(note)}", style="dim", highlight=False)
     failed = report.failed_oracles()
     errors = sum(f.severity == "error" for f in report.findings)
-    verdict = "[green]passed[/]" if report.passed else "[red]failed[/]"
+    outcome = "[green]passed[/]" if report.passed else "[red]failed[/]"
     console.print(
-        f"{escape(report.skill)}: behaviour {verdict}: {len(report.scenarios)} scenario(s), "
+        f"{escape(report.skill)}: behaviour {outcome}: {len(report.scenarios)} scenario(s), "
         f"{len(failed)} oracle(s) failed, {errors} error(s) in {report.wall_seconds:.1f} s",
         highlight=False,
     )
@@ -101,9 +103,7 @@ def print_report(console: Console, report: ValidationReport) -> None:
     help="A scenario file (YAML). Default: the shipped one for the capability, else one "
     "derived from the capability model.",
 )
-@click.option(
-    "--only", multiple=True, metavar="NAME", help="Run only this scenario (repeatable)."
-)
+@click.option("--only", multiple=True, metavar="NAME", help="Run only this scenario (repeatable).")
 @click.option(
     "-o",
     "--output",
@@ -151,7 +151,9 @@ def validate(
         from skillwright.errors import InvalidArgumentError
 
         names = ", ".join(s.name for s in chosen.scenarios)
-        raise InvalidArgumentError(f"--only {unknown[0]}: {chosen.source} has no such scenario ({names})")
+        raise InvalidArgumentError(
+            f"--only {unknown[0]}: {chosen.source} has no such scenario ({names})"
+        )
     if spec_file is not None:
         from skillwright.spec.loader import load_spec
         from skillwright.validation.catalog import catalog_from_inventory
@@ -161,7 +163,9 @@ def validate(
         try:
             text = skill_file.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as error:
-            raise InputFileError(f"skill file {skill_file}: cannot be read as UTF-8 text") from error
+            raise InputFileError(
+                f"skill file {skill_file}: cannot be read as UTF-8 text"
+            ) from error
         static = check_skill(
             text,
             capability=capability,
@@ -175,7 +179,8 @@ def validate(
             else:
                 print_findings(out_console(), static.path, static.findings)
                 out_console().print(
-                    f"{skill_file}: the static checks failed; the skill was not run", highlight=False
+                    f"{skill_file}: the static checks failed; the skill was not run",
+                    highlight=False,
                 )
             sys.exit(1)
     folder = output_dir if output_dir is not None else Path("validation") / skill_file.stem

@@ -64,7 +64,9 @@ class GridFrame:
 class OccupancyMap:
     """Hit and pass counts per cell, from scans traced at known poses."""
 
-    def __init__(self, frame: GridFrame, reference: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
+    def __init__(
+        self, frame: GridFrame, reference: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    ) -> None:
         import numpy as np
 
         self.frame = frame
@@ -100,12 +102,12 @@ class OccupancyMap:
         px = x + samples[None, :] * np.cos(bearings)[:, None]
         py = y + samples[None, :] * np.sin(bearings)[:, None]
         self._count(self.passes, px[along], py[along])
-        self._count(
-            self.hits, x + lengths * np.cos(bearings), y + lengths * np.sin(bearings)
-        )
+        self._count(self.hits, x + lengths * np.cos(bearings), y + lengths * np.sin(bearings))
         self.scans += 1
 
-    def _count(self, target: NDArray[np.int32], px: NDArray[np.float64], py: NDArray[np.float64]) -> None:
+    def _count(
+        self, target: NDArray[np.int32], px: NDArray[np.float64], py: NDArray[np.float64]
+    ) -> None:
         """Count each cell the points fall in once (repeated indices add one, not several)."""
         import numpy as np
 
@@ -196,12 +198,7 @@ def plan_path(
         # The robot may start touching the grown obstacles; plan from where it is anyway.
         blocked = blocked.copy()
         blocked[s[1], s[0]] = False
-    moves = [
-        (dx, dy, math.hypot(dx, dy))
-        for dx in (-1, 0, 1)
-        for dy in (-1, 0, 1)
-        if dx or dy
-    ]
+    moves = [(dx, dy, math.hypot(dx, dy)) for dx in (-1, 0, 1) for dy in (-1, 0, 1) if dx or dy]
     best: dict[tuple[int, int], float] = {s: 0.0}
     parent: dict[tuple[int, int], tuple[int, int]] = {}
     queue: list[tuple[float, float, tuple[int, int]]] = [(0.0, 0.0, s)]

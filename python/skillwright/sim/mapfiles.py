@@ -27,9 +27,7 @@ def safe_map_name(url: str) -> str:
     return stem or "map"
 
 
-def save_map(
-    grid: OccupancyMap, url: str, folder: Path | None, frame: str
-) -> dict[str, Any]:
+def save_map(grid: OccupancyMap, url: str, folder: Path | None, frame: str) -> dict[str, Any]:
     """Write ``grid`` as ``<name>.pgm`` and ``<name>.yaml`` in ``folder`` (when given) and
     say what was saved."""
     import numpy as np

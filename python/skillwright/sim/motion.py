@@ -74,7 +74,7 @@ def fill(template: Mapping[str, Any], values: Mapping[str, Any]) -> Message:
 def duration(seconds: float) -> Message:
     """A ``builtin_interfaces/Duration``."""
     whole = math.floor(seconds)
-    return {"sec": int(whole), "nanosec": int(round((seconds - whole) * 1e9)) % 1_000_000_000}
+    return {"sec": int(whole), "nanosec": round((seconds - whole) * 1e9) % 1_000_000_000}
 
 
 def from_duration(value: Any) -> float:
@@ -111,7 +111,9 @@ class MotionWorld(Protocol):
     def plan(
         self, start: tuple[float, float], goal: tuple[float, float]
     ) -> list[tuple[float, float]] | None: ...
-    def to_map(self, frame: str, x: float, y: float, yaw: float) -> tuple[float, float, float] | None: ...
+    def to_map(
+        self, frame: str, x: float, y: float, yaw: float
+    ) -> tuple[float, float, float] | None: ...
     def message(self, type_name: str) -> Message: ...
     def pose_stamped(self, x: float, y: float, yaw: float) -> Message: ...
     def record_goal(self, entry: dict[str, Any]) -> None: ...
@@ -215,7 +217,7 @@ class BaseMotionServer:
 
     def _prepare(self, task: _BaseTask, request: Message) -> str | None:
         world = self.world
-        x, y, yaw = task.origin
+        x, y, _yaw = task.origin
         if task.kind in ("navigate_to_pose", "navigate_through_poses"):
             if task.kind == "navigate_to_pose":
                 poses = [request.get("pose")]
@@ -320,16 +322,19 @@ class BaseMotionServer:
             self.world.drive(Command(wz=rate))
             return
         # Waypoints are corners around obstacles: reach each one before heading for the next.
-        while len(task.waypoints) > 1 and math.hypot(
-            task.waypoints[0][0] - x, task.waypoints[0][1] - y
-        ) < 0.15:
+        while (
+            len(task.waypoints) > 1
+            and math.hypot(task.waypoints[0][0] - x, task.waypoints[0][1] - y) < 0.15
+        ):
             task.waypoints.pop(0)
         tx, ty = task.waypoints[0]
         dx, dy = tx - x, ty - y
         length = math.hypot(dx, dy) or 1e-9
         speed = min(config.speed_max, math.sqrt(2 * config.accel * remaining) * 0.7, remaining * 2)
         heading = math.atan2(dy, dx)
-        yaw_error = wrap_pi(heading - yaw) if remaining > 0.3 else wrap_pi((task.final_yaw or yaw) - yaw)
+        yaw_error = (
+            wrap_pi(heading - yaw) if remaining > 0.3 else wrap_pi((task.final_yaw or yaw) - yaw)
+        )
         # Face the direction of travel; slow down while the heading is far off.
         speed *= max(0.0, math.cos(min(abs(yaw_error), math.pi / 2)))
         wx, wy = dx / length * speed, dy / length * speed
@@ -368,7 +373,9 @@ class BaseMotionServer:
                 {
                     "current_pose": self.world.pose_stamped(x, y, yaw),
                     "navigation_time": duration(now - task.started),
-                    "estimated_time_remaining": duration(remaining / max(self.config.speed_max, 1e-3)),
+                    "estimated_time_remaining": duration(
+                        remaining / max(self.config.speed_max, 1e-3)
+                    ),
                     "number_of_recoveries": 0,
                     "distance_remaining": remaining,
                     "number_of_poses_remaining": task.poses_remaining,
@@ -455,18 +462,27 @@ class ArmServer:
         """Check the motion request, refuse it with MoveIt's code or start moving."""
         now = self.world.now
         goal.accept()
-        entry = {"action": goal.action, "serves": "move_group", "accepted": now, "goal": goal.request}
+        entry = {
+            "action": goal.action,
+            "serves": "move_group",
+            "accepted": now,
+            "goal": goal.request,
+        }
         code, reason, target = self._target(goal.request)
         if code != MOVEIT_SUCCESS or target is None:
             goal.abort(self._result(code))
-            self.world.record_goal({**entry, "outcome": "aborted", "finished": now, "reason": reason})
+            self.world.record_goal(
+                {**entry, "outcome": "aborted", "finished": now, "reason": reason}
+            )
             return
         if self.goal is not None and self.goal.active:
             self.goal.abort(self._result(MOVEIT_PREEMPTED))
         options = goal.request.get("planning_options") or {}
         if isinstance(options, Mapping) and options.get("plan_only"):
             goal.succeed(self._result(MOVEIT_SUCCESS))
-            self.world.record_goal({**entry, "outcome": "succeeded", "finished": now, "reason": "planned only"})
+            self.world.record_goal(
+                {**entry, "outcome": "succeeded", "finished": now, "reason": "planned only"}
+            )
             return
         request = goal.request.get("request") or {}
         scaling = float(request.get("max_velocity_scaling_factor", 0.0) or 0.0)
@@ -489,7 +505,7 @@ class ArmServer:
         if group != self.config.group:
             return MOVEIT_INVALID_GROUP_NAME, f"unknown planning group {group!r}", None
         constraints = request.get("goal_constraints") or []
-        positions = []
+        positions: list[Any] = []
         for item in constraints if isinstance(constraints, list) else []:
             if isinstance(item, Mapping):
                 positions.extend(item.get("position_constraints") or [])

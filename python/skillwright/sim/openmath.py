@@ -22,9 +22,13 @@ __all__ = [
     "UNIT_TOLERANCES",
     "Evaluation",
     "EvaluationError",
+    "Value",
+    "as_value",
     "evaluate",
+    "is_output_variable",
     "symbol",
     "unit_of",
+    "variables",
 ]
 
 Value = float | bool | str
@@ -106,8 +110,8 @@ def _literal(text: str) -> Value:
 
 
 _ARITHMETIC: dict[str, Callable[[list[float]], float]] = {
-    "plus": lambda a: sum(a),
-    "times": lambda a: math.prod(a),
+    "plus": sum,
+    "times": math.prod,
     "minus": lambda a: a[0] - sum(a[1:]) if len(a) > 1 else -a[0],
     "unary_minus": lambda a: -a[0],
     "divide": lambda a: a[0] / a[1],
@@ -116,8 +120,8 @@ _ARITHMETIC: dict[str, Callable[[list[float]], float]] = {
     "root": lambda a: a[0] ** (1.0 / a[1]) if len(a) > 1 else math.sqrt(a[0]),
     "mod": lambda a: a[0] % a[1],
     "remainder": lambda a: a[0] % a[1],
-    "min": lambda a: min(a),
-    "max": lambda a: max(a),
+    "min": min,
+    "max": max,
     "sin": lambda a: math.sin(a[0]),
     "cos": lambda a: math.cos(a[0]),
     "tan": lambda a: math.tan(a[0]),
@@ -132,41 +136,47 @@ _ARITHMETIC: dict[str, Callable[[list[float]], float]] = {
 _ARITY = {"divide": 2, "power": 2, "mod": 2, "remainder": 2, "unary_minus": 1, "abs": 1}
 
 
-def evaluate(
-    expression: Expression,
-    values: Mapping[str, Value],
-    units: Mapping[str, str | None],
-    tolerances: Mapping[str, float],
-) -> Evaluation:
-    """The value of ``expression`` with its variables taken from ``values`` (by the IRI they
-    refer to, else by name); relations use ``tolerances`` per unit (see :data:`UNIT_TOLERANCES`).
-    """
-    checks: list[str] = []
-    margins: list[float] = []
+_RELATION_SIGNS = {
+    "eq": "=",
+    "approx": "~",
+    "neq": "!=",
+    "lt": "<",
+    "gt": ">",
+    "leq": "<=",
+    "geq": ">=",
+}
 
-    def term(node: Expression) -> Value:
+
+class _Evaluator:
+    """One evaluation: the bindings, and the relations checked on the way."""
+
+    def __init__(
+        self,
+        values: Mapping[str, Value],
+        units: Mapping[str, str | None],
+        tolerances: Mapping[str, float],
+    ) -> None:
+        self.values = values
+        self.units = units
+        self.tolerances = tolerances
+        self.checks: list[str] = []
+        self.margins: list[float] = []
+
+    def term(self, node: Expression) -> Value:
         if node.kind == "literal":
             return _literal(node.text)
         if node.kind == "variable":
-            for key in (node.refers_to, node.text):
-                if key and key in values:
-                    return values[key]
-            # nums1#pi and nums1#e: the reader names them by their local name when the
-            # model declares them as individuals rather than referring to them as inputs.
-            constant = _CONSTANTS.get(symbol(node.refers_to)) or _CONSTANTS.get(f"nums1#{node.text}")
-            if constant is not None and node.refers_to in (None, f"http://www.openmath.org/cd/nums1#{node.text}"):
-                return constant
-            raise EvaluationError(f"no value for {node.text}")
+            return self.variable(node)
         name = symbol(node.operator)
         short = name.split("#")[-1]
         if name.startswith("relation1#"):
-            return relation(node, short)
+            return self.relation(node, short)
         if name.startswith("logic1#"):
-            return logic(node, short)
+            return self.logic(node, short)
         operation = _ARITHMETIC.get(short)
         if operation is None:
             raise EvaluationError(f"operator {name or '?'} is not supported")
-        arguments = [_number(term(a), node.text) for a in node.arguments]
+        arguments = [_number(self.term(a), node.text) for a in node.arguments]
         expected = _ARITY.get(short)
         if not arguments or (expected is not None and len(arguments) < expected):
             raise EvaluationError(f"{node.text}: too few arguments")
@@ -175,8 +185,20 @@ def evaluate(
         except (ZeroDivisionError, ValueError, OverflowError) as error:
             raise EvaluationError(f"{node.text}: {error}") from None
 
-    def logic(node: Expression, name: str) -> bool:
-        results = [term(a) for a in node.arguments]
+    def variable(self, node: Expression) -> Value:
+        for key in (node.refers_to, node.text):
+            if key and key in self.values:
+                return self.values[key]
+        # nums1#pi and nums1#e: the reader names them by their local name when the model
+        # declares them as individuals rather than referring to them as inputs.
+        constant = _CONSTANTS.get(symbol(node.refers_to)) or _CONSTANTS.get(f"nums1#{node.text}")
+        own = f"http://www.openmath.org/cd/nums1#{node.text}"
+        if constant is not None and node.refers_to in (None, own):
+            return constant
+        raise EvaluationError(f"no value for {node.text}")
+
+    def logic(self, node: Expression, name: str) -> bool:
+        results = [self.term(a) for a in node.arguments]
         if any(not isinstance(r, bool) for r in results):
             raise EvaluationError(f"{node.text}: logic on values that are not true or false")
         if name == "and":
@@ -191,21 +213,24 @@ def evaluate(
             return results[0] == results[1]
         raise EvaluationError(f"logic operator {name} is not supported")
 
-    def relation(node: Expression, name: str) -> bool:
+    def relation(self, node: Expression, name: str) -> bool:
         if len(node.arguments) != 2:
             raise EvaluationError(f"{node.text}: a relation needs two sides")
+        if name not in _RELATION_SIGNS:
+            raise EvaluationError(f"relation {name} is not supported")
         left, right = node.arguments
-        a, b = term(left), term(right)
-        if isinstance(a, str) or isinstance(b, str) or isinstance(a, bool) or isinstance(b, bool):
+        a, b = self.term(left), self.term(right)
+        if isinstance(a, str | bool) or isinstance(b, str | bool):
             same = a == b
-            checks.append(f"{a!r} {'=' if same else '!='} {b!r}")
+            self.checks.append(f"{a!r} {'=' if same else '!='} {b!r}")
             return same if name in ("eq", "approx") else (not same if name == "neq" else False)
-        unit = unit_of(left, units) or unit_of(right, units)
+        unit = unit_of(left, self.units) or unit_of(right, self.units)
         literal_bound = left.kind == "literal" or right.kind == "literal"
-        tolerance = 0.0 if literal_bound else tolerances.get(unit or "", 0.0)
+        tolerance = 0.0 if literal_bound else self.tolerances.get(unit or "", 0.0)
         tolerance += 1e-9 * max(1.0, abs(a), abs(b))
-        difference = _angle_difference(a, b) if unit == "rad" and name in ("eq", "neq", "approx") else abs(a - b)
-        margins.append(difference)
+        circular = unit == "rad" and name in ("eq", "neq", "approx")
+        difference = _angle_difference(a, b) if circular else abs(a - b)
+        self.margins.append(difference)
         outcome = {
             "eq": difference <= tolerance,
             "approx": difference <= tolerance,
@@ -214,16 +239,27 @@ def evaluate(
             "gt": a > b - tolerance,
             "leq": a <= b + tolerance,
             "geq": a >= b - tolerance,
-        }.get(name)
-        if outcome is None:
-            raise EvaluationError(f"relation {name} is not supported")
-        shown = {"eq": "=", "approx": "~", "neq": "!=", "lt": "<", "gt": ">", "leq": "<=", "geq": ">="}[name]
-        within = f" (within {tolerance:.3g}{' ' + unit if unit else ''})" if tolerance > 1e-6 else ""
-        checks.append(f"{_show(a)} {shown} {_show(b)}{within}")
+        }[name]
+        within = (
+            f" (within {tolerance:.3g}{' ' + unit if unit else ''})" if tolerance > 1e-6 else ""
+        )
+        self.checks.append(f"{_show(a)} {_RELATION_SIGNS[name]} {_show(b)}{within}")
         return outcome
 
-    value = term(expression)
-    return Evaluation(value, checks, margins[0] if len(margins) == 1 else None)
+
+def evaluate(
+    expression: Expression,
+    values: Mapping[str, Value],
+    units: Mapping[str, str | None],
+    tolerances: Mapping[str, float],
+) -> Evaluation:
+    """The value of ``expression`` with its variables taken from ``values`` (by the IRI they
+    refer to, else by name); relations use ``tolerances`` per unit (see :data:`UNIT_TOLERANCES`).
+    """
+    evaluator = _Evaluator(values, units, tolerances)
+    value = evaluator.term(expression)
+    margins = evaluator.margins
+    return Evaluation(value, evaluator.checks, margins[0] if len(margins) == 1 else None)
 
 
 def _show(value: float) -> str:

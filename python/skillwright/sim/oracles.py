@@ -171,9 +171,7 @@ def measure(quantity: str, truth: GroundTruth, start: float, end: float) -> Valu
     return None
 
 
-def _values(
-    context: _Context, outputs: Mapping[str, Value | None]
-) -> dict[str, Value]:
+def _values(context: _Context, outputs: Mapping[str, Value | None]) -> dict[str, Value]:
     """Variables of the constraints by IRI: inputs, outputs, resource properties."""
     capability = context.capability
     values: dict[str, Value] = {}
@@ -224,9 +222,7 @@ def _tolerance_for(context: _Context, name: str, unit: str | None) -> float:
 def _constraint_verdicts(context: _Context) -> list[Verdict]:
     capability = context.capability
     output_iris = {e.iri for e, _ in _elements(capability, "output") if e.iri}
-    reported = {
-        name: as_value(value) for name, value in context.run.outputs.items()
-    }
+    reported = {name: as_value(value) for name, value in context.run.outputs.items()}
     quantities = context.scenario.ground_truth
     measured: dict[str, Value | None] = {
         name: measure(q, context.truth, context.exec_start, context.exec_end)
@@ -246,7 +242,11 @@ def _constraint_verdicts(context: _Context) -> list[Verdict]:
             verdicts.append(_judge(constraint, "precondition", context, reported, tolerances))
             continue
         verdicts.append(_judge(constraint, "constraint", context, reported, tolerances))
-        names = {e.name for e, _ in _elements(capability, "output") if e.iri and _mentions(constraint, e.iri)}
+        names = {
+            e.name
+            for e, _ in _elements(capability, "output")
+            if e.iri and _mentions(constraint, e.iri)
+        }
         if names and all(measured.get(n) is not None for n in names):
             verdicts.append(_judge(constraint, "truth", context, measured, tolerances))
         else:
@@ -452,7 +452,11 @@ def _limit_verdicts(context: _Context) -> list[Verdict]:
                 if size > limit + slack and (first is None or sample.t < first[0]):
                     first = (sample.t, f"the base moved at {size:.3g} {unit}")
                     break
-            measured = {"max_commanded": worst_command, "max_measured": worst_measured, "limit": limit}
+            measured = {
+                "max_commanded": worst_command,
+                "max_measured": worst_measured,
+                "limit": limit,
+            }
             if first is None:
                 verdicts.append(
                     Verdict(
@@ -582,7 +586,13 @@ def _rest_verdict(context: _Context, state: str) -> Verdict:
     if settled is not None:
         message += f"; at rest from t={settled:.2f} s"
     return Verdict(
-        oracle=oracle, kind="rest", check=check, passed=True, message=message, measured=measured, time=t
+        oracle=oracle,
+        kind="rest",
+        check=check,
+        passed=True,
+        message=message,
+        measured=measured,
+        time=t,
     )
 
 
@@ -656,7 +666,11 @@ def judge(
         verdicts.append(_rest_verdict(context, "stopping"))
     elif run.ended == expected == "aborted":
         aborting = run.span("aborting")
-        last = aborting.name if aborting is not None else (run.states[-1].name if run.states else "execute")
+        last = (
+            aborting.name
+            if aborting is not None
+            else (run.states[-1].name if run.states else "execute")
+        )
         verdicts.append(_rest_verdict(context, last))
     verdicts += _limit_verdicts(context)
     verdicts.append(_contact_verdict(context))

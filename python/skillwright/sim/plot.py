@@ -2,7 +2,8 @@
 
 Left: the world from above — obstacles, the base's path in each run, its footprint at the
 end, contacts, navigation goals. Right: speed and yaw rate over time with the resource's
-limits and the states that ran, so a limit exceeded or a base that never stops shows at once.
+limits and the moments oracles failed, so a limit exceeded or a base that never stops shows
+at once.
 """
 
 from __future__ import annotations
@@ -14,6 +15,8 @@ from typing import TYPE_CHECKING
 from skillwright.fileio import write_atomic
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
     from skillwright.sim.report import ScenarioReport
     from skillwright.sim.scenario import Scenario
     from skillwright.sim.world import MujocoWorld
@@ -21,6 +24,99 @@ if TYPE_CHECKING:
 __all__ = ["plot_scenario"]
 
 _COLOURS = {"normal": "#1f6fb4", "stop": "#e07b00"}
+_OBSTACLE = "#9aa0a6"
+_FAILURE = "#c5221f"
+
+
+def _rectangle(cx: float, cy: float, hx: float, hy: float, yaw: float) -> list[tuple[float, float]]:
+    c, s = math.cos(yaw), math.sin(yaw)
+    corners = [(hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy)]
+    return [(cx + c * x - s * y, cy + s * x + c * y) for x, y in corners]
+
+
+def _label(episode: str) -> str:
+    return "run" if episode == "normal" else "run stopped during execute"
+
+
+def _draw_plan(axes: Axes, report: ScenarioReport, worlds: list[MujocoWorld]) -> None:
+    from matplotlib.patches import Circle, Polygon
+
+    world = worlds[0]
+    outlines = world.obstacle_outlines()
+    for kind, cx, cy, sx, sy, yaw in outlines:
+        if kind == "box":
+            axes.add_patch(Polygon(_rectangle(cx, cy, sx, sy, yaw), closed=True, color=_OBSTACLE))
+        else:
+            axes.add_patch(Circle((cx, cy), sx, color=_OBSTACLE))
+    half_length, half_width = world.footprint()
+    xs: list[float] = []
+    ys: list[float] = []
+    for episode, run_world in zip(report.episodes, worlds, strict=False):
+        truth = run_world.truth
+        colour = _COLOURS.get(episode.episode, "black")
+        xs += [s.x for s in truth.samples]
+        ys += [s.y for s in truth.samples]
+        axes.plot(
+            [s.x for s in truth.samples],
+            [s.y for s in truth.samples],
+            color=colour,
+            linewidth=1.6,
+            label=_label(episode.episode),
+        )
+        end = truth.samples[-1]
+        footprint = _rectangle(end.x, end.y, half_length, half_width, end.yaw)
+        axes.add_patch(Polygon(footprint, closed=True, fill=False, edgecolor=colour))
+        for contact in truth.contacts:
+            axes.plot(contact.x, contact.y, "x", color=_FAILURE, markersize=10, mew=2)
+        for goal in truth.goals:
+            if goal.get("target_xy"):
+                axes.plot(*goal["target_xy"], "*", color=colour, markersize=12)
+    sx, sy, syaw = world.config.start
+    tip = (sx + 0.5 * math.cos(syaw), sy + 0.5 * math.sin(syaw))
+    axes.annotate("", xy=tip, xytext=(sx, sy), arrowprops={"arrowstyle": "->"})
+    if xs:
+        # The paths with a metre around them, and every obstacle close to that area.
+        x0, x1, y0, y1 = min(xs) - 1.0, max(xs) + 1.0, min(ys) - 1.0, max(ys) + 1.0
+        for _kind, cx, cy, hx, hy, _yaw in outlines:
+            reach = math.hypot(hx, hy)
+            if x0 - 3 < cx < x1 + 3 and y0 - 3 < cy < y1 + 3:
+                x0, x1 = min(x0, cx - reach), max(x1, cx + reach)
+                y0, y1 = min(y0, cy - reach), max(y1, cy + reach)
+        axes.set_xlim(x0, x1)
+        axes.set_ylim(y0, y1)
+    axes.set_aspect("equal")
+    axes.set_xlabel("x [m] (map)")
+    axes.set_ylabel("y [m] (map)")
+    axes.grid(True, alpha=0.3)
+    axes.legend(loc="best", fontsize=8)
+
+
+def _draw_speeds(axes: Axes, report: ScenarioReport, worlds: list[MujocoWorld]) -> None:
+    for episode, run_world in zip(report.episodes, worlds, strict=False):
+        samples = run_world.truth.samples
+        colour = _COLOURS.get(episode.episode, "black")
+        times = [s.t for s in samples]
+        label = _label(episode.episode)
+        axes.plot(times, [s.speed for s in samples], color=colour, label=f"speed ({label})")
+        axes.plot(
+            times,
+            [abs(s.wz) for s in samples],
+            color=colour,
+            linestyle=":",
+            label=f"|yaw rate| ({label})",
+        )
+    for episode in report.episodes[:1]:
+        for verdict in episode.verdicts:
+            if verdict.kind == "limit" and "limit" in verdict.measured:
+                value = float(verdict.measured["limit"])
+                axes.axhline(value, color=_FAILURE, linestyle="--", linewidth=1)
+                axes.annotate(verdict.check, (0, value), fontsize=7, color=_FAILURE, va="bottom")
+            if verdict.passed is False and verdict.time is not None:
+                axes.axvline(verdict.time, color=_FAILURE, alpha=0.4)
+    axes.set_xlabel("virtual time [s]")
+    axes.set_ylabel("m/s, rad/s")
+    axes.grid(True, alpha=0.3)
+    axes.legend(loc="upper right", fontsize=7)
 
 
 def plot_scenario(
@@ -31,94 +127,12 @@ def plot_scenario(
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
-    from matplotlib.patches import Circle, Polygon
 
     figure = Figure(figsize=(12, 5.2), dpi=100)
     FigureCanvasAgg(figure)
     plan, speeds = figure.subplots(1, 2, gridspec_kw={"width_ratios": [1.15, 1]})
-    world = worlds[0]
-    for kind, cx, cy, sx, sy, yaw in world.obstacle_outlines():
-        if kind == "box":
-            plan.add_patch(Polygon(_rectangle(cx, cy, sx, sy, yaw), closed=True, color="#9aa0a6"))
-        else:
-            plan.add_patch(Circle((cx, cy), sx, color="#9aa0a6"))
-    xs_all: list[float] = []
-    ys_all: list[float] = []
-    half_length, half_width = world.footprint()
-    for episode, run_world in zip(report.episodes, worlds, strict=False):
-        truth = run_world.truth
-        colour = _COLOURS.get(episode.episode, "black")
-        xs = [s.x for s in truth.samples]
-        ys = [s.y for s in truth.samples]
-        xs_all += xs
-        ys_all += ys
-        label = "run" if episode.episode == "normal" else "run stopped during execute"
-        plan.plot(xs, ys, color=colour, linewidth=1.6, label=label)
-        end = truth.samples[-1]
-        plan.add_patch(
-            Polygon(
-                _rectangle(end.x, end.y, half_length, half_width, end.yaw),
-                closed=True,
-                fill=False,
-                edgecolor=colour,
-                linewidth=1.0,
-            )
-        )
-        for contact in truth.contacts:
-            plan.plot(contact.x, contact.y, "x", color="#c5221f", markersize=10, mew=2)
-        for goal in truth.goals:
-            target = goal.get("target_xy")
-            if target:
-                plan.plot(*target, "*", color=colour, markersize=12)
-        times = [s.t for s in truth.samples]
-        speeds.plot(times, [s.speed for s in truth.samples], color=colour, label=f"speed ({label})")
-        speeds.plot(
-            times,
-            [abs(s.wz) for s in truth.samples],
-            color=colour,
-            linestyle=":",
-            label=f"|yaw rate| ({label})",
-        )
-    sx, sy, syaw = world.config.start
-    plan.annotate(
-        "",
-        xy=(sx + 0.5 * math.cos(syaw), sy + 0.5 * math.sin(syaw)),
-        xytext=(sx, sy),
-        arrowprops={"arrowstyle": "->", "color": "black"},
-    )
-    if xs_all:
-        margin = 1.0
-        x0, x1 = min(xs_all) - margin, max(xs_all) + margin
-        y0, y1 = min(ys_all) - margin, max(ys_all) + margin
-        for _kind, cx, cy, hx, hy, _yaw in world.obstacle_outlines():
-            reach = math.hypot(hx, hy)
-            if x0 - 3 < cx < x1 + 3 and y0 - 3 < cy < y1 + 3:
-                x0, x1 = min(x0, cx - reach), max(x1, cx + reach)
-                y0, y1 = min(y0, cy - reach), max(y1, cy + reach)
-        plan.set_xlim(x0, x1)
-        plan.set_ylim(y0, y1)
-    plan.set_aspect("equal")
-    plan.set_xlabel("x [m] (map)")
-    plan.set_ylabel("y [m] (map)")
-    plan.grid(True, alpha=0.3)
-    plan.legend(loc="best", fontsize=8)
-    limits = [
-        (v.check, float(v.measured["limit"]))
-        for e in report.episodes[:1]
-        for v in e.verdicts
-        if v.kind == "limit" and "limit" in v.measured
-    ]
-    for check, value in limits:
-        speeds.axhline(value, color="#c5221f", linestyle="--", linewidth=1)
-        speeds.annotate(check, (0, value), fontsize=7, color="#c5221f", va="bottom")
-    for episode in report.episodes[:1]:
-        for verdict in episode.verdicts:
-            if verdict.passed is False and verdict.time is not None:
-                speeds.axvline(verdict.time, color="#c5221f", alpha=0.4)
-    speeds.set_xlabel("virtual time [s]")
-    speeds.set_ylabel("m/s, rad/s")
-    speeds.grid(True, alpha=0.3)
-    speeds.legend(loc="upper right", fontsize=7)
+    _draw_plan(plan, report, worlds)
+    _draw_speeds(speeds, report, worlds)
     failed = sum(1 for e in report.episodes for v in e.verdicts if v.passed is False)
     verdict = "passed" if failed == 0 else f"{failed} oracle(s) failed"
     figure.suptitle(f"{scenario.name} in {scenario.world}: {verdict}", fontsize=11)
@@ -126,9 +140,3 @@ def plot_scenario(
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png")
     write_atomic(path, buffer.getvalue())
-
-
-def _rectangle(cx: float, cy: float, hx: float, hy: float, yaw: float) -> list[tuple[float, float]]:
-    c, s = math.cos(yaw), math.sin(yaw)
-    corners = [(hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy)]
-    return [(cx + c * x - s * y, cy + s * x + c * y) for x, y in corners]

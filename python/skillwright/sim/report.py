@@ -101,7 +101,9 @@ class ValidationProgress:
     index: int
     """0-based position of the scenario."""
     total: int
-    event: Literal["scenario-start", "episode-start", "state-start", "state-end", "episode-end", "scenario-end"]
+    event: Literal[
+        "scenario-start", "episode-start", "state-start", "state-end", "episode-end", "scenario-end"
+    ]
     episode: str | None = None
     state: str | None = None
     virtual_time: float = 0.0

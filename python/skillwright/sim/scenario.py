@@ -449,7 +449,9 @@ def scenarios_for(capability: Capability, scenario_file: Path | None = None) -> 
             continue
         _check_against(path, parsed, capability)
         scenarios = [_complete(s, capability, notes) for s in parsed.scenarios]
-        return ScenarioSet(source=str(path), folder=str(path.parent), scenarios=scenarios, notes=notes)
+        return ScenarioSet(
+            source=str(path), folder=str(path.parent), scenarios=scenarios, notes=notes
+        )
     notes.append(
         f"no scenario file for {capability.iri}; one scenario derived from the capability model "
         "(open floor, inputs from the parameters' units)"

@@ -10,6 +10,7 @@ virtual time.
 from __future__ import annotations
 
 import bisect
+import itertools
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -129,9 +130,7 @@ class GroundTruth:
     def path_length(self, t0: float, t1: float) -> float:
         """Length of the path the base drove between two times [m]."""
         samples = self.between(t0, t1)
-        return sum(
-            math.hypot(b.x - a.x, b.y - a.y) for a, b in zip(samples, samples[1:], strict=False)
-        )
+        return sum(math.hypot(b.x - a.x, b.y - a.y) for a, b in itertools.pairwise(samples))
 
     def skill_command_at(self, t: float) -> CommandRecord | None:
         """The last command the skill published at or before ``t``."""

@@ -19,14 +19,15 @@ import math
 import threading
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from skillwright.capability.model import Capability
 from skillwright.fileio import write_atomic
 from skillwright.interfaces.inventory import Inventory
 from skillwright.sim.assets import resolve_world
-from skillwright.sim.bindings import bind_interfaces, recorded_facts
+from skillwright.sim.bindings import Bindings, RecordedFacts, bind_interfaces, recorded_facts
 from skillwright.sim.oracles import RunView, StateSpan, Verdict, judge
 from skillwright.sim.report import (
     EpisodeVerdicts,
@@ -37,6 +38,9 @@ from skillwright.sim.report import (
 from skillwright.sim.scenario import Scenario, ScenarioSet, scenarios_for
 from skillwright.sim.world import MujocoWorld, Noise, WorldConfig
 from skillwright.validation.model import Finding
+
+if TYPE_CHECKING:
+    from skillwright.runtime.report import RunProgress
 
 __all__ = ["validate_skill"]
 
@@ -98,7 +102,9 @@ def _run_view(episode: Any) -> RunView:
     )
 
 
-def _finding(verdict: Verdict, scenario: str, episode: str, lines: dict[str, int], fallback: int) -> Finding:
+def _finding(
+    verdict: Verdict, scenario: str, episode: str, lines: dict[str, int], fallback: int
+) -> Finding:
     state = verdict.state or "execute"
     line = lines.get(state, lines.get("execute", fallback))
     run = "" if episode == "normal" else " (run stopped during execute)"
@@ -112,7 +118,7 @@ def _finding(verdict: Verdict, scenario: str, episode: str, lines: dict[str, int
 
 def _trace_document(report: Any, worlds: list[MujocoWorld]) -> dict[str, Any]:
     """The run's trace with each run's ground truth, thinned to 20 Hz."""
-    document = json.loads(report.trace.model_dump_json())
+    document: dict[str, Any] = report.trace.model_dump(mode="json")
     for episode, world in zip(document.get("episodes", []), worlds, strict=False):
         truth = world.truth
         samples = []
@@ -120,7 +126,18 @@ def _trace_document(report: Any, worlds: list[MujocoWorld]) -> dict[str, Any]:
         for sample in truth.samples:
             if sample.t + 1e-9 >= next_t:
                 samples.append(
-                    [round(v, 5) for v in (sample.t, sample.x, sample.y, sample.yaw, sample.vx, sample.vy, sample.wz)]
+                    [
+                        round(v, 5)
+                        for v in (
+                            sample.t,
+                            sample.x,
+                            sample.y,
+                            sample.yaw,
+                            sample.vx,
+                            sample.vy,
+                            sample.wz,
+                        )
+                    ]
                 )
                 next_t = sample.t + 0.05
         episode["ground_truth"] = {
@@ -143,6 +160,157 @@ def _safe(value: Any) -> Any:
     if isinstance(value, list):
         return [_safe(v) for v in value]
     return value
+
+
+@dataclass
+class _Setup:
+    """What every scenario of one validation shares."""
+
+    skill: Path
+    capability: Capability
+    inventory: Inventory
+    bindings: Bindings
+    facts: RecordedFacts
+    recording: Path | None
+    output_dir: Path | None
+    folder: Path | None
+    plot: bool
+    lines: dict[str, int]
+    fallback_line: int
+    cancel: threading.Event | None
+
+
+class _Worlds:
+    """Makes a fresh world for each run of one scenario and keeps them for the oracles."""
+
+    def __init__(self, setup: _Setup, scenario: Scenario) -> None:
+        self.setup = setup
+        self.scenario = scenario
+        self.world_file = resolve_world(scenario.world, setup.folder)
+        self.made: list[MujocoWorld] = []
+
+    def __call__(self) -> MujocoWorld:
+        scenario, setup = self.scenario, self.setup
+        maps = setup.output_dir / f"{scenario.name}.maps" if setup.output_dir is not None else None
+        config = WorldConfig(
+            world_file=self.world_file,
+            start=(scenario.start.x, scenario.start.y, scenario.start.heading),
+            # Each run gets its own noise, the same for the same seed.
+            seed=scenario.seed + len(self.made),
+            noise=_noise(scenario),
+            output_dir=maps,
+        )
+        world = MujocoWorld(config, setup.bindings, setup.facts)
+        self.made.append(world)
+        return world
+
+
+class _Progress:
+    """Passes the runtime's progress on as the validation's, for one scenario."""
+
+    def __init__(
+        self,
+        listener: Callable[[ValidationProgress], None] | None,
+        name: str,
+        index: int,
+        total: int,
+    ) -> None:
+        self.listener = listener
+        self.name = name
+        self.index = index
+        self.total = total
+
+    def scenario(self, event: Literal["scenario-start", "scenario-end"]) -> None:
+        if self.listener is not None:
+            self.listener(ValidationProgress(self.name, self.index, self.total, event))
+
+    def run(self, progress: RunProgress) -> None:
+        if self.listener is not None:
+            self.listener(
+                ValidationProgress(
+                    self.name,
+                    self.index,
+                    self.total,
+                    progress.event,
+                    episode=progress.episode,
+                    state=progress.state,
+                    virtual_time=progress.virtual_time,
+                )
+            )
+
+
+def _run_scenario(
+    setup: _Setup,
+    scenario: Scenario,
+    progress: Callable[[RunProgress], None],
+    findings: list[Finding],
+) -> ScenarioReport:
+    from skillwright.runtime.run import run_skill
+    from skillwright.runtime.scenario import RunScenario
+
+    worlds = _Worlds(setup, scenario)
+    run_scenario = RunScenario.model_validate(
+        {
+            **scenario.runtime,
+            "description": scenario.description,
+            "inputs": scenario.inputs,
+            "seed": scenario.seed,
+            "stop_after": scenario.stop_after,
+            "stop_run": scenario.stop_run,
+            "expect": "abort" if scenario.expect == "aborted" else "complete",
+            "deadlines": {"state": scenario.duration, **scenario.runtime.get("deadlines", {})},
+        }
+    )
+    run = run_skill(
+        setup.skill,
+        setup.inventory,
+        scenario=run_scenario,
+        world=worlds,
+        recording=setup.recording,
+        on_progress=progress,
+        cancel=setup.cancel,
+    )
+    findings.extend(run.findings)
+    report = ScenarioReport(
+        name=scenario.name,
+        description=scenario.description,
+        world=scenario.world,
+        inputs=dict(scenario.inputs),
+        notes=list(dict.fromkeys(n for w in worlds.made[:1] for n in w.notes)),
+    )
+    for episode, world in zip(run.trace.episodes, worlds.made, strict=False):
+        view = _run_view(episode)
+        expected: Literal["completed", "stopped", "aborted"] = (
+            "stopped" if episode.name == "stop" else scenario.expect
+        )
+        verdicts = judge(setup.capability, scenario, view, world.truth, expected)
+        report.episodes.append(
+            EpisodeVerdicts(
+                episode=episode.name,
+                ended=view.ended,
+                verdicts=verdicts,
+                virtual_seconds=float(episode.virtual_seconds),
+                wall_seconds=float(episode.wall_seconds),
+                world_seconds=world.wall_seconds,
+            )
+        )
+        findings.extend(
+            _finding(v, scenario.name, episode.name, setup.lines, setup.fallback_line)
+            for v in verdicts
+            if v.passed is False
+        )
+    if setup.output_dir is not None:
+        trace_path = setup.output_dir / f"{scenario.name}.trace.json"
+        document = _safe(_trace_document(run, worlds.made))
+        write_atomic(trace_path, json.dumps(document, indent=1) + "\n")
+        report.trace = str(trace_path)
+        if setup.plot and worlds.made:
+            from skillwright.sim.plot import plot_scenario
+
+            plot_path = setup.output_dir / f"{scenario.name}.png"
+            plot_scenario(plot_path, scenario, report, worlds.made)
+            report.plot = str(plot_path)
+    return report
 
 
 def validate_skill(
@@ -169,129 +337,44 @@ def validate_skill(
     the trace with ground truth ``<name>.trace.json`` and maps the skill saved; without it
     nothing is written.
     """
-    from skillwright.runtime.run import run_skill
-    from skillwright.runtime.scenario import RunScenario
     from skillwright.runtime.skillinfo import SkillSourceError, read_skill
 
     started = time.perf_counter()
     chosen = scenarios or scenarios_for(capability, scenario_file)
     selected = [s for s in chosen.scenarios if not only or s.name in only]
     bindings = bind_interfaces(inventory)
-    facts = recorded_facts(inventory, bindings, recording)
-    report = ValidationReport(
-        skill=str(skill),
-        capability=capability.iri,
-        scenario_source=chosen.source,
-        notes=[*chosen.notes],
-    )
     try:
         info = read_skill(skill.read_text(encoding="utf-8"), str(skill))
         lines, fallback = dict(info.states), info.class_line
     except (OSError, UnicodeDecodeError, SkillSourceError):
         lines, fallback = {}, 0
-    folder = Path(chosen.folder) if chosen.folder else None
+    setup = _Setup(
+        skill=skill,
+        capability=capability,
+        inventory=inventory,
+        bindings=bindings,
+        facts=recorded_facts(inventory, bindings, recording),
+        recording=recording,
+        output_dir=output_dir,
+        folder=Path(chosen.folder) if chosen.folder else None,
+        plot=plot,
+        lines=lines,
+        fallback_line=fallback,
+        cancel=cancel,
+    )
+    report = ValidationReport(
+        skill=str(skill),
+        capability=capability.iri,
+        scenario_source=chosen.source,
+        notes=list(chosen.notes),
+    )
+
+    findings: list[Finding] = []
     for index, scenario in enumerate(selected):
-
-        def progress(event: Any, name: str = scenario.name, position: int = index) -> None:
-            if on_progress is not None:
-                on_progress(
-                    ValidationProgress(
-                        scenario=name,
-                        index=position,
-                        total=len(selected),
-                        event=event.event,
-                        episode=event.episode,
-                        state=event.state,
-                        virtual_time=event.virtual_time,
-                    )
-                )
-
-        if on_progress is not None:
-            on_progress(ValidationProgress(scenario.name, index, len(selected), "scenario-start"))
-        world_file = resolve_world(scenario.world, folder)
-        worlds: list[MujocoWorld] = []
-        maps = output_dir / f"{scenario.name}.maps" if output_dir is not None else None
-
-        def make_world(world_file: Path = world_file, scenario: Scenario = scenario, maps: Path | None = maps) -> MujocoWorld:
-            config = WorldConfig(
-                world_file=world_file,
-                start=(scenario.start.x, scenario.start.y, scenario.start.heading),
-                seed=scenario.seed + len(worlds),
-                noise=_noise(scenario),
-                output_dir=maps,
-            )
-            world = MujocoWorld(config, bindings, facts)
-            worlds.append(world)
-            return world
-
-        run_scenario = RunScenario.model_validate(
-            {
-                **scenario.runtime,
-                "description": scenario.description,
-                "inputs": scenario.inputs,
-                "seed": scenario.seed,
-                "stop_after": scenario.stop_after,
-                "stop_run": scenario.stop_run,
-                "expect": "abort" if scenario.expect == "aborted" else "complete",
-                "deadlines": {"state": scenario.duration, **scenario.runtime.get("deadlines", {})},
-            }
-        )
-        run = run_skill(
-            skill,
-            inventory,
-            scenario=run_scenario,
-            world=make_world,
-            recording=recording,
-            on_progress=progress,
-            cancel=cancel,
-        )
-        report.findings.extend(run.findings)
-        scenario_report = ScenarioReport(
-            name=scenario.name,
-            description=scenario.description,
-            world=scenario.world,
-            inputs=dict(scenario.inputs),
-            notes=list(dict.fromkeys(n for w in worlds[:1] for n in w.notes)),
-        )
-        for episode, world in zip(run.trace.episodes, worlds, strict=False):
-            view = _run_view(episode)
-            expected: Literal["completed", "stopped", "aborted"] = (
-                "stopped" if episode.name == "stop" else scenario.expect
-            )
-            verdicts = judge(capability, scenario, view, world.truth, expected)
-            scenario_report.episodes.append(
-                EpisodeVerdicts(
-                    episode=episode.name,
-                    ended=view.ended,
-                    verdicts=verdicts,
-                    virtual_seconds=float(episode.virtual_seconds),
-                    wall_seconds=float(episode.wall_seconds),
-                    world_seconds=world.wall_seconds,
-                )
-            )
-            report.findings.extend(
-                _finding(v, scenario.name, episode.name, lines, fallback)
-                for v in verdicts
-                if v.passed is False
-            )
-        if output_dir is not None:
-            trace_path = output_dir / f"{scenario.name}.trace.json"
-            document = _safe(_trace_document(run, worlds))
-            write_atomic(trace_path, json.dumps(document, indent=1) + "\n")
-            scenario_report.trace = str(trace_path)
-            if plot and worlds:
-                from skillwright.sim.plot import plot_scenario
-
-                plot_path = output_dir / f"{scenario.name}.png"
-                plot_scenario(plot_path, scenario, scenario_report, worlds)
-                scenario_report.plot = str(plot_path)
-        report.scenarios.append(scenario_report)
-        if on_progress is not None:
-            on_progress(ValidationProgress(scenario.name, index, len(selected), "scenario-end"))
-    unique: list[Finding] = []
-    for finding in report.findings:
-        if finding not in unique:
-            unique.append(finding)
-    report.findings = sorted(unique, key=lambda f: (f.line, f.check, f.message))
+        progress = _Progress(on_progress, scenario.name, index, len(selected))
+        progress.scenario("scenario-start")
+        report.scenarios.append(_run_scenario(setup, scenario, progress.run, findings))
+        progress.scenario("scenario-end")
+    report.findings = sorted(dict.fromkeys(findings), key=lambda f: (f.line, f.check, f.message))
     report.wall_seconds = time.perf_counter() - started
     return report

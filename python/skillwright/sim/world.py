@@ -40,7 +40,7 @@ if TYPE_CHECKING:
 
     from skillwright.runtime.graph import GraphHost
 
-__all__ = ["Noise", "WorldConfig", "MujocoWorld", "quaternion"]
+__all__ = ["MujocoWorld", "Noise", "WorldConfig", "quaternion"]
 
 Message = dict[str, Any]
 _ROBOT_BODY = "base_footprint"
@@ -199,7 +199,9 @@ class MujocoWorld:
             raise FileFormatError(f"{path}: not a loadable MJCF world: {error}") from error
         spec_body = spec.body(_ROBOT_BODY)
         if spec_body is None:
-            raise FileFormatError(f"{path}: has no body named {_ROBOT_BODY!r} (include sim/mr1.xml)")
+            raise FileFormatError(
+                f"{path}: has no body named {_ROBOT_BODY!r} (include sim/mr1.xml)"
+            )
         beams: dict[str, tuple[int, ScanGeometry]] = {}
         sensor_count = 0
         for topic in self.bindings.scan_topics:
@@ -240,7 +242,9 @@ class MujocoWorld:
         joints = ("base_x", "base_y", "base_yaw")
         ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, j) for j in joints]
         if min(ids) < 0:
-            raise FileFormatError("the robot model lacks the planar joints base_x, base_y, base_yaw")
+            raise FileFormatError(
+                "the robot model lacks the planar joints base_x, base_y, base_yaw"
+            )
         self._qpos = [int(model.jnt_qposadr[j]) for j in ids]
         self._dof = [int(model.jnt_dofadr[j]) for j in ids]
         actuators = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a) for a in _WHEELS]
@@ -268,7 +272,9 @@ class MujocoWorld:
         if index < 0:
             raise FileFormatError(f"the robot model has no custom numeric {name!r}")
         start = int(model.numeric_adr[index])
-        values = [float(v) for v in model.numeric_data[start : start + int(model.numeric_size[index])]]
+        values = [
+            float(v) for v in model.numeric_data[start : start + int(model.numeric_size[index])]
+        ]
         if len(values) < size:
             raise FileFormatError(f"custom numeric {name!r} needs {size} values, has {len(values)}")
         return values[:size]
@@ -341,7 +347,11 @@ class MujocoWorld:
                 break
             self._step_to(due)
             for server in (self.base_server, self.arm):
-                if server is not None and server.next_tick is not None and server.next_tick <= due + 1e-9:
+                if (
+                    server is not None
+                    and server.next_tick is not None
+                    and server.next_tick <= due + 1e-9
+                ):
                     server.tick()
             for stream in self.streams:
                 if stream.next_t <= due + 1e-9:
@@ -386,7 +396,9 @@ class MujocoWorld:
         frame, blocked = self._planning_grid(start, goal)
         return plan_path(blocked, frame, start, goal)
 
-    def to_map(self, frame: str, x: float, y: float, yaw: float) -> tuple[float, float, float] | None:
+    def to_map(
+        self, frame: str, x: float, y: float, yaw: float
+    ) -> tuple[float, float, float] | None:
         """A pose given in ``frame`` (map or odometry frame), in the map frame."""
         if frame in (self.map_frame, "") or (frame == "map" and self.bindings.has_localisation):
             return (x, y, yaw)
@@ -468,7 +480,9 @@ class MujocoWorld:
             new = other not in self._touching and other not in touching
             touching.add(other)
             if new:
-                name = self._mj.mj_id2name(model, self._mj.mjtObj.mjOBJ_GEOM, other) or f"geom {other}"
+                name = (
+                    self._mj.mj_id2name(model, self._mj.mjtObj.mjOBJ_GEOM, other) or f"geom {other}"
+                )
                 x, y = (float(v) for v in data.contact.pos[index][:2])
                 self.truth.contacts.append(ContactRecord(float(data.time), name, x, y))
                 if self.host is not None:
@@ -526,7 +540,12 @@ class MujocoWorld:
 
         tf_with_odometry = bool(b.tf_topic)
         for index, topic in enumerate(b.odometry_topics):
-            add(topic, b.rates[topic], 0.0, self._odometry_emitter(topic, tf_with_odometry and index == 0))
+            add(
+                topic,
+                b.rates[topic],
+                0.0,
+                self._odometry_emitter(topic, tf_with_odometry and index == 0),
+            )
         if b.tf_topic and not b.odometry_topics:
             add(b.tf_topic, 50.0, 0.0, self._base_tf_emitter())
         for index, topic in enumerate(b.scan_topics):
@@ -563,7 +582,9 @@ class MujocoWorld:
     def _base_offset(self) -> tuple[float, float, float]:
         return self.frames.get(self.base_frame, (0.0, 0.0, 0.0))
 
-    def _transform(self, t: float, parent: str, child: str, x: float, y: float, z: float, yaw: float) -> Message:
+    def _transform(
+        self, t: float, parent: str, child: str, x: float, y: float, z: float, yaw: float
+    ) -> Message:
         return {
             "header": self._header(t, parent),
             "child_frame_id": child,
@@ -586,7 +607,10 @@ class MujocoWorld:
                         "covariance": covariance,
                     },
                     "twist": {
-                        "twist": {"linear": _vector(twist.vx, twist.vy), "angular": _vector(z=twist.wz)},
+                        "twist": {
+                            "linear": _vector(twist.vx, twist.vy),
+                            "angular": _vector(z=twist.wz),
+                        },
                         "covariance": covariance,
                     },
                 },
@@ -606,7 +630,9 @@ class MujocoWorld:
         if self.arm is not None:
             tx, ty, tz = self.arm.tcp
             transforms.append(
-                self._transform(t, self.arm.config.base_frame, self.arm.config.tip_link, tx, ty, tz, 0.0)
+                self._transform(
+                    t, self.arm.config.base_frame, self.arm.config.tip_link, tx, ty, tz, 0.0
+                )
             )
         self._publish(self.bindings.tf_topic, {"transforms": transforms})
 
@@ -619,7 +645,11 @@ class MujocoWorld:
                 sx += self._rng.normal(0.0, sigma)
                 sy += self._rng.normal(0.0, sigma)
                 syaw += self._rng.normal(0.0, sigma / 10.0)
-            message = {"transforms": [self._transform(t, self.map_frame, self.odom_frame, sx, sy, 0.0, syaw)]}
+            message = {
+                "transforms": [
+                    self._transform(t, self.map_frame, self.odom_frame, sx, sy, 0.0, syaw)
+                ]
+            }
             self._publish(self.bindings.tf_topic, message)
 
         return emit
@@ -659,7 +689,9 @@ class MujocoWorld:
             self._publish(
                 topic,
                 {
-                    "header": self._header(t, "imu_link" if "imu_link" in self.frames else self.base_frame),
+                    "header": self._header(
+                        t, "imu_link" if "imu_link" in self.frames else self.base_frame
+                    ),
                     "orientation": quaternion(yaw),
                     "orientation_covariance": [1e-4, 0, 0, 0, 1e-4, 0, 0, 0, 1e-4],
                     "angular_velocity": _vector(z=wz),
@@ -672,7 +704,7 @@ class MujocoWorld:
         return emit
 
     def scan(self, topic: str) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Bearings and true ranges (no noise; ``inf`` without a return) of ``topic``'s lidar now."""
+        """Bearings and true ranges (no noise; ``inf``: no return) of ``topic``'s lidar now."""
         mujoco, model, data, np = self._mj, self.model, self.data, self._np
         first, geometry = self._beams[topic]
         model.opt.disableflags &= ~self._sensor_flag
@@ -686,7 +718,9 @@ class MujocoWorld:
 
     def _laser_pose(self, geometry: ScanGeometry) -> tuple[float, float, float]:
         x, y, yaw = self.base_pose()
-        ox, oy, _ = self.frames.get(geometry.frame_id, self.frames.get("laser_link", (0.0, 0.0, 0.0)))
+        ox, oy, _ = self.frames.get(
+            geometry.frame_id, self.frames.get("laser_link", (0.0, 0.0, 0.0))
+        )
         c, s = math.cos(yaw), math.sin(yaw)
         return (x + c * ox - s * oy, y + s * ox + c * oy, yaw)
 
@@ -783,11 +817,16 @@ class MujocoWorld:
             frame, states = self._map.cropped()
             data = states.ravel().tolist()
         info = {
-            "map_load_time": self.host.stamp(t) if self.host is not None else {"sec": 0, "nanosec": 0},
+            "map_load_time": self.host.stamp(t)
+            if self.host is not None
+            else {"sec": 0, "nanosec": 0},
             "resolution": frame.resolution,
             "width": frame.width,
             "height": frame.height,
-            "origin": {"position": _vector(frame.origin_x, frame.origin_y, 0.0), "orientation": quaternion(0.0)},
+            "origin": {
+                "position": _vector(frame.origin_x, frame.origin_y, 0.0),
+                "orientation": quaternion(0.0),
+            },
         }
         return {"header": self._header(t, self.map_frame), "info": info, "data": data}, info
 
@@ -807,7 +846,9 @@ class MujocoWorld:
         for name, (x, y, z) in sorted(self.frames.items()):
             if name == self.base_frame:
                 continue
-            transforms.append(self._transform(0.0, self.base_frame, name, x - bx, y - by, z - bz, 0.0))
+            transforms.append(
+                self._transform(0.0, self.base_frame, name, x - bx, y - by, z - bz, 0.0)
+            )
         return {"transforms": transforms}
 
     # --- services -----------------------------------------------------------------------
@@ -869,11 +910,16 @@ class MujocoWorld:
             poses = [
                 {
                     "header": self._header(self.now, frame),
-                    "pose": {"position": _vector(tx - fx, ty - fy, tz - fz), "orientation": quaternion(0.0)},
+                    "pose": {
+                        "position": _vector(tx - fx, ty - fy, tz - fz),
+                        "orientation": quaternion(0.0),
+                    },
                 }
                 for _ in links
             ]
-            return fill(template, {"pose_stamped": poses, "fk_link_names": links, "error_code": {"val": 1}})
+            return fill(
+                template, {"pose_stamped": poses, "fk_link_names": links, "error_code": {"val": 1}}
+            )
 
         return handle
 
@@ -900,7 +946,9 @@ class MujocoWorld:
         return float(size[0]), float(size[1])
 
     # --- planning -----------------------------------------------------------------------
-    def _planning_grid(self, start: tuple[float, float], goal: tuple[float, float]) -> tuple[Any, Any]:
+    def _planning_grid(
+        self, start: tuple[float, float], goal: tuple[float, float]
+    ) -> tuple[Any, Any]:
         from skillwright.sim.grid import GridFrame
 
         np = self._np
