@@ -87,6 +87,7 @@ def test_a_correct_run_passes_every_oracle(mr1_capabilities: dict[str, Capabilit
         "precondition:distanceForward",
         "constraint:distanceCovered",
         "truth:distanceCovered",
+        "assured:outLinearVelocity",
         "output:outDistance",
         "output:outLinearVelocity",
         "rest:completing",
@@ -112,6 +113,22 @@ def test_a_made_up_output_fails_on_ground_truth_but_not_as_reported(
     assert verdicts["output:outDistance"].passed is False
     assert "reported 1.5, measured 0.7" in verdicts["output:outDistance"].message
     assert verdicts["output:outDistance"].state == "execute"
+
+
+def test_an_output_the_model_asserts_must_be_reported_with_that_value(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5, "outLinearVelocity": 0.4}),
+            _truth(1.5),
+            "completed",
+        )
+    )
+    assert verdicts["assured:outLinearVelocity"].passed is False
+    assert "the model asserts 0.0" in verdicts["assured:outLinearVelocity"].message
 
 
 def test_an_output_never_set_fails_its_constraint(mr1_capabilities: dict[str, Capability]) -> None:

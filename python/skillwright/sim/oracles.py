@@ -10,7 +10,8 @@ For one run of a skill in a scenario:
   **measured** (the distance really travelled, the heading really reached), so a skill
   that reports the right number without doing the work fails.
 * ``output:<name>`` — each reported output equals its measured value, within the tolerance
-  of its unit (angles on the circle).
+  of its unit (angles on the circle); ``assured:<name>`` — an output whose value the model
+  asserts (``outLinearVelocity = 0.0``, Assurance) is reported with that value.
 * ``limit:<property>`` — the resource's velocity requirements (``linearVelocity <= 0.8``)
   are never exceeded: neither by a command the skill published nor by the base's measured
   velocity.
@@ -322,8 +323,40 @@ def _judge(
     )
 
 
-def _output_verdicts(context: _Context) -> list[Verdict]:
+def _assured_verdicts(context: _Context) -> list[Verdict]:
+    """Outputs whose value the model asserts (``outLinearVelocity`` Assurance ``= 0.0``)."""
     verdicts = []
+    for element, _parameter in _elements(context.capability, "output"):
+        if element.value is None or element.expression_goal != "Assurance":
+            continue
+        name = element.name
+        unit = (element.unit or "").strip() or None
+        tolerance = _tolerance_for(context, name, unit)
+        reported = as_value(context.run.outputs.get(name))
+        expected = as_value(element.value)
+        if isinstance(reported, float) and isinstance(expected, float):
+            passed = abs(reported - expected) <= tolerance + 1e-9
+        else:
+            passed = reported == expected
+        verdicts.append(
+            Verdict(
+                oracle=f"assured:{name}",
+                kind="output",
+                check=f"{name} {element.logic_interpretation or '='} {element.value} (Assurance)",
+                passed=passed,
+                message=f"reported {reported!r}, the model asserts {element.value!r}"
+                + (f" (tolerance {tolerance:g})" if isinstance(expected, float) else ""),
+                measured={"reported": reported, "asserted": element.value},
+                tolerance=tolerance,
+                time=context.exec_end,
+                state="execute",
+            )
+        )
+    return verdicts
+
+
+def _output_verdicts(context: _Context) -> list[Verdict]:
+    verdicts = _assured_verdicts(context)
     for element, _parameter in _elements(context.capability, "output"):
         name = element.name
         quantity = context.scenario.ground_truth.get(name)

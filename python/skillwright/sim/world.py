@@ -186,7 +186,9 @@ class MujocoWorld:
         self.base_server = BaseMotionServer(self, self.nav_config)
         self.arm: ArmServer | None = None
         self.wall_seconds = 0.0
-        """Wall time spent in :meth:`advance` (the world's own cost)."""
+        """Wall time spent in :meth:`advance`."""
+        self.publish_seconds = 0.0
+        """Of that, wall time the host took to take the world's messages (``host.publish``)."""
         self._record()
 
     # --- model -------------------------------------------------------------------------
@@ -367,8 +369,8 @@ class MujocoWorld:
     # --- what the controllers need (MotionWorld) -----------------------------------------
     @property
     def now(self) -> float:
-        """Virtual time of the physics."""
-        return float(self.data.time)
+        """Virtual time: the host's once attached (physics moves in whole steps behind it)."""
+        return self.host.now if self.host is not None else float(self.data.time)
 
     def base_pose(self) -> tuple[float, float, float]:
         """True pose of the base in the map frame."""
@@ -492,12 +494,13 @@ class MujocoWorld:
     def _record(self) -> None:
         x, y, yaw = self.base_pose()
         velocity = self.base_velocity()
-        command = self.driver.target(self.now)
+        physics_time = float(self.data.time)
+        command = self.driver.target(physics_time)
         active = self.base_server.active or (self.arm is not None and self.arm.active)
         tcp = self.arm.tcp if self.arm is not None else (0.0, 0.0, 0.0)
         self.truth.add(
             Sample(
-                t=self.now,
+                t=physics_time,
                 x=x,
                 y=y,
                 yaw=yaw,
@@ -569,7 +572,9 @@ class MujocoWorld:
 
     def _publish(self, topic: str, message: Message) -> None:
         assert self.host is not None
+        started = time.perf_counter()
         self.host.publish(topic, message)
+        self.publish_seconds += time.perf_counter() - started
 
     def _odom_origin(self) -> tuple[float, float, float]:
         """Pose of the odometry frame in the map frame (true pose minus odometry)."""
