@@ -28,6 +28,7 @@ COMMANDS: dict[str, str] = {
     "inventory": "skillwright.interfaces.inventory_commands:inventory",
     "models": "skillwright.llm.commands:models",
     "retrieve": "skillwright.retrieval.commands:retrieve",
+    "run": "skillwright.runtime.commands:run",
     "spec": "skillwright.spec.commands:spec",
     "tui": "skillwright.tui.commands:tui",
     "validate": "skillwright.sim.commands:validate",

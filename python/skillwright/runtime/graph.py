@@ -99,6 +99,10 @@ class _GoalRecord:
     line: int
 
 
+def _article(kind: str) -> str:
+    return f"an {kind}" if kind[0] in "aeiou" else f"a {kind}"
+
+
 def _shift_stamps(value: Any, offset_ns: int) -> Any:
     """Moves every ``stamp`` (builtin_interfaces/Time) in a message by ``offset_ns``."""
     if isinstance(value, dict):
@@ -133,6 +137,8 @@ class Replay:
         self.span = math.floor(duration * 10 + 1) / 10
         self._loop = loop
         self._round = 0
+        self.damage: str | None = None
+        """Where the recording broke, when it did (replay stops there)."""
         self._messages = self._open()
         self._head = self._pull()
 
@@ -141,9 +147,14 @@ class Replay:
 
     def _pull(self) -> tuple[float, str, bytes, int] | None:
         for _ in range(2):
-            for log_time, topic, payload in self._messages:
-                offset = self._round * self.span
-                return (log_time - self._start_ns) / 1e9 + offset, topic, payload, self._round
+            try:
+                for log_time, topic, payload in self._messages:
+                    offset = self._round * self.span
+                    return (log_time - self._start_ns) / 1e9 + offset, topic, payload, self._round
+            except McapReadError as error:
+                # A damaged recording is replayed as far as it is intact, like discovery
+                # keeps what is intact.
+                self.damage = str(error)
             if not self._loop or self.span <= 0:
                 return None
             self._round += 1
@@ -347,7 +358,9 @@ class GraphHost:
         world.attach(self)
 
     def close(self) -> None:
-        """Closes the world, if any."""
+        """Closes the world, if any, and notes a recording that broke during replay."""
+        if self._replay is not None and self._replay.damage is not None:
+            self._recorder.record("note", text=f"replay stopped early: {self._replay.damage}")
         if self._world is not None:
             world, self._world = self._world, None
             world.close()
@@ -568,7 +581,7 @@ class GraphHost:
         if info is None:
             other = self._kind_of(endpoint.name)
             if other is not None:
-                problem = f"{endpoint.name} is a {other} of the robot, not a topic"
+                problem = f"{endpoint.name} is {_article(other)} of the robot, not a topic"
             else:
                 problem = f"the robot has no topic {endpoint.name}" + self._suggest(
                     endpoint.name, list(self._topics)
@@ -619,7 +632,7 @@ class GraphHost:
         if robot_type is None:
             other = self._kind_of(endpoint.name)
             problem = (
-                f"{endpoint.name} is a {other} of the robot, not a {kind}"
+                f"{endpoint.name} is {_article(other)} of the robot, not {_article(kind)}"
                 if other is not None
                 else f"the robot has no {kind} {endpoint.name}"
                 + self._suggest(endpoint.name, list(known))

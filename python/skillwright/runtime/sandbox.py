@@ -44,6 +44,7 @@ MARKER_VARIABLE: Final = "SKILLWRIGHT_SANDBOX"
 (tests find stray processes by it)."""
 
 _ALLOWED_PACKAGES: Final = ("numpy",)
+_CLOCK_TICKS: Final = os.sysconf("SC_CLK_TCK")
 """Third-party packages a skill may import besides ROS 2's, where the host has them."""
 
 
@@ -95,6 +96,22 @@ class SandboxProcess:
     def pid(self) -> int:
         """Process id of the child the host started."""
         return self.process.pid
+
+    def cpu_seconds(self) -> float | None:
+        """CPU time the child and its first process (in a PID namespace) have used so far,
+        or ``None`` where ``/proc`` does not say."""
+        total = 0.0
+        pids = [self.process.pid]
+        try:
+            children = Path(f"/proc/{self.process.pid}/task/{self.process.pid}/children")
+            pids += [int(p) for p in children.read_text().split()]
+            for pid in pids:
+                fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+                # utime and stime are fields 14 and 15 of stat, 12 and 13 after the name.
+                total += (int(fields[11]) + int(fields[12])) / _CLOCK_TICKS
+        except (OSError, ValueError, IndexError):
+            return None
+        return total
 
     def interrupt(self) -> None:
         """Asks the child to stop the state that runs (it reports where it was)."""

@@ -40,8 +40,12 @@ if TYPE_CHECKING:
 __all__ = ["Episode", "EpisodePlan", "EpisodeResult"]
 
 _POLL_SECONDS = 0.05
-_GRACE_SECONDS = 2.0
-"""Wall seconds a child gets to report where it was after an interrupt, before the kill."""
+_GRACE_SECONDS = 5.0
+"""Wall seconds a child gets to report where it was after an interrupt, before the kill
+(generous: on a loaded machine the child may wait that long for a core)."""
+_STALL_FACTOR = 10.0
+"""A state that uses no CPU and sends nothing for this many busy-deadlines (wall) is
+blocked in a wait the simulation cannot see (a lock, ``input()``)."""
 _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
@@ -169,7 +173,9 @@ class Episode:
         deadlines = self._scenario.deadlines
         run_deadline = child.started + deadlines.run
         last = time.monotonic()
+        last_cpu = child.cpu_seconds()
         interrupted_at: float | None = None
+        self._interrupt_reason = "busy"
         while not self._done:
             if self._cancel is not None and self._cancel.is_set():
                 raise GenerationCancelledError("the run was cancelled; nothing was kept")
@@ -181,9 +187,16 @@ class Episode:
                 self._kill("busy", self._busy_message(None))
                 return
             if interrupted_at is None and now - last > deadlines.busy:
-                child.interrupt()
-                interrupted_at = now
-                continue
+                # CPU time, not wall time, decides: on a busy machine a waiting child can go
+                # seconds without a turn on a core.
+                cpu = child.cpu_seconds()
+                spun = cpu is None or last_cpu is None or cpu - last_cpu > deadlines.busy
+                stalled = now - last > deadlines.busy * _STALL_FACTOR
+                if spun or stalled:
+                    self._interrupt_reason = "busy" if spun else "blocked"
+                    child.interrupt()
+                    interrupted_at = now
+                    continue
             if not wire.pending():
                 ready, _, _ = select.select([child.sock], [], [], _POLL_SECONDS)
                 if not ready:
@@ -210,13 +223,13 @@ class Episode:
             if frame["op"] == "stack":
                 interrupted_at = None
             last = time.monotonic()
+            last_cpu = child.cpu_seconds()
 
     def _kill(self, reason: str, message: str) -> None:
         self._result.trace.ended = "killed"
         state = self._recorder.state or "load"
-        self._recorder.finding(
-            "run.timeout" if reason == "run" else "run.busy", f"{state}: {message}"
-        )
+        check = "run.timeout" if reason == "run" else f"run.{self._interrupt_reason}"
+        self._recorder.finding(check, f"{state}: {message}")
         self._end_state("killed", reason)
 
     def _protocol(self, message: str) -> None:
@@ -253,8 +266,15 @@ class Episode:
         if frames:
             inner = frames[-1]
             where = f" at line {inner[0]} in {inner[1]}()"
+        if self._interrupt_reason == "blocked":
+            seconds = self._scenario.deadlines.busy * _STALL_FACTOR
+            return (
+                f"it waited {seconds:g} s of wall time{where} in a way the simulation cannot "
+                "see (a lock, input(), a raw socket or file), so virtual time stood still; "
+                "wait with time.sleep, rclpy.spin_once or a future instead"
+            )
         return (
-            f"it ran for {self._scenario.deadlines.busy:g} s of wall time without waiting{where}: "
+            f"it ran for {self._scenario.deadlines.busy:g} s of CPU time without waiting{where}: "
             "a loop that never sleeps, spins or waits on a future keeps callbacks from running "
             "and burns a core on the robot; wait with time.sleep or rclpy.spin_once inside it"
         )
@@ -355,12 +375,11 @@ class Episode:
             frames = [f for f in frame.get("frames", []) if isinstance(f, list) and len(f) == 2]
             where = int(frames[-1][0]) if frames else recorder.line
             state = recorder.state or "load"
-            check = "run.busy" if frame.get("reason") == "busy" else "run.cpu"
-            message = (
-                self._busy_message(frames)
-                if check == "run.busy"
-                else "it used up the CPU-time limit of the sandbox"
-            )
+            if frame.get("reason") == "cpu":
+                check, message = "run.cpu", "it used up the CPU-time limit of the sandbox"
+            else:
+                check = f"run.{self._interrupt_reason}"
+                message = self._busy_message(frames)
             recorder.finding(check, f"{state}: {message}", line=where)
         elif op == "outputs":
             values = frame.get("values")

@@ -20,7 +20,8 @@ __all__ = ["check", "print_findings"]
 
 
 def print_findings(console: Console, path: object, findings: Sequence[Finding]) -> None:
-    """Prints findings compiler-style: ``path:line:col: severity [check] message``."""
+    """Prints findings compiler-style: ``path:line:col: severity [check] message``, one
+    line each (never wrapped, so editors and scripts can read them)."""
     from rich.markup import escape
 
     for finding in findings:
@@ -29,6 +30,7 @@ def print_findings(console: Console, path: object, findings: Sequence[Finding]) 
             f"{escape(str(path))}:{finding.line}:{finding.column}: [{style}]{finding.severity}[/] "
             f"{escape(f'[{finding.check}]')} {escape(finding.message)}",
             highlight=False,
+            soft_wrap=True,
         )
 
 

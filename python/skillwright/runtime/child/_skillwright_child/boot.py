@@ -134,6 +134,8 @@ def main() -> None:
 
     wire = Wire(sock)
     try:
+        isolation["sandbox"] = os.environ.get("SKILLWRIGHT_SANDBOX", "")
+        isolation["folder"] = temp
         hello = wire.request("hello", isolation=isolation, python=sys.version.split()[0])
     except HostGone:
         os._exit(3)
@@ -162,15 +164,17 @@ def main() -> None:
 
     signal.signal(signal.SIGUSR1, interrupted)
     signal.signal(signal.SIGXCPU, interrupted)
+    end = os._exit
     guard.install(temp, config["read_roots"], fd)
     try:
         driver.run(core, config)
     except HostGone:
-        os._exit(3)
+        end(3)
     except BaseException:
+        # The child's own failure: its traceback goes to the output file the host reads.
         os.write(2, traceback_text().encode("utf-8", "replace"))
-        os._exit(4)
-    os._exit(0)
+        end(4)
+    end(0)
 
 
 def traceback_text() -> str:

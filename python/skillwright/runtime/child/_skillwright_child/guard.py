@@ -119,6 +119,8 @@ class _Guard:
                 if target is not None and not self.inside(target, (self.temp,)):
                     _refuse(f"change {target} (only its temporary folder is writable)")
         elif event == "import" and args[0].split(".")[0] in _NATIVE_MODULES:
+            if args[0] == "_posixsubprocess":
+                _refuse("import subprocess (it starts programs)")
             _refuse(f"import {args[0]} (native code)")
         elif event == "socket.__new__" and len(args) > 1 and args[1] in _NETWORK_FAMILIES:
             _refuse("open a network socket (it has no network)")
@@ -145,9 +147,25 @@ def _refuse(what: str) -> None:
     raise SandboxViolation(f"the sandbox does not let a skill {what}")
 
 
+def _no_exit(status: int) -> None:
+    """``os._exit`` for skills: ending the process is refused, with the skill's line."""
+    raise SandboxViolation(
+        f"the sandbox does not let a skill end its process (os._exit({status!r})); raise an "
+        "exception to abort"
+    )
+
+
 def install(temp: str, read_roots: list[str], own_socket: int) -> None:
-    """Installs the hook: writes only under ``temp``, reads only under ``read_roots``."""
+    """Installs the hook: writes only under ``temp``, reads only under ``read_roots``.
+
+    ``os._exit`` raises no audit event, so it is replaced for the skill (the driver keeps
+    the real one to end the child).
+    """
     for name in list(sys.modules):
         if name.split(".")[0] in _NATIVE_MODULES:
             del sys.modules[name]
+    import posix
+
+    os._exit = _no_exit  # type: ignore[assignment]
+    posix._exit = _no_exit  # type: ignore[assignment]
     sys.addaudithook(_Guard(temp, read_roots, own_socket))
