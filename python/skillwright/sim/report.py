@@ -25,7 +25,13 @@ class EpisodeVerdicts(_Model):
     verdicts: list[Verdict] = Field(default_factory=list, description="One per oracle.")
     virtual_seconds: float = Field(default=0.0, description="Virtual time the run took.")
     wall_seconds: float = Field(default=0.0, description="Wall time of the run, child included.")
-    world_seconds: float = Field(default=0.0, description="Wall time spent stepping the world.")
+    world_seconds: float = Field(
+        default=0.0, description="Wall time in the world's advance, publishing included."
+    )
+    publish_seconds: float = Field(
+        default=0.0, description="Of that, wall time the host took to take its messages."
+    )
+    child_cpu_seconds: float = Field(default=0.0, description="CPU time of the skill's process.")
 
     @property
     def passed(self) -> bool:
@@ -54,6 +60,9 @@ class ScenarioReport(_Model):
     plot: str | None = Field(default=None, description="The trajectory plot (PNG).")
     trace: str | None = Field(default=None, description="The run's trace and ground truth (JSON).")
     notes: list[str] = Field(default_factory=list, description="What the world assumed.")
+    host_cpu_seconds: float = Field(
+        default=0.0, description="CPU time of this process for the scenario's runs."
+    )
 
     @property
     def passed(self) -> bool:

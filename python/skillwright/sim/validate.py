@@ -249,6 +249,7 @@ def _run_scenario(
     from skillwright.runtime.scenario import RunScenario
 
     worlds = _Worlds(setup, scenario)
+    cpu_started = time.process_time()
     run_scenario = RunScenario.model_validate(
         {
             **scenario.runtime,
@@ -272,6 +273,7 @@ def _run_scenario(
     )
     findings.extend(run.findings)
     report = ScenarioReport(
+        host_cpu_seconds=time.process_time() - cpu_started,
         name=scenario.name,
         description=scenario.description,
         world=scenario.world,
@@ -292,6 +294,8 @@ def _run_scenario(
                 virtual_seconds=float(episode.virtual_seconds),
                 wall_seconds=float(episode.wall_seconds),
                 world_seconds=world.wall_seconds,
+                publish_seconds=world.publish_seconds,
+                child_cpu_seconds=float(episode.resources.get("cpu_seconds", 0.0)),
             )
         )
         findings.extend(

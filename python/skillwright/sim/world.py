@@ -143,30 +143,7 @@ class MujocoWorld:
         x, y, yaw = config.start
         self.data.qpos[self._qpos] = (x, y, yaw)
         mujoco.mj_forward(self.model, self.data)
-        radius = self._numeric("drive_wheel_radius", 1)[0]
-        half_length, half_width = self._numeric("drive_wheel_offsets", 2)
-        accel = self._numeric("drive_accel_max", 3)
-        self.kinematics = MecanumKinematics(radius, half_length, half_width)
-        self.driver = DriverState(
-            self.kinematics,
-            DriveLimits(
-                wheel_speed_max=self._numeric("drive_wheel_speed_max", 1)[0],
-                accel_linear=accel[0],
-                accel_lateral=accel[1],
-                accel_angular=accel[2],
-                command_timeout=self._numeric("drive_cmd_timeout", 1)[0],
-            ),
-        )
-        nav_speed = self._numeric("nav_speed_max", 2)
-        nav_tolerance = self._numeric("nav_goal_tolerance", 2)
-        self.nav_config = NavConfig(
-            speed_max=nav_speed[0],
-            yaw_rate_max=nav_speed[1],
-            accel=accel[0],
-            yaw_accel=accel[2],
-            xy_tolerance=nav_tolerance[0],
-            yaw_tolerance=nav_tolerance[1],
-        )
+        self.kinematics, self.driver, self.nav_config = self._drive()
         self.frames = self._frames()
         self.map_frame = facts.map_frame or "map"
         self.odom_frame = facts.odom_frame or "odom"
@@ -190,6 +167,34 @@ class MujocoWorld:
         self.publish_seconds = 0.0
         """Of that, wall time the host took to take the world's messages (``host.publish``)."""
         self._record()
+
+    def _drive(self) -> tuple[MecanumKinematics, DriverState, NavConfig]:
+        """The base driver and the navigation controller's limits, from the model's numbers."""
+        radius = self._numeric("drive_wheel_radius", 1)[0]
+        half_length, half_width = self._numeric("drive_wheel_offsets", 2)
+        accel = self._numeric("drive_accel_max", 3)
+        kinematics = MecanumKinematics(radius, half_length, half_width)
+        driver = DriverState(
+            kinematics,
+            DriveLimits(
+                wheel_speed_max=self._numeric("drive_wheel_speed_max", 1)[0],
+                accel_linear=accel[0],
+                accel_lateral=accel[1],
+                accel_angular=accel[2],
+                command_timeout=self._numeric("drive_cmd_timeout", 1)[0],
+            ),
+        )
+        nav_speed = self._numeric("nav_speed_max", 2)
+        nav_tolerance = self._numeric("nav_goal_tolerance", 2)
+        nav = NavConfig(
+            speed_max=nav_speed[0],
+            yaw_rate_max=nav_speed[1],
+            accel=accel[0],
+            yaw_accel=accel[2],
+            xy_tolerance=nav_tolerance[0],
+            yaw_tolerance=nav_tolerance[1],
+        )
+        return kinematics, driver, nav
 
     # --- model -------------------------------------------------------------------------
     def _load(self, path: Path) -> tuple[Any, dict[str, tuple[int, ScanGeometry]]]:
