@@ -157,6 +157,8 @@ class MujocoWorld:
         self._blocked: tuple[Any, Any] | None = None
         self._map: Any = None
         self._map_pose: tuple[float, float, float] | None = None
+        self._map_updates = 0
+        self._map_published = -1
         self._scan_cache: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
         self.host: GraphHost | None = None
         self.streams: list[_Stream] = []
@@ -790,6 +792,7 @@ class MujocoWorld:
                 return
         self._map_pose = pose
         self._map.integrate(*pose, angles, ranges, geometry.range_max)
+        self._map_updates += 1
         along, across = self._map.extent
         self.truth.extents.append((t, along, across))
 
@@ -842,6 +845,11 @@ class MujocoWorld:
 
     def _map_emitter(self) -> Callable[[float], None]:
         def emit(t: float) -> None:
+            # Like slam_toolbox, publish only a map that changed (it is latched for
+            # subscribers that come later).
+            if self._map_published == self._map_updates and self._map_updates:
+                return
+            self._map_published = self._map_updates
             grid, info = self._map_message(t)
             assert self.bindings.map_topic is not None
             self._publish(self.bindings.map_topic, grid)
