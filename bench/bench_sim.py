@@ -8,8 +8,8 @@
 2. Whole validations of the nine shipped skills (``capabilities/skills``) in their
    scenarios: the skill runs in the sandboxed child in lockstep with the world. Per scenario:
    virtual seconds of both runs, wall seconds, CPU seconds of this process and of the child,
-   and the share of the world (physics, sensors, controllers) and of the host's taking of
-   its messages (``host.publish``). Real time factors are given in wall time and in CPU
+   and, of this process's CPU time, the world's own (physics, sensors, controllers) and the
+   host's taking of its messages (``host.publish``). Real time factors are given in wall time and in CPU
    time, since wall time on a shared machine depends on what else runs.
 
     python bench/bench_sim.py [--worlds-only]
@@ -99,7 +99,7 @@ def part_two() -> None:
         for scenario in report.scenarios:
             virtual = sum(e.virtual_seconds for e in scenario.episodes)
             wall = sum(e.wall_seconds for e in scenario.episodes)
-            world = sum(e.world_seconds for e in scenario.episodes)
+            world = sum(e.world_cpu_seconds for e in scenario.episodes)
             child = sum(e.child_cpu_seconds for e in scenario.episodes)
             host = scenario.host_cpu_seconds
             publish = sum(e.publish_seconds for e in scenario.episodes)

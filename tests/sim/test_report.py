@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from skillwright.sim.oracles import Verdict
 from skillwright.sim.report import EpisodeVerdicts, ScenarioReport, ValidationReport
 from skillwright.validation.model import Finding
@@ -26,7 +28,7 @@ def test_a_report_passes_only_when_no_oracle_fails_and_no_error_is_found() -> No
     )
     assert report.passed
     assert episode.speed == 20.0
-    assert episode.world_speed == 40.0
+    assert episode.world_speed == pytest.approx(40.0)
     report.findings.append(Finding(check="run.motion", severity="error", line=3, message="m"))
     assert not report.passed
     failing = episode.model_copy(

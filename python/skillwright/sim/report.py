@@ -28,8 +28,11 @@ class EpisodeVerdicts(_Model):
     world_seconds: float = Field(
         default=0.0, description="Wall time in the world's advance, publishing included."
     )
+    world_cpu_seconds: float = Field(
+        default=0.0, description="CPU time in the world's advance, publishing included."
+    )
     publish_seconds: float = Field(
-        default=0.0, description="Of that, wall time the host took to take its messages."
+        default=0.0, description="Of that, CPU time the host took to take its messages."
     )
     child_cpu_seconds: float = Field(default=0.0, description="CPU time of the skill's process.")
 
@@ -45,8 +48,10 @@ class EpisodeVerdicts(_Model):
 
     @property
     def world_speed(self) -> float | None:
-        """Virtual seconds per wall second of the world alone."""
-        return self.virtual_seconds / self.world_seconds if self.world_seconds > 0 else None
+        """Virtual seconds per CPU second of the world alone (physics, sensors, controllers;
+        not the host's taking of its messages)."""
+        own = self.world_cpu_seconds - self.publish_seconds
+        return self.virtual_seconds / own if own > 0 else None
 
 
 class ScenarioReport(_Model):

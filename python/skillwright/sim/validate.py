@@ -294,6 +294,7 @@ def _run_scenario(
                 virtual_seconds=float(episode.virtual_seconds),
                 wall_seconds=float(episode.wall_seconds),
                 world_seconds=world.wall_seconds,
+                world_cpu_seconds=world.cpu_seconds,
                 publish_seconds=world.publish_seconds,
                 child_cpu_seconds=float(episode.resources.get("cpu_seconds", 0.0)),
             )

@@ -166,8 +166,10 @@ class MujocoWorld:
         self.arm: ArmServer | None = None
         self.wall_seconds = 0.0
         """Wall time spent in :meth:`advance`."""
+        self.cpu_seconds = 0.0
+        """CPU time spent in :meth:`advance`."""
         self.publish_seconds = 0.0
-        """Of that, wall time the host took to take the world's messages (``host.publish``)."""
+        """Of that, CPU time the host took to take the world's messages (``host.publish``)."""
         self._record()
 
     def _drive(self) -> tuple[MecanumKinematics, DriverState, NavConfig]:
@@ -343,11 +345,12 @@ class MujocoWorld:
 
     def advance(self, until: float) -> None:
         """Step physics to ``until``, running controllers and publishing what falls due."""
-        started = time.perf_counter()
+        started, cpu = time.perf_counter(), time.process_time()
         try:
             self._advance(until)
         finally:
             self.wall_seconds += time.perf_counter() - started
+            self.cpu_seconds += time.process_time() - cpu
 
     def _advance(self, until: float) -> None:
         while True:
@@ -579,9 +582,9 @@ class MujocoWorld:
 
     def _publish(self, topic: str, message: Message) -> None:
         assert self.host is not None
-        started = time.perf_counter()
+        started = time.process_time()
         self.host.publish(topic, message)
-        self.publish_seconds += time.perf_counter() - started
+        self.publish_seconds += time.process_time() - started
 
     def _odom_origin(self) -> tuple[float, float, float]:
         """Pose of the odometry frame in the map frame (true pose minus odometry)."""
@@ -719,10 +722,11 @@ class MujocoWorld:
         """Bearings and true ranges (no noise; ``inf``: no return) of ``topic``'s lidar now."""
         mujoco, model, data, np = self._mj, self.model, self.data, self._np
         first, geometry = self._beams[topic]
-        model.opt.disableflags &= ~self._sensor_flag
+        flags = model.opt.disableflags
+        model.opt.disableflags = flags & ~self._sensor_flag
         mujoco.mj_kinematics(model, data)
         mujoco.mj_sensorPos(model, data)
-        model.opt.disableflags |= self._sensor_flag
+        model.opt.disableflags = flags
         ranges = np.array(data.sensordata[first : first + geometry.count], dtype=np.float64)
         ranges[(ranges < 0) | (ranges > geometry.range_max)] = np.inf
         angles = geometry.angle_min + np.arange(geometry.count) * geometry.angle_increment
