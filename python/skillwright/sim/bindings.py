@@ -286,7 +286,7 @@ def recorded_facts(
         return facts
     try:
         first = _first_messages(path, wanted, inventory)
-    except Exception as error:  # a damaged recording still gives a usable world
+    except (OSError, ValueError, KeyError) as error:  # a damaged recording: defaults
         facts.notes.append(f"{path}: recorded messages unreadable ({error}); defaults used")
         first = {}
     for topic in bindings.scan_topics:

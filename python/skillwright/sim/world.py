@@ -412,7 +412,7 @@ class MujocoWorld:
         self, frame: str, x: float, y: float, yaw: float
     ) -> tuple[float, float, float] | None:
         """A pose given in ``frame`` (map or odometry frame), in the map frame."""
-        if frame in (self.map_frame, "") or (frame == "map" and self.bindings.has_localisation):
+        if frame in (self.map_frame, ""):
             return (x, y, yaw)
         if frame == self.odom_frame:
             sx, sy, syaw = self._odom_origin()
