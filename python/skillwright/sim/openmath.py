@@ -19,11 +19,13 @@ from typing import Any
 from skillwright.capability.model import Expression
 
 __all__ = [
+    "PERIODS",
     "UNIT_TOLERANCES",
     "Evaluation",
     "EvaluationError",
     "Value",
     "as_value",
+    "difference",
     "evaluate",
     "is_output_variable",
     "symbol",
@@ -69,8 +71,14 @@ def _number(value: Value, where: str) -> float:
     return float(value)
 
 
-def _angle_difference(a: float, b: float) -> float:
-    return abs(math.remainder(a - b, 2 * math.pi))
+PERIODS = {"rad": 2 * math.pi, "deg": 360.0, "°": 360.0, "degree": 360.0}
+"""Units of angles, and their full turn: such values are compared on the circle."""
+
+
+def difference(a: float, b: float, unit: str | None) -> float:
+    """``|a - b|``, the shorter way round the circle for an angle."""
+    period = PERIODS.get(unit or "")
+    return abs(math.remainder(a - b, period)) if period else abs(a - b)
 
 
 @dataclass
@@ -228,13 +236,13 @@ class _Evaluator:
         literal_bound = left.kind == "literal" or right.kind == "literal"
         tolerance = 0.0 if literal_bound else self.tolerances.get(unit or "", 0.0)
         tolerance += 1e-9 * max(1.0, abs(a), abs(b))
-        circular = unit == "rad" and name in ("eq", "neq", "approx")
-        difference = _angle_difference(a, b) if circular else abs(a - b)
-        self.margins.append(difference)
+        circular = name in ("eq", "neq", "approx")
+        gap = difference(a, b, unit if circular else None)
+        self.margins.append(gap)
         outcome = {
-            "eq": difference <= tolerance,
-            "approx": difference <= tolerance,
-            "neq": difference > tolerance,
+            "eq": gap <= tolerance,
+            "approx": gap <= tolerance,
+            "neq": gap > tolerance,
             "lt": a < b + tolerance,
             "gt": a > b - tolerance,
             "leq": a <= b + tolerance,

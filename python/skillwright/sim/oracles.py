@@ -40,6 +40,7 @@ from skillwright.sim.openmath import (
     EvaluationError,
     Value,
     as_value,
+    difference,
     evaluate,
     is_output_variable,
 )
@@ -132,9 +133,24 @@ def _elements(capability: Capability, direction: str) -> list[tuple[DataElement,
     return [(e, p) for p in parameters for e in p.components]
 
 
-def measure(quantity: str, truth: GroundTruth, start: float, end: float) -> Value | None:
+_DEGREES = ("deg", "°", "degree")
+_ANGLES = ("heading", "nearest_obstacle_bearing", "angular_velocity")
+
+
+def measure(
+    quantity: str, truth: GroundTruth, start: float, end: float, unit: str | None = None
+) -> Value | None:
     """The simulator's value of a quantity (see :data:`~skillwright.sim.scenario.QUANTITIES`)
-    for an execute state that ran from ``start`` to ``end``."""
+    for an execute state that ran from ``start`` to ``end``, in ``unit`` where that is
+    degrees (the simulator measures in radians)."""
+    value = _measure(quantity, truth, start, end)
+    base = (unit or "").split("/")[0]
+    if quantity in _ANGLES and base in _DEGREES and isinstance(value, float):
+        value = math.degrees(value)
+    return value
+
+
+def _measure(quantity: str, truth: GroundTruth, start: float, end: float) -> Value | None:
     sample = truth.at(end)
     if quantity.startswith("tcp_position_"):
         return sample.tcp["xyz".index(quantity[-1])]
@@ -195,7 +211,9 @@ def _values(context: _Context, outputs: Mapping[str, Value | None]) -> dict[str,
                 quantity = infer_quantity(instance)
                 if quantity is None:
                     continue
-                measured = measure(quantity, context.truth, context.exec_start, context.exec_start)
+                measured = measure(
+                    quantity, context.truth, context.exec_start, context.exec_start, instance.unit
+                )
                 if measured is not None:
                     values[instance.iri] = measured
     return values
@@ -225,8 +243,9 @@ def _constraint_verdicts(context: _Context) -> list[Verdict]:
     output_iris = {e.iri for e, _ in _elements(capability, "output") if e.iri}
     reported = {name: as_value(value) for name, value in context.run.outputs.items()}
     quantities = context.scenario.ground_truth
+    units = {e.name: e.unit for e, _ in _elements(capability, "output")}
     measured: dict[str, Value | None] = {
-        name: measure(q, context.truth, context.exec_start, context.exec_end)
+        name: measure(q, context.truth, context.exec_start, context.exec_end, units.get(name))
         for name, q in quantities.items()
     }
     verdicts: list[Verdict] = []
@@ -388,8 +407,8 @@ def _output_verdicts(context: _Context) -> list[Verdict]:
                 )
             )
             continue
-        measured = measure(quantity, context.truth, context.exec_start, context.exec_end)
         unit = (element.unit or "").strip() or None
+        measured = measure(quantity, context.truth, context.exec_start, context.exec_end, unit)
         tolerance = _tolerance_for(context, name, unit)
         check = f"{name} = {quantity}"
         values = {"reported": reported, "measured": measured}
@@ -438,15 +457,11 @@ def _output_verdicts(context: _Context) -> list[Verdict]:
             passed = value == measured
             message = f"reported {value!r}, measured {measured!r}"
         else:
-            difference = (
-                abs(math.remainder(value - float(measured), 2 * math.pi))
-                if unit == "rad"
-                else abs(value - float(measured))
-            )
-            passed = difference <= tolerance + 1e-9
+            gap = difference(value, float(measured), unit)
+            passed = gap <= tolerance + 1e-9
             message = (
                 f"reported {value:.4g}, measured {float(measured):.4g}: "
-                f"{'within' if passed else 'off by'} {difference:.3g}"
+                f"{'within' if passed else 'off by'} {gap:.3g}"
                 f"{' ' + unit if unit else ''} (tolerance {tolerance:g})"
             )
         verdicts.append(

@@ -173,31 +173,41 @@ def _words(parameter: Parameter | None, element: DataElement) -> str:
     return " ".join(parts).lower()
 
 
-def infer_quantity(element: DataElement, parameter: Parameter | None = None) -> str | None:
+_ANGLE_UNITS = ("rad", "deg", "°", "degree")
+_ARM_WORDS = ("tool", "tcp", "end effector", "end-effector", "arm", "manipulator")
+_SENSED_WORDS = ("lidar", "closest", "nearest", "obstacle", "scan")
+
+
+def infer_quantity(
+    element: DataElement, parameter: Parameter | None = None, context: str = ""
+) -> str | None:
     """What the simulator measures for an output (or a resource property), from its name,
-    unit and comment; ``None`` when nothing fits."""
+    unit and comment, and the capability's comment as ``context``; ``None`` when nothing
+    fits."""
     name = element.name.lower()
     unit = (element.unit or "").strip()
     words = _words(parameter, element)
+    around = f"{words} {context.lower()}"
     # An axis is a capital X/Y/Z after the name (outPositionX) or a suffix _x/_y/_z.
     found = re.search(r"[a-z0-9]([XYZ])$|_([xyzXYZ])$", element.name)
     axis = (found.group(1) or found.group(2)).lower() if found else ""
-    arm = any(w in words for w in ("tool", "tcp", "end effector", "end-effector", "arm"))
     if "position" in name and axis:
-        if arm:
+        if any(w in around for w in _ARM_WORDS):
             return f"tcp_position_{axis}"
         return f"position_{axis}" if axis in "xy" else None
-    sensed = any(w in words for w in ("lidar", "closest", "nearest", "obstacle", "scan"))
+    sensed = any(w in around for w in _SENSED_WORDS)
+    angle = unit in _ANGLE_UNITS or any(w in name for w in ("angle", "degree", "bearing"))
+    if "angular" in name or unit in ("rad/s", "deg/s"):
+        # A name that says angular wins over a unit that says m/s (a slip in a model).
+        return "angular_velocity"
     if unit == "m" and sensed and ("distance" in name or "range" in words):
         return "nearest_obstacle_distance"
-    if unit == "rad" and sensed and ("angle" in name or "bearing" in words):
+    if angle and sensed:
         return "nearest_obstacle_bearing"
-    if unit == "rad" and "heading" in name:
+    if angle and ("heading" in name or "degree" in name or "orientation" in name):
         return "heading"
     if unit == "m/s":
         return "linear_velocity_y" if axis == "y" else "linear_velocity_x"
-    if unit == "rad/s":
-        return "angular_velocity"
     if unit == "m" and "map" in name:
         if "length" in name:
             return "map_length"
@@ -281,7 +291,7 @@ def _complete(scenario: Scenario, capability: Capability, notes: list[str]) -> S
         for element in parameter.components:
             if element.name in ground_truth:
                 continue
-            quantity = infer_quantity(element, parameter)
+            quantity = infer_quantity(element, parameter, capability.comment or "")
             if quantity is not None:
                 ground_truth[element.name] = quantity
             else:

@@ -792,7 +792,8 @@ class MujocoWorld:
         elif self._map_pose is not None:
             moved = math.hypot(pose[0] - self._map_pose[0], pose[1] - self._map_pose[1])
             turned = abs(math.remainder(pose[2] - self._map_pose[2], 2 * math.pi))
-            if moved < 0.1 and turned < 0.1:
+            # slam_toolbox's defaults: a scan joins the map after 0.5 m or 0.5 rad of motion.
+            if moved < 0.5 and turned < 0.5:
                 return
         self._map_pose = pose
         self._map.integrate(*pose, angles, ranges, geometry.range_max)
