@@ -259,7 +259,13 @@ def _run_scenario(
             "stop_after": scenario.stop_after,
             "stop_run": scenario.stop_run,
             "expect": "abort" if scenario.expect == "aborted" else "complete",
-            "deadlines": {"state": scenario.duration, **scenario.runtime.get("deadlines", {})},
+            # A run's wall deadline grows with the scenario: on a busy machine a minute of
+            # virtual time may take several of wall time; busy loops are caught by CPU time.
+            "deadlines": {
+                "state": scenario.duration,
+                "run": max(120.0, 6.0 * scenario.duration),
+                **scenario.runtime.get("deadlines", {}),
+            },
         }
     )
     run = run_skill(

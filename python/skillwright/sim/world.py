@@ -982,7 +982,8 @@ class MujocoWorld:
         x0, y0, x1, y1 = self._world_bounds(margin=2.0)
         x0, x1 = min(x0, goal[0] - 2.0), max(x1, goal[0] + 2.0)
         y0, y1 = min(y0, goal[1] - 2.0), max(y1, goal[1] + 2.0)
-        frame = GridFrame.covering(x0, y0, x1, y1, 0.05)
+        # 10 cm cells: fine enough for a 0.54 m wide base, cheap enough to plan in Python.
+        frame = GridFrame.covering(x0, y0, x1, y1, 0.1)
         xs = frame.origin_x + (np.arange(frame.width) + 0.5) * frame.resolution
         ys = frame.origin_y + (np.arange(frame.height) + 0.5) * frame.resolution
         px, py = np.meshgrid(xs, ys)
