@@ -175,3 +175,20 @@ def test_an_unbound_variable_or_an_unknown_operator_is_an_evaluation_error(
 def test_symbols_are_content_dictionary_and_name() -> None:
     assert symbol("http://www.openmath.org/cd/arith1#abs") == "arith1#abs"
     assert symbol(None) == ""
+
+
+@pytest.mark.parametrize(
+    ("a", "b", "unit", "gap"),
+    [
+        (359.0, 1.0, "°", 2.0),
+        (6.2, 0.1, "rad", 2 * math.pi - 6.1),
+        (359.0, 1.0, "m", 358.0),
+        (1.0, 3.0, None, 2.0),
+    ],
+)
+def test_angles_in_degrees_and_radians_are_compared_on_the_circle(
+    a: float, b: float, unit: str | None, gap: float
+) -> None:
+    from skillwright.sim.openmath import difference
+
+    assert difference(a, b, unit) == pytest.approx(gap)

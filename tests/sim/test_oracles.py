@@ -296,3 +296,15 @@ def test_a_scenario_tolerance_for_an_output_replaces_the_units(
     )["output:outDistance"]
     assert verdict.passed is passed
     assert verdict.tolerance == tolerance
+
+
+def test_an_angle_in_degrees_is_measured_in_degrees() -> None:
+    from skillwright.sim.oracles import measure
+
+    truth = GroundTruth()
+    truth.add(
+        Sample(0.0, 0.0, 0.0, -math.pi / 2, 0.0, 0.0, 0.5, (0.0, 0.0, 0.0), False, (0.0, 0.0, 0.0))
+    )
+    assert measure("heading", truth, 0.0, 0.0, "°") == pytest.approx(270.0)
+    assert measure("heading", truth, 0.0, 0.0, "rad") == pytest.approx(3 * math.pi / 2)
+    assert measure("angular_velocity", truth, 0.0, 0.0, "deg/s") == pytest.approx(math.degrees(0.5))

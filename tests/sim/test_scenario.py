@@ -194,3 +194,28 @@ def test_a_world_file_is_found_relative_to_the_scenario_file(
     )
     chosen = scenarios_for(mr1_capabilities["move-forward"], path)
     assert chosen.folder == str(tmp_path)
+
+
+def test_the_papers_models_bind_every_output_with_the_capabilitys_comment_as_context(
+    shared_data: Path,
+) -> None:
+    from skillwright.capability.reader import load_capability
+
+    expected = {
+        "get-distance-to-nearest-object": {
+            "outDistance": "nearest_obstacle_distance",
+            "outDegree": "nearest_obstacle_bearing",
+        },
+        "rotate": {"outDegree": "heading", "outVelocity": "linear_velocity_x"},
+        "move-to-point": {
+            "outPositionX": "tcp_position_x",
+            "outPositionY": "tcp_position_y",
+            "outPositionZ": "tcp_position_z",
+        },
+    }
+    for name, bindings in expected.items():
+        capability = load_capability(
+            shared_data / "cap2skill" / "capability-models" / f"{name}.ttl"
+        ).capability
+        chosen = scenarios_for(capability)
+        assert chosen.scenarios[0].ground_truth == bindings, name
