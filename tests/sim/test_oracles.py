@@ -45,7 +45,6 @@ def _truth(
                 0.0,
                 0.0,
                 (0.0, 0.0, 0.0),
-                False,
                 (0.0, 0.0, 0.0),
             )
         )
@@ -302,9 +301,75 @@ def test_an_angle_in_degrees_is_measured_in_degrees() -> None:
     from skillwright.sim.oracles import measure
 
     truth = GroundTruth()
-    truth.add(
-        Sample(0.0, 0.0, 0.0, -math.pi / 2, 0.0, 0.0, 0.5, (0.0, 0.0, 0.0), False, (0.0, 0.0, 0.0))
-    )
+    truth.add(Sample(0.0, 0.0, 0.0, -math.pi / 2, 0.0, 0.0, 0.5, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
     assert measure("heading", truth, 0.0, 0.0, "°") == pytest.approx(270.0)
     assert measure("heading", truth, 0.0, 0.0, "rad") == pytest.approx(3 * math.pi / 2)
     assert measure("angular_velocity", truth, 0.0, 0.0, "deg/s") == pytest.approx(math.degrees(0.5))
+
+
+def _publish(t: float, state: str, vx: float) -> dict[str, object]:
+    twist = {"linear": {"x": vx, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": 0.0}}
+    return {"t": t, "kind": "publish", "state": state, "topic": "/cmd_vel", "message": twist}
+
+
+def _state(t: float, name: str, phase: str) -> dict[str, object]:
+    return {"t": t, "kind": "state", "name": name, "phase": phase}
+
+
+def test_what_the_next_state_does_at_the_same_instant_does_not_count_for_rest(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    events = [
+        _state(0.5, "execute", "begin"),
+        _publish(1.0, "execute", 0.4),
+        _state(2.0, "execute", "end"),
+        _state(2.0, "stopping", "begin"),
+        _state(2.1, "stopping", "end"),
+        _state(2.1, "resetting", "begin"),
+        _publish(2.1, "resetting", 0.0),
+        _state(2.1, "resetting", "end"),
+    ]
+    run = RunView(
+        states=[
+            StateSpan("execute", 0.5, 2.0, "interrupted"),
+            StateSpan("stopping", 2.0, 2.1),
+            StateSpan("resetting", 2.1, 2.1),
+        ],
+        outputs={},
+        ended="stopped",
+        end_time=2.1,
+        events=events,
+        command_topic="/cmd_vel",
+    )
+    verdict = _by_oracle(
+        judge(mr1_capabilities["move-forward"], MOVE, run, _truth(1.5), "stopped")
+    )["rest:stopping"]
+    assert verdict.passed is False
+    assert "the skill's last command (t=1.00 s, in execute)" in verdict.message
+
+
+def test_a_goal_the_world_finished_before_the_state_ended_leaves_the_base_at_rest(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    goal = {"kind": "world.goal", "action": "/navigate_to_pose", "accepted": 1.0}
+    events = [
+        _state(0.5, "execute", "begin"),
+        {**goal, "t": 1.0, "outcome": "executing"},
+        _publish(1.5, "execute", 0.3),
+        {**goal, "t": 4.0, "outcome": "succeeded", "finished": 4.0},
+        _state(4.5, "execute", "end"),
+    ]
+    run = RunView(
+        states=[StateSpan("execute", 0.5, 4.5)],
+        outputs={},
+        ended="completed",
+        end_time=4.5,
+        events=events,
+        command_topic="/cmd_vel",
+    )
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["navigate-to-point"], Scenario(name="s"), run, _truth(1.5), "completed"
+        )
+    )["rest:execute"]
+    assert verdict.passed is True

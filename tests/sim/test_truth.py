@@ -10,7 +10,7 @@ from skillwright.sim.truth import CommandRecord, GroundTruth, Sample, wrap_pi, w
 
 
 def _sample(t: float, x: float, y: float = 0.0) -> Sample:
-    return Sample(t, x, y, 0.0, 0.0, 0.0, 0.0, (0.0, 0.0, 0.0), False, (0.0, 0.0, 0.0))
+    return Sample(t, x, y, 0.0, 0.0, 0.0, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
 
 
 @pytest.mark.parametrize(

@@ -106,7 +106,6 @@ class MotionWorld(Protocol):
     @property
     def now(self) -> float: ...
     def base_pose(self) -> tuple[float, float, float]: ...
-    def base_velocity(self) -> Command: ...
     def drive(self, command: Command) -> None: ...
     def plan(
         self, start: tuple[float, float], goal: tuple[float, float]
@@ -163,14 +162,9 @@ class BaseMotionServer:
         self.next_tick: float | None = None
         self._entry: dict[str, Any] = {}
 
-    def handler(self, action: str, kind: str, type_name: str) -> _ActionAdapter:
-        """The action handler for ``action`` (served as ``kind``)."""
+    def handler(self, kind: str, type_name: str) -> _ActionAdapter:
+        """The action handler of an action of ``type_name``, served as ``kind``."""
         return _ActionAdapter(lambda goal: self.on_goal(goal, kind, type_name), self.on_cancel)
-
-    @property
-    def active(self) -> bool:
-        """Whether a goal is being executed."""
-        return self.task is not None
 
     # --- goals -----------------------------------------------------------------------
     def on_goal(self, goal: ActionGoal, kind: str, type_name: str) -> None:
@@ -448,11 +442,6 @@ class ArmServer:
         """The action handler of the move-group action of type ``type_name``."""
         self.type_name = type_name
         return _ActionAdapter(self.on_goal, self.on_cancel)
-
-    @property
-    def active(self) -> bool:
-        """Whether the arm is moving for a goal."""
-        return self.goal is not None
 
     def _result(self, code: int) -> Message:
         template = self.world.message(f"{self.type_name}_Result")

@@ -12,6 +12,9 @@ For one run of a skill in a scenario:
 * ``output:<name>`` — each reported output equals its measured value, within the tolerance
   of its unit (angles on the circle); ``assured:<name>`` — an output whose value the model
   asserts (``outLinearVelocity = 0.0``, Assurance) is reported with that value.
+* ``requirement:<input>`` — an input that is a requirement on the motion
+  (``inMinObstacleDistance``, ``>=``): the clearance the lidar saw stays above it, less the
+  distance the base needs to brake once something came that close.
 * ``limit:<property>`` — the resource's velocity requirements (``linearVelocity <= 0.8``)
   are never exceeded: neither by a command the skill published nor by the base's measured
   velocity.
@@ -63,7 +66,15 @@ class Verdict(BaseModel):
 
     oracle: str = Field(description="Identifier, e.g. `constraint:distanceCovered`.")
     kind: Literal[
-        "outcome", "precondition", "constraint", "truth", "output", "limit", "contact", "rest"
+        "outcome",
+        "precondition",
+        "constraint",
+        "truth",
+        "output",
+        "requirement",
+        "limit",
+        "contact",
+        "rest",
     ] = Field(description="Which family of oracle.")
     check: str = Field(description="What it checks, e.g. `abs(outDistance - inDistance) <= 0.02`.")
     passed: bool | None = Field(description="True, False, or None when it does not apply.")
@@ -99,6 +110,47 @@ class RunView:
     message: str = ""
     """Why the run aborted or failed, in the runtime's words."""
     notes: list[str] = field(default_factory=list)
+    events: list[dict[str, Any]] = field(default_factory=list)
+    """The runtime's trace entries in the order things happened (several can share a time)."""
+    command_topic: str | None = None
+    """The base's velocity command topic."""
+
+    def at_end_of(self, state: str) -> _InForce | None:
+        """The skill's velocity command and the world's running goals when ``state`` ended,
+        in the order of events (a command published by the next state at the same virtual
+        time does not count); ``None`` when the trace does not show the state's end."""
+        end = None
+        for index, event in enumerate(self.events):
+            if (
+                event.get("kind") == "state"
+                and event.get("name") == state
+                and event.get("phase") in ("end", "absent")
+            ):
+                end = index
+        if end is None:
+            return None
+        found = _InForce()
+        for event in self.events[: end + 1]:
+            kind = event.get("kind")
+            if kind == "publish" and event.get("topic") == self.command_topic:
+                message = event.get("message") or {}
+                twist = message.get("twist", message)
+                linear, angular = twist.get("linear") or {}, twist.get("angular") or {}
+                found.command = (
+                    float(linear.get("x", 0.0) or 0.0),
+                    float(linear.get("y", 0.0) or 0.0),
+                    float(angular.get("z", 0.0) or 0.0),
+                )
+                found.published = (float(event.get("t", 0.0)), event.get("state"))
+            elif kind == "world.goal":
+                key = f"{event.get('action')}@{event.get('accepted')}"
+                if event.get("outcome") == "executing":
+                    found.goals[key] = str(event.get("action"))
+                elif key in found.goals:
+                    del found.goals[key]
+                    # The world's controller stopped the base when its goal ended.
+                    found.command = (0.0, 0.0, 0.0)
+        return found
 
     def state_at(self, t: float) -> str | None:
         """The state running at ``t``."""
@@ -114,6 +166,17 @@ class RunView:
             if span.name == name:
                 found = span
         return found
+
+
+@dataclass
+class _InForce:
+    """What kept the base moving at a moment of a run."""
+
+    command: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    published: tuple[float, str | None] | None = None
+    """Time and state of the skill's last velocity command."""
+    goals: dict[str, str] = field(default_factory=dict)
+    """Running goals of the world's action servers (key -> action)."""
 
 
 @dataclass
@@ -480,6 +543,54 @@ def _output_verdicts(context: _Context) -> list[Verdict]:
     return verdicts
 
 
+def _requirement_verdicts(context: _Context) -> list[Verdict]:
+    """Inputs that are requirements on the motion (``inMinObstacleDistance >=``): the
+    clearance the lidar saw never fell below the requested one by more than the base
+    needs to brake from the speed it had when something first came that close."""
+    verdicts = []
+    truth = context.truth
+    for element, parameter in _elements(context.capability, "input"):
+        if element.expression_goal != "Requirement" or element.logic_interpretation not in (
+            ">=",
+            ">",
+        ):
+            continue
+        if (element.unit or "").strip() != "m" or infer_quantity(
+            element, parameter, "obstacle"
+        ) != "nearest_obstacle_distance":
+            continue
+        required = as_value(context.scenario.inputs.get(element.name))
+        seen = truth.clearance(context.exec_start, context.exec_end)
+        if not isinstance(required, float) or seen is None:
+            continue
+        closest, when = seen
+        crossed = truth.first_closer(context.exec_start, context.exec_end, required)
+        speed = truth.at(crossed).speed if crossed is not None else 0.0
+        allowance = (
+            speed * speed / (2.0 * truth.braking)
+            + speed * truth.reaction
+            + _tolerance_for(context, element.name, "m")
+        )
+        passed = closest >= required - allowance
+        verdicts.append(
+            Verdict(
+                oracle=f"requirement:{element.name}",
+                kind="requirement",
+                check=f"clearance {element.logic_interpretation} {element.name}",
+                passed=passed,
+                message=(
+                    f"closest {closest:.3g} m at t={when:.2f} s for {required:g} m required "
+                    f"(allowing {allowance:.3g} m to brake from {speed:.2g} m/s)"
+                ),
+                measured={"closest": closest, "required": required, "allowance": allowance},
+                tolerance=allowance,
+                time=when,
+                state=context.run.state_at(when),
+            )
+        )
+    return verdicts
+
+
 def _limit_verdicts(context: _Context) -> list[Verdict]:
     capability = context.capability
     if capability.resource is None:
@@ -595,9 +706,19 @@ def _rest_verdict(context: _Context, state: str) -> Verdict:
         return Verdict(oracle=oracle, kind="rest", check=check, passed=None, message="no state ran")
     t = span.end
     truth = context.truth
-    in_force = truth.command_in_force(t)
-    vx, vy, wz = in_force[1:4] if in_force is not None else (0.0, 0.0, 0.0)
-    goals = truth.goals_active_at(t)
+    seen = context.run.at_end_of(span.name)
+    if seen is None:
+        # The trace lost the state's end (too long a run): judge by the virtual times.
+        seen = _InForce()
+        last = truth.command_in_force(t)
+        if last is not None:
+            seen.command = (last[1], last[2], last[3])
+        skill = truth.skill_command_at(t)
+        if skill is not None:
+            seen.published = (skill.t, context.run.state_at(skill.t))
+        seen.goals = {g: g for g in truth.goals_active_at(t)}
+    vx, vy, wz = seen.command
+    goals = sorted(set(seen.goals.values()))
     sample = truth.at(t)
     measured = {
         "time": t,
@@ -619,13 +740,14 @@ def _rest_verdict(context: _Context, state: str) -> Verdict:
             state=span.name,
         )
     if abs(vx) > REST_LINEAR or abs(vy) > REST_LINEAR or abs(wz) > REST_ANGULAR:
-        last = truth.skill_command_at(t)
-        where = context.run.state_at(last.t) if last is not None else None
-        origin = (
-            f"; the skill's last command (t={last.t:.2f} s, in {where or 'no state'}) was not zero"
-            if last is not None
-            else ""
-        )
+        origin = ""
+        where = None
+        if seen.published is not None:
+            when, where = seen.published
+            origin = (
+                f"; the skill's last command (t={when:.2f} s, in {where or 'no state'}) "
+                "was not zero"
+            )
         return Verdict(
             oracle=oracle,
             kind="rest",
@@ -735,6 +857,7 @@ def judge(
             else (run.states[-1].name if run.states else "execute")
         )
         verdicts.append(_rest_verdict(context, last))
+    verdicts += _requirement_verdicts(context)
     verdicts += _limit_verdicts(context)
     verdicts.append(_contact_verdict(context))
     return [v for v in verdicts if v.oracle not in scenario.skip and v.kind not in scenario.skip]

@@ -41,8 +41,6 @@ class Sample:
     wz: float
     command: tuple[float, float, float]
     """The velocity command the driver held at that moment."""
-    motion_goal: bool
-    """Whether a navigation or arm goal of the world was being executed."""
     tcp: tuple[float, float, float]
     """The arm's tool centre point in its base frame."""
 
@@ -92,6 +90,10 @@ class GroundTruth:
     """Maps written through a map-saver service: the url asked for and the files written."""
     start: tuple[float, float, float] = (0.0, 0.0, 0.0)
     """The start pose (x, y, heading) in the map frame."""
+    braking: float = 1.0
+    """The base driver's deceleration [m/s^2]."""
+    reaction: float = 0.1
+    """The lidar's scan period [s]: how late a skill can know of an obstacle."""
     _times: list[float] = field(default_factory=list, repr=False)
 
     def add(self, sample: Sample) -> None:
@@ -169,6 +171,18 @@ class GroundTruth:
                 break
             found = (distance, bearing)
         return found
+
+    def clearance(self, t0: float, t1: float) -> tuple[float, float] | None:
+        """The smallest nearest-obstacle range of the scans between two times, and when."""
+        seen = [(d, t) for t, d, _ in self.nearest if t0 - 1e-9 <= t <= t1 + 1e-9]
+        return min(seen) if seen else None
+
+    def first_closer(self, t0: float, t1: float, distance: float) -> float | None:
+        """When a scan between two times first saw something nearer than ``distance``."""
+        for t, d, _ in self.nearest:
+            if t0 - 1e-9 <= t <= t1 + 1e-9 and d < distance:
+                return t
+        return None
 
     def extent_at(self, t: float) -> tuple[float, float] | None:
         """Mapped extent (along, across the start heading) at or before ``t``."""

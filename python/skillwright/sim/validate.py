@@ -56,7 +56,7 @@ def _noise(scenario: Scenario) -> Noise:
     return Noise(**given)
 
 
-def _run_view(episode: Any) -> RunView:
+def _run_view(episode: Any, command_topic: str | None) -> RunView:
     """The runtime's episode trace as the oracles see it."""
     states = [
         StateSpan(
@@ -99,6 +99,8 @@ def _run_view(episode: Any) -> RunView:
         ended=ended,
         end_time=float(episode.virtual_seconds),
         message=message,
+        events=list(episode.events),
+        command_topic=command_topic,
     )
 
 
@@ -287,7 +289,7 @@ def _run_scenario(
         notes=list(dict.fromkeys(n for w in worlds.made[:1] for n in w.notes)),
     )
     for episode, world in zip(run.trace.episodes, worlds.made, strict=False):
-        view = _run_view(episode)
+        view = _run_view(episode, setup.bindings.command_topic)
         expected: Literal["completed", "stopped", "aborted"] = (
             "stopped" if episode.name == "stop" else scenario.expect
         )

@@ -144,6 +144,9 @@ class MujocoWorld:
         self.data.qpos[self._qpos] = (x, y, yaw)
         mujoco.mj_forward(self.model, self.data)
         self.kinematics, self.driver, self.nav_config = self._drive()
+        self.truth.braking = self.driver.limits.accel_linear
+        scan_rates = [bindings.rates[t] for t in bindings.scan_topics]
+        self.truth.reaction = 1.0 / min(scan_rates) if scan_rates else 0.1
         self.frames = self._frames()
         self.map_frame = facts.map_frame or "map"
         self.odom_frame = facts.odom_frame or "odom"
@@ -152,14 +155,12 @@ class MujocoWorld:
         self.odom = [0.0, 0.0, 0.0]
         self._odom_twist = Command()
         self._last_velocity = Command()
-        self._acceleration = (0.0, 0.0)
         self._touching: set[int] = set()
         self._blocked: tuple[Any, Any] | None = None
         self._map: Any = None
         self._map_pose: tuple[float, float, float] | None = None
         self._map_updates = 0
         self._map_published = -1
-        self._scan_cache: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
         self.host: GraphHost | None = None
         self.streams: list[_Stream] = []
         self.base_server = BaseMotionServer(self, self.nav_config)
@@ -326,7 +327,7 @@ class MujocoWorld:
                 self.arm = ArmServer(self, self._arm_config(), self._arm_frames())
                 host.serve_action(name, self.arm.handler(type_name))
             else:
-                host.serve_action(name, self.base_server.handler(name, kind, type_name))
+                host.serve_action(name, self.base_server.handler(kind, type_name))
         for name, kind in bindings.services.items():
             type_name = bindings.service_types[name]
             if kind in ("nav2_save_map", "slam_save_map"):
@@ -506,7 +507,6 @@ class MujocoWorld:
         velocity = self.base_velocity()
         physics_time = float(self.data.time)
         command = self.driver.target(physics_time)
-        active = self.base_server.active or (self.arm is not None and self.arm.active)
         tcp = self.arm.tcp if self.arm is not None else (0.0, 0.0, 0.0)
         self.truth.add(
             Sample(
@@ -518,7 +518,6 @@ class MujocoWorld:
                 vy=velocity.vy,
                 wz=velocity.wz,
                 command=(command.vx, command.vy, command.wz),
-                motion_goal=active,
                 tcp=tcp,
             )
         )
@@ -560,7 +559,7 @@ class MujocoWorld:
                 self._odometry_emitter(topic, tf_with_odometry and index == 0),
             )
         if b.tf_topic and not b.odometry_topics:
-            add(b.tf_topic, 50.0, 0.0, self._base_tf_emitter())
+            add(b.tf_topic, 50.0, 0.0, self._publish_base_tf)
         for index, topic in enumerate(b.scan_topics):
             add(topic, b.rates[topic], _SCAN_OFFSET + 0.001 * index, self._scan_emitter(topic))
         for topic in b.imu_topics:
@@ -634,9 +633,6 @@ class MujocoWorld:
                 self._publish_base_tf(t)
 
         return emit
-
-    def _base_tf_emitter(self) -> Callable[[float], None]:
-        return self._publish_base_tf
 
     def _publish_base_tf(self, t: float) -> None:
         assert self.bindings.tf_topic is not None
