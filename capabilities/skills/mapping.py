@@ -164,8 +164,10 @@ class MappingSkill(ROS2Skill):
         self.plan = []
         for lane in range(lanes):
             across = self.in_area_width * lane / (lanes - 1)
-            along = [self.in_area_length, 0.0] if lane % 2 == 0 else [0.0, self.in_area_length]
-            for distance in along:
+            ends = [0.0, self.in_area_length] if lane % 2 == 0 else [self.in_area_length, 0.0]
+            if lane == 0:
+                ends = ends[1:]  # the sweep starts where the robot stands
+            for distance in ends:
                 self.plan.append(
                     (
                         x0 + distance * math.cos(heading) - across * math.sin(heading),

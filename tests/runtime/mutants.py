@@ -243,7 +243,7 @@ MUTANTS: tuple[Mutant, ...] = (
             ),
         ),
     ),
-    Mutant("mapping", "hard-coded input", (), hardcode=("in_area_length", "2.0")),
+    Mutant("mapping", "hard-coded input", (), hardcode=("in_area_length", "1.5")),
     Mutant(
         "mapping",
         "never returns",

@@ -55,7 +55,7 @@ def deliveries_until(graph: GraphHost, until: float) -> list[tuple[float, dict[s
     seen = []
     while graph.now < until:
         for delivery in graph.advance(until, cap=100.0):
-            seen.append((graph.now, delivery))
+            seen.append((delivery.pop("t"), delivery))
     return seen
 
 
@@ -105,7 +105,7 @@ def test_a_late_transient_local_subscription_gets_the_latched_message(
     )
 
     first = graph.advance(1.0, cap=100.0)
-    assert [d["id"] for d in first] == [late]
+    assert [(d["id"], d["t"]) for d in first] == [(late, 1.0)]
     assert {t["child_frame_id"] for t in first[0]["data"]["transforms"]} >= {
         "base_link",
         "laser_link",
@@ -204,6 +204,7 @@ def test_the_skills_publications_are_checked_recorded_and_looped_back(
         {
             "id": own,
             "data": graph.registry.conform("geometry_msgs/msg/Twist", {"linear": {"x": 0.5}}),
+            "t": 0.0,
         }
     ]
     assert graph.published["/cmd_vel"][0][1]["angular"] == {"x": 0.0, "y": 0.0, "z": 0.0}

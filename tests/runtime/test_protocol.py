@@ -52,6 +52,17 @@ def test_replies_reach_the_child(pair: tuple[Wire, socket.socket]) -> None:
     }
 
 
+def test_an_oversized_header_is_refused_without_waiting_for_more_data(
+    pair: tuple[Wire, socket.socket],
+) -> None:
+    wire, child = pair
+    child.sendall(_frame(b'{"op": "log"}') + struct.pack(">I", MAX_FRAME + 1) + b"x" * 10)
+    assert _receive(wire) == {"op": "log"}
+    assert wire.pending()
+    with pytest.raises(ProtocolError, match="larger than"):
+        wire.receive()
+
+
 @pytest.mark.parametrize(
     ("data", "problem"),
     [

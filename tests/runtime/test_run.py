@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 import math
-import tempfile
 import threading
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from skillwright.errors import GenerationCancelledError, InvalidArgumentError
 from skillwright.interfaces.inventory import Inventory
+from skillwright.runtime import session
 from skillwright.runtime.report import RunProgress
 from skillwright.runtime.run import run_skill
+from skillwright.runtime.sandbox import SandboxProcess, start_child
 from skillwright.runtime.scenario import ActionScript, load_scenario
 from tests.conftest import REPO_ROOT
 from tests.runtime.conftest import SKILLS, quick, skill_path
@@ -156,16 +158,21 @@ def test_a_file_without_a_skill_is_a_finding_not_a_run(
     assert report.trace.episodes == []
 
 
-def test_cancelling_kills_the_run_and_leaves_nothing(mr1_inventory: Inventory) -> None:
+def test_cancelling_kills_the_run_and_leaves_nothing(
+    mr1_inventory: Inventory, monkeypatch: pytest.MonkeyPatch
+) -> None:
     cancel = threading.Event()
-    started: list[str] = []
-    before = set(Path(tempfile.gettempdir()).glob("skillwright-run-*"))
+    children: list[SandboxProcess] = []
+
+    def start(*args: Any) -> SandboxProcess:
+        children.append(start_child(*args))
+        return children[-1]
 
     def on_progress(progress: RunProgress) -> None:
         if progress.event == "state-start" and progress.state == "execute":
-            started.append("execute")
             cancel.set()
 
+    monkeypatch.setattr(session, "start_child", start)
     with pytest.raises(GenerationCancelledError):
         run_skill(
             skill_path("navigate_to_point"),
@@ -176,5 +183,6 @@ def test_cancelling_kills_the_run_and_leaves_nothing(mr1_inventory: Inventory) -
             on_progress=on_progress,
             cancel=cancel,
         )
-    assert started == ["execute"]
-    assert set(Path(tempfile.gettempdir()).glob("skillwright-run-*")) <= before
+    [child] = children
+    assert child.process.returncode is not None
+    assert not child.temp.exists()

@@ -23,12 +23,15 @@ Virtual, lockstep time
 Everything in the child that reads or waits on time reads a virtual clock only the host
 advances. When the skill blocks until virtual time ``t`` (``time.sleep``, ``spin_once``,
 ``rate.sleep``, waiting for a future, a transform, an event), the child asks the host to
-advance; the host steps every source of events up to the first one due (at most ``t``)
-and returns the deliveries at that instant; the child runs the callbacks on its main
-thread (a single-threaded executor spinning inside the wait) and waits again if it must.
-Runs are deterministic for a seed and much faster than real time. A state that never
-blocks never advances time: the wall and CPU deadlines catch it and the finding names
-the line where it was looping.
+advance; the host steps every source of events towards ``t`` and returns the deliveries
+on the way, each with its time, stopping at most a *lookahead* (scenario setting,
+default 20 ms) after the first one; the child runs the callbacks in time order on its
+main thread (a single-threaded executor spinning inside the wait), its clock following
+each delivery's time, and returns when the skill's condition holds. What the skill does
+in reply reaches the graph at most a lookahead later (``lookahead: 0`` is strict
+lockstep). Runs are deterministic for a seed and much faster than real time. A state
+that never blocks never advances time: its CPU time catches it and the finding names the
+line where it was looping.
 
 The host API a world implements against (issue 15)
 --------------------------------------------------
@@ -40,11 +43,13 @@ A world is any object with the four methods of :class:`~skillwright.runtime.api.
         def advance(self, until: float) -> None: ... # step to `until`, publish what is due
         def close(self) -> None: ...
 
-The runtime calls ``attach`` once before the skill starts, then ``advance(t)`` with
-non-decreasing ``t`` every time virtual time moves to ``t`` (to the world's own
-``next_event()``, to another source's event, or to the time the skill waits for), and
-``close`` at the end (also after errors and cancellation). Messages the world publishes
-during ``advance(t)`` are stamped ``t``.
+The runtime calls ``attach`` once before each episode (a run has one or two: the normal
+one and one with a Stop; a world object must start afresh in ``attach``, or pass
+``run_skill`` a factory), then ``advance(t)`` with non-decreasing ``t`` every time
+virtual time moves to ``t`` (to the world's own ``next_event()``, to another source's
+event, or to the time the skill waits for), and ``close`` at the end of the episode
+(also after errors and cancellation). Messages the world publishes during
+``advance(t)`` are stamped ``t``.
 
 :class:`~skillwright.runtime.graph.GraphHost` is what the world gets in ``attach``:
 
@@ -57,8 +62,8 @@ during ``advance(t)`` are stamped ``t``.
     The world publishes ``topic`` from now on: replayed and default messages on it stop.
 ``host.publish(topic, message)``
     Deliver ``message`` (a dict) to the skill's subscribers of ``topic`` at ``now``.
-    Missing fields take their defaults; a field the type does not have raises
-    ``ValueError`` naming it.
+    Missing fields take their defaults; the first messages on each topic are checked,
+    and a field the type does not have raises ``ValueError`` naming it.
 ``host.on_publish(topic, callback)``
     ``callback(time, message)`` for every message the skill publishes on ``topic``
     (``message`` a complete dict of the topic's type), called as it happens.

@@ -22,12 +22,14 @@ def _value(text: str) -> float | int | bool | str:
     lowered = text.strip().lower()
     if lowered in {"true", "false"}:
         return lowered == "true"
-    for convert in (int, float):
-        try:
-            return convert(text)  # type: ignore[no-any-return, operator]
-        except ValueError:
-            continue
-    return text
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        return float(text)
+    except ValueError:
+        return text
 
 
 def parse_inputs(values: tuple[str, ...]) -> dict[str, float | int | bool | str]:

@@ -49,6 +49,8 @@ __all__ = ["Endpoint", "GraphHost", "Replay"]
 
 Message = dict[str, Any]
 _DEFAULT_RATE_HZ: Final = 10.0
+_WORLD_CHECKS: Final = 5
+"""Messages per topic of a world that are checked against the topic's type."""
 _MAX_STEPS: Final = 200_000
 """Events one advance may process before the graph calls a world broken (a world whose
 ``next_event`` never moves on)."""
@@ -200,6 +202,8 @@ class GraphHost:
         self.rng = random.Random(scenario.seed)
         self._recorder = recorder
         self._scenario = scenario
+        self.lookahead = scenario.lookahead
+        """Virtual seconds the graph may run ahead of the skill after a delivery."""
         self._epoch_ns = epoch_ns
         self._now = 0.0
         self._heap: list[_Scheduled] = []
@@ -215,6 +219,7 @@ class GraphHost:
         self._world_services: set[str] = set()
         self._world_actions: set[str] = set()
         self._owned: set[str] = set()
+        self._world_checked: dict[str, int] = {}
         self._watchers: dict[str, list[Callable[[float, Message], None]]] = {}
         self._publishers_running: set[str] = set()
         self._goals: dict[int, _GoalRecord] = {}
@@ -289,13 +294,20 @@ class GraphHost:
         self._owned.add(topic)
 
     def publish(self, topic: str, message: Message) -> None:
-        """Delivers ``message`` on ``topic`` to the skill's subscriptions at ``now``."""
+        """Delivers ``message`` on ``topic`` to the skill's subscriptions at ``now``.
+
+        The first messages on each topic are checked against its type (a ``ValueError``
+        names a field that does not fit); later ones are trusted to keep their shape,
+        since checking every 50 Hz message would cost more than simulating it.
+        """
         info = self._topics.get(topic)
-        type_name = info.type_name if info is not None else None
-        if type_name is None:
+        if info is None:
             raise ValueError(f"the robot has no topic {topic}; worlds publish on its topics only")
-        data = self.registry.conform(type_name, message, topic)
-        self._deliver_topic(topic, data)
+        checked = self._world_checked.get(topic, 0)
+        if checked < _WORLD_CHECKS:
+            self._world_checked[topic] = checked + 1
+            message = self.registry.conform(info.type_name, message, topic)
+        self._deliver_topic(topic, message)
 
     def on_publish(self, topic: str, callback: Callable[[float, Message], None]) -> None:
         """Calls ``callback(time, message)`` for every message the skill publishes on ``topic``
@@ -402,11 +414,13 @@ class GraphHost:
             self._replayed(topic, payload, round_)
 
     def advance(self, until: float | None, cap: float) -> list[Message]:
-        """Steps the graph to the first event due at or before ``until`` (``None``: the
-        next event, whenever it is), never beyond ``cap``; returns the deliveries due then.
+        """Steps the graph towards ``until`` (``None``: the next event, whenever it is),
+        never beyond ``cap``, and returns the deliveries on the way, each with its time
+        ``t``, in time order.
 
-        Deliveries waiting from the skill's own calls (an immediate service answer)
-        come back at once without moving time.
+        The graph stops :attr:`lookahead` after the first delivery, so that the skill's
+        reaction to it comes back in time; deliveries waiting from the skill's own calls
+        (an immediate service answer) come back at once without moving time.
         """
         if self._outbox:
             return self._take()
@@ -420,11 +434,17 @@ class GraphHost:
             self._move_to(due)
             self._run_due()
             if self._outbox:
-                return self._take()
+                # Run ahead of the skill by at most the lookahead: what it does in reply to
+                # these deliveries reaches the graph that much later at most.
+                target = min(target, self._now + self.lookahead)
         raise RuntimeError(
             f"the simulation made {_MAX_STEPS} steps at {self._now:.3f} s without moving on "
             "(a world whose next_event() does not advance)"
         )
+
+    def _out(self, delivery: Message) -> None:
+        delivery["t"] = self._now
+        self._outbox.append(delivery)
 
     def _take(self) -> list[Message]:
         out, self._outbox = self._outbox, []
@@ -451,7 +471,7 @@ class GraphHost:
             return
         for endpoint in subscribers:
             endpoint.received += 1
-            self._outbox.append({"id": endpoint.id, "data": message})
+            self._out({"id": endpoint.id, "data": message})
 
     def _decoded(self, topic: str, data: Message | bytes, round_: int) -> Message | None:
         if isinstance(data, dict):
@@ -662,7 +682,7 @@ class GraphHost:
         message = self._decoded(endpoint.name, data, round_)
         if message is not None:
             endpoint.received += 1
-            self._outbox.append({"id": endpoint.id, "data": message})
+            self._out({"id": endpoint.id, "data": message})
 
     def child_destroy(self, handle: int) -> None:
         """The skill destroyed a handle."""
@@ -694,7 +714,7 @@ class GraphHost:
         for subscriber in self._subscribers(endpoint.name):
             if subscriber.type_name == endpoint.type_name:
                 subscriber.received += 1
-                self._outbox.append({"id": subscriber.id, "data": data})
+                self._out({"id": subscriber.id, "data": data})
 
     def exists(self, kind: str, name: str) -> bool:
         """Whether a server of service or action ``name`` is up."""
@@ -756,7 +776,7 @@ class GraphHost:
 
         def answer() -> None:
             self._recorder.record("response", service=endpoint.name, response=response)
-            self._outbox.append({"id": endpoint.id, "seq": sequence, "data": response})
+            self._out({"id": endpoint.id, "seq": sequence, "data": response})
 
         self.call_later(reply.delay, answer)
 
@@ -796,9 +816,7 @@ class GraphHost:
         )
         self._recorder.record("cancel", action=endpoint.name, line=line)
         if record is None:
-            self._outbox.append(
-                {"id": endpoint.id, "kind": "cancel", "goal": sequence, "return_code": 2}
-            )
+            self._out({"id": endpoint.id, "kind": "cancel", "goal": sequence, "return_code": 2})
             return
         goal = record.goal
         code = 3
@@ -814,9 +832,7 @@ class GraphHost:
             if accepted and goal.active:
                 goal.status = GoalStatus.CANCELING
             code = 0 if accepted else 1
-        self._outbox.append(
-            {"id": endpoint.id, "kind": "cancel", "goal": sequence, "return_code": code}
-        )
+        self._out({"id": endpoint.id, "kind": "cancel", "goal": sequence, "return_code": code})
 
     # --- the goal sink (ActionGoal calls these) -------------------------------------
 
@@ -825,7 +841,7 @@ class GraphHost:
         self._recorder.record(
             "goal_response", action=goal.action, goal_id=goal.goal_id, accepted=accepted
         )
-        self._outbox.append(
+        self._out(
             {
                 "id": record.client,
                 "kind": "accepted",
@@ -841,7 +857,7 @@ class GraphHost:
         data = self.registry.conform(type_name, feedback, f"feedback of {goal.action}")
         self._recorder.record("feedback", action=goal.action, goal_id=goal.goal_id, feedback=data)
         if record.feedback:
-            self._outbox.append(
+            self._out(
                 {"id": record.client, "kind": "feedback", "goal": record.sequence, "data": data}
             )
 
@@ -856,7 +872,7 @@ class GraphHost:
             status=STATUS_NAMES.get(status, status),
             result=data,
         )
-        self._outbox.append(
+        self._out(
             {
                 "id": record.client,
                 "kind": "result",

@@ -58,11 +58,12 @@ class Wire:
         return self._take()
 
     def pending(self) -> bool:
-        """Whether a complete frame is already buffered."""
+        """Whether :meth:`receive` has something to return (or to refuse) without reading:
+        a complete frame, or a header announcing a frame too large to accept."""
         if len(self._buffer) < _HEADER.size:
             return False
         (size,) = _HEADER.unpack_from(self._buffer)
-        return len(self._buffer) >= _HEADER.size + int(size)
+        return size > MAX_FRAME or len(self._buffer) >= _HEADER.size + int(size)
 
     def _take(self) -> dict[str, Any] | None:
         if len(self._buffer) < _HEADER.size:

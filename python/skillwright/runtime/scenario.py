@@ -146,6 +146,14 @@ class RunScenario(_Model):
         default="complete", description="How the normal run should end."
     )
     settle: float = Field(default=1.0, ge=0, description="Virtual seconds watched after resetting.")
+    lookahead: float = Field(
+        default=0.02,
+        ge=0,
+        le=1.0,
+        description="Virtual seconds the simulation may run ahead of the skill between two "
+        "exchanges: 0 is strict lockstep (slowest); more is faster, and the skill's commands "
+        "reach the world up to that much later.",
+    )
 
 
 def _where(location: tuple[int | str, ...]) -> str:

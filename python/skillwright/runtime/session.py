@@ -9,6 +9,7 @@ oversized frames end the episode with a ``run.protocol`` finding.
 
 from __future__ import annotations
 
+import re
 import select
 import threading
 import time
@@ -43,9 +44,13 @@ _POLL_SECONDS = 0.05
 _GRACE_SECONDS = 5.0
 """Wall seconds a child gets to report where it was after an interrupt, before the kill
 (generous: on a loaded machine the child may wait that long for a core)."""
-_STALL_FACTOR = 10.0
-"""A state that uses no CPU and sends nothing for this many busy-deadlines (wall) is
-blocked in a wait the simulation cannot see (a lock, ``input()``)."""
+_STALL_SECONDS = 30.0
+"""A state that uses no CPU and sends nothing for this long (wall; at least ten busy
+deadlines) is blocked in a wait the simulation cannot see (a lock, ``input()``)."""
+_IMPORT_NAME = re.compile(
+    r"cannot import name '(?P<name>\w+)' from '(?P<package>\w+)\.(?P<namespace>\w+)'"
+)
+_NO_MODULE = re.compile(r"No module named '(?P<module>[\w.]+)'")
 _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
@@ -172,10 +177,11 @@ class Episode:
         wire = Wire(child.sock)
         deadlines = self._scenario.deadlines
         run_deadline = child.started + deadlines.run
-        last = time.monotonic()
+        last = sampled = time.monotonic()
         last_cpu = child.cpu_seconds()
         interrupted_at: float | None = None
         self._interrupt_reason = "busy"
+        self._stall_seconds = max(_STALL_SECONDS, 10 * deadlines.busy)
         while not self._done:
             if self._cancel is not None and self._cancel.is_set():
                 raise GenerationCancelledError("the run was cancelled; nothing was kept")
@@ -191,7 +197,7 @@ class Episode:
                 # seconds without a turn on a core.
                 cpu = child.cpu_seconds()
                 spun = cpu is None or last_cpu is None or cpu - last_cpu > deadlines.busy
-                stalled = now - last > deadlines.busy * _STALL_FACTOR
+                stalled = now - last > self._stall_seconds
                 if spun or stalled:
                     self._interrupt_reason = "busy" if spun else "blocked"
                     child.interrupt()
@@ -223,7 +229,10 @@ class Episode:
             if frame["op"] == "stack":
                 interrupted_at = None
             last = time.monotonic()
-            last_cpu = child.cpu_seconds()
+            # Reading /proc on every frame would cost more than the exchange itself; a
+            # sample at most a quarter second old is as good for a deadline of seconds.
+            if last - sampled > 0.25:
+                sampled, last_cpu = last, child.cpu_seconds()
 
     def _kill(self, reason: str, message: str) -> None:
         self._result.trace.ended = "killed"
@@ -267,10 +276,10 @@ class Episode:
             inner = frames[-1]
             where = f" at line {inner[0]} in {inner[1]}()"
         if self._interrupt_reason == "blocked":
-            seconds = self._scenario.deadlines.busy * _STALL_FACTOR
             return (
-                f"it waited {seconds:g} s of wall time{where} in a way the simulation cannot "
-                "see (a lock, input(), a raw socket or file), so virtual time stood still; "
+                f"it waited {self._stall_seconds:g} s of wall time{where} in a way the "
+                "simulation cannot see (a lock, input(), a raw socket or file), so virtual "
+                "time stood still; "
                 "wait with time.sleep, rclpy.spin_once or a future instead"
             )
         return (
@@ -305,6 +314,17 @@ class Episode:
         }
 
     def _handle(self, frame: dict[str, Any]) -> dict[str, Any] | None:
+        # The trace shows the skill's own time for what it did; the graph may be up to a
+        # lookahead ahead of it.
+        t = frame.get("t")
+        if isinstance(t, (int, float)) and not isinstance(t, bool):
+            self._recorder.now = min(max(float(t), 0.0), self._graph.now)
+        try:
+            return self._dispatch(frame)
+        finally:
+            self._recorder.now = self._graph.now
+
+    def _dispatch(self, frame: dict[str, Any]) -> dict[str, Any] | None:
         op = frame["op"]
         graph = self._graph
         recorder = self._recorder
@@ -465,6 +485,8 @@ class Episode:
             )
         elif kind == "sandbox":
             text = f"{phase}: {message}"
+        elif kind == "import":
+            text = f"{phase}: {self._import_problem(message)}"
         else:
             text = (
                 f"{phase} raised {type_name}: {message}"
@@ -472,6 +494,25 @@ class Episode:
                 else f"{phase} raised {type_name}"
             )
         self._recorder.finding(check, text, line=line)
+
+    def _import_problem(self, message: str) -> str:
+        """What an ImportError means here: a type or package the robot does not have, or a
+        library the sandbox does not offer."""
+        wanted = _IMPORT_NAME.match(message)
+        if wanted is not None and wanted["namespace"] in {"msg", "srv", "action"}:
+            type_name = f"{wanted['package']}/{wanted['namespace']}/{wanted['name']}"
+            answer = self._registry.describe(type_name)
+            if not answer.get("ok"):
+                return str(answer["error"])
+        missing = _NO_MODULE.match(message)
+        if missing is not None:
+            package = missing["module"].split(".")[0]
+            return (
+                f"{message}: the robot has no ROS 2 package {package}, and a skill may use only "
+                "rclpy, tf2_ros, pySkillUp, the robot's message packages, the Python standard "
+                "library and numpy"
+            )
+        return message
 
     def _advance(self, frame: dict[str, Any]) -> dict[str, Any]:
         until = frame.get("until")

@@ -106,10 +106,9 @@ def _limit(limits: dict) -> None:
 
 def _allow_packages(allowed: dict) -> None:
     """Makes the few third-party packages a skill may use importable (e.g. numpy)."""
-    import importlib.abc
     import importlib.machinery
 
-    class AllowedPackages(importlib.abc.MetaPathFinder):
+    class AllowedPackages:
         def find_spec(self, fullname: str, path: object = None, target: object = None) -> object:
             folder = allowed.get(fullname)
             if folder is None:

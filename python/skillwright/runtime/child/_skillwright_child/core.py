@@ -19,11 +19,14 @@ import itertools
 import sys
 import threading
 import time as _time
-from collections.abc import Callable
-from typing import Any
 
 from _skillwright_child.messages import TypeCatalog, from_dict, to_dict
 from _skillwright_child.wire import Wire
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from typing import Any
 
 _real_sleep = _time.sleep
 _real_monotonic = _time.monotonic
@@ -46,6 +49,8 @@ class Core:
         self.skill_file = skill_file
         self.epoch_ns = epoch_ns
         self.now = 0.0
+        self.horizon = 0.0
+        """The host's virtual time: every delivery up to it is in ``pending`` already."""
         self.catalog = TypeCatalog(wire.request)
         self.pending: collections.deque[dict] = collections.deque()
         self.handles: dict[int, Any] = {}
@@ -80,7 +85,9 @@ class Core:
     # --- talking to the host -------------------------------------------------------
 
     def notify(self, op: str, **fields: object) -> None:
-        """A notice to the host, sent with interrupts deferred."""
+        """A notice to the host (stamped with the skill's virtual time), sent with
+        interrupts deferred."""
+        fields["t"] = self.now
         self.in_io = True
         try:
             self.wire.notify(op, **fields)
@@ -125,25 +132,34 @@ class Core:
         while True:
             if ready is not None and ready():
                 return True
-            if self.pending:
-                self.dispatch(self.pending.popleft())
-                continue
             timer = self._next_timer()
-            if timer is not None and timer.next_due <= self.now:
+            due = timer.next_due if timer is not None else None
+            head = float(self.pending[0]["t"]) if self.pending else None
+            if head is not None and (due is None or head <= due):
+                if until is None or head <= until:
+                    self._set_now(head)
+                    self.dispatch(self.pending.popleft())
+                    continue
+            elif due is not None and due <= self.horizon and (until is None or due <= until):
+                self._set_now(due)
                 timer.fire()
                 continue
-            if until is not None and self.now >= until:
+            if until is not None and until <= self.horizon:
+                self._set_now(until)
                 return ready() if ready is not None else True
             target = until
-            for candidate in (timer.next_due if timer is not None else None, self._first_wakeup()):
-                if candidate is not None and (target is None or candidate < target):
+            for candidate in (due, self._first_wakeup()):
+                if candidate is None or candidate <= self.horizon:
+                    continue
+                if target is None or candidate < target:
                     target = candidate
             reply = self.request("advance", until=target, line=line, reason=reason)
-            self.now = float(reply["now"])
+            self.horizon = float(reply["now"])
             self.pending.extend(reply.get("deliveries", ()))
             self._wake_side_threads()
             stop = reply.get("stop")
             if stop:
+                self._set_now(self.horizon)
                 raise Interrupted(str(stop))
 
     def side_wait(self, until: float | None, ready: Callable[[], bool] | None = None) -> bool:
@@ -161,6 +177,12 @@ class Core:
             finally:
                 self._wakeups.remove(limit)
                 heapq.heapify(self._wakeups)
+
+    def _set_now(self, time: float) -> None:
+        if time > self.now:
+            self.now = time
+            if self._wakeups:
+                self._wake_side_threads()
 
     def _first_wakeup(self) -> float | None:
         with self._cond:

@@ -15,11 +15,13 @@ import contextlib
 import math
 import sys
 import threading
-import traceback
 import types
-from typing import Any
 
 from _skillwright_child.core import Core, Interrupted
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 ERROR_PATH = ("aborting", "clearing", "resetting")
 STOP_PATH = ("stopping", "resetting")
@@ -102,10 +104,13 @@ class Driver:
         self.reads: set[str] = set()
         self.writes: set[str] = set()
         self.threads: list[threading.Thread] = []
+        self.reported: set[tuple[str, int]] = set()
 
     # --- reporting -----------------------------------------------------------------
 
     def _skill_frames(self, tb: types.TracebackType | None) -> list[list]:
+        import traceback
+
         frames = []
         for entry in traceback.extract_tb(tb):
             if entry.filename == self.skill_file:
@@ -115,6 +120,11 @@ class Driver:
     def report_error(self, phase: str, error: BaseException) -> None:
         frames = self._skill_frames(error.__traceback__)
         line = frames[-1][0] if frames else 0
+        # A callback that fails fails again at every message; once is enough.
+        key = (type(error).__name__, line)
+        if key in self.reported:
+            return
+        self.reported.add(key)
         if isinstance(error, SyntaxError) and error.filename == self.skill_file:
             line = error.lineno or 0
         try:

@@ -15,7 +15,6 @@ behave the same).
 
 from __future__ import annotations
 
-import importlib.abc
 import importlib.machinery
 import math
 import sys
@@ -373,7 +372,9 @@ class TypeCatalog:
         return cls
 
 
-class _PackageLoader(importlib.abc.Loader):
+class _PackageLoader:
+    """Creates the package and namespace modules (a loader, without importlib.abc's import cost)."""
+
     def __init__(self, catalog: TypeCatalog) -> None:
         self._catalog = catalog
 
@@ -401,7 +402,7 @@ class _PackageLoader(importlib.abc.Loader):
         return None
 
 
-class MessageFinder(importlib.abc.MetaPathFinder):
+class MessageFinder:
     """Finds ``pkg``, ``pkg.msg``, ``pkg.srv`` and ``pkg.action`` for the robot's packages."""
 
     def __init__(self, catalog: TypeCatalog) -> None:
@@ -424,4 +425,4 @@ class MessageFinder(importlib.abc.MetaPathFinder):
 
 def install(catalog: TypeCatalog) -> None:
     """Makes the robot's message packages importable."""
-    sys.meta_path.insert(0, MessageFinder(catalog))
+    sys.meta_path.append(MessageFinder(catalog))

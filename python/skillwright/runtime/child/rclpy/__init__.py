@@ -7,13 +7,15 @@ single-threaded executor (see ``_skillwright_child.core``).
 
 from __future__ import annotations
 
-from typing import Any
-
 from _skillwright_child.core import core
 
 from rclpy.exceptions import NotInitializedException
 from rclpy.node import Node
 from rclpy.task import Future
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = [
     "Node",

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 import rclpy
 from rclpy.node import Node
 from rclpy.task import Future
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 
 class ExternalShutdownException(Exception):

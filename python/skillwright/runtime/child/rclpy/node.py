@@ -9,8 +9,6 @@ executor while the skill waits.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
-from typing import Any
 
 from _skillwright_child.core import core
 
@@ -27,6 +25,11 @@ from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, describe, profile_of, qos_profile_services_default
 from rclpy.task import Future
 from rclpy.timer import Rate, Timer
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from typing import Any
 
 _NAME_TOKEN = re.compile(r"^[A-Za-z_~{}][A-Za-z0-9_/{}~]*$")
 

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from _skillwright_child.core import core
 
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 
 def wait_for_message(

@@ -8,13 +8,16 @@ the frames are connected.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 from _skillwright_child.core import core
 from rclpy.duration import Duration
 from rclpy.time import Time
 
 from tf2_ros.errors import ConnectivityException, LookupException
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 _Pose = tuple[tuple[float, float, float], tuple[float, float, float, float]]
 

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from _skillwright_child.core import core
 from rclpy.qos import DurabilityPolicy, QoSProfile
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 
 class StaticTransformBroadcaster:

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from _skillwright_child.core import core
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 
 class TransformBroadcaster:

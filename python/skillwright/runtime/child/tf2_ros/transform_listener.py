@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from _skillwright_child.core import core
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 
 from tf2_ros.buffer import Buffer
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any
 
 
 class TransformListener:

@@ -6,8 +6,13 @@ parameters, outputs and state methods, and runs the states in pySkillUp's order.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any, TypeVar
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from typing import Any, TypeVar
+
+    F = TypeVar("F", bound=Callable[..., Any])
+
 
 __all__ = [
     "aborting",
@@ -26,7 +31,6 @@ __all__ = [
     "unsuspending",
 ]
 
-F = TypeVar("F", bound=Callable[..., Any])
 STATES = (
     "starting",
     "execute",

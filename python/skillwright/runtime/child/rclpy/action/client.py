@@ -3,13 +3,16 @@ simulated graph; the host's responders (or a world) play the action server."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from types import SimpleNamespace
-from typing import Any
 
 from _skillwright_child.core import core
 
 from rclpy.task import Future
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from typing import Any
 
 _STATUS_UNKNOWN = 0
 
