@@ -10,8 +10,8 @@
    scenarios: the skill runs in the sandboxed child in lockstep with the world. Per scenario:
    virtual seconds of both runs, wall seconds, CPU seconds of this process and of the child,
    and, of this process's CPU time, the world's own (physics, sensors, controllers) and the
-   host's taking of its messages (``host.publish``). Real time factors are given in wall time and in CPU
-   time, since wall time on a shared machine depends on what else runs.
+   host's taking of its messages (``host.publish``). Real time factors are given in wall
+   time and in CPU time, since wall time on a shared machine depends on what else runs.
 
     python bench/bench_sim.py [--worlds-only]
 """
