@@ -219,7 +219,7 @@ MUTANTS: tuple[BehaviourMutant, ...] = (
         "ignores an input",
         "obstacle_ahead",
         (("if distance < self.in_min_obstacle_distance:", "if distance < 0.2:"),),
-        ("contact", "truth:endCondition", "constraint:endCondition"),
+        ("requirement:inMinObstacleDistance",),
     ),
     BehaviourMutant(
         "collision_avoidance",

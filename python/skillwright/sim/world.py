@@ -7,7 +7,7 @@ It takes over the robot's sensor topics (found by type in the inventory, see
 the motion actions (:mod:`skillwright.sim.motion`) and map saving, and records ground truth
 (:mod:`skillwright.sim.truth`) for the oracles.
 
-Physics steps at the model's timestep (5 ms). Publications happen at their own rates and
+Physics steps at the model's timestep (10 ms; the driver runs every 20 ms). Publications happen at their own rates and
 virtual times: odometry and its ``odom -> base`` transform, scans (the lidar's rangefinders
 are evaluated only at scan times, not at every step, which keeps the world several times
 faster than real time), IMU, the localisation pose with ``map -> odom``, the occupancy map
