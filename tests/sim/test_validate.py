@@ -120,3 +120,29 @@ def test_only_selects_scenarios_and_the_shipped_ones_are_used_by_default(
         "too_fast_asked",
         "backwards_refused",
     ]
+
+
+def test_a_cancelled_validation_leaves_no_files_behind(
+    tmp_path: Path, mr1_capabilities: dict[str, Capability], mr1_inventory: Inventory
+) -> None:
+    import threading
+
+    from skillwright.errors import GenerationCancelledError
+
+    cancel = threading.Event()
+
+    def stop_at_the_second_scenario(progress: object) -> None:
+        if getattr(progress, "index", 0) == 1:
+            cancel.set()
+
+    with pytest.raises(GenerationCancelledError):
+        validate_skill(
+            SKILL,
+            mr1_capabilities["move-forward"],
+            mr1_inventory,
+            scenario_file=SCENARIOS,
+            output_dir=tmp_path,
+            on_progress=stop_at_the_second_scenario,
+            cancel=cancel,
+        )
+    assert list(tmp_path.iterdir()) == []

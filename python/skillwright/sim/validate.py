@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
+import tempfile
 import threading
 import time
 from collections.abc import Callable
@@ -24,6 +26,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from skillwright.capability.model import Capability
+from skillwright.errors import InputFileError
 from skillwright.fileio import write_atomic
 from skillwright.interfaces.inventory import Inventory
 from skillwright.sim.assets import resolve_world
@@ -326,6 +329,35 @@ def _run_scenario(
     return report
 
 
+def _staging(output_dir: Path | None) -> Path | None:
+    """A hidden folder in ``output_dir`` where a validation's files wait until it is done."""
+    if output_dir is None:
+        return None
+    try:
+        output_dir.mkdir(parents=True, exist_ok=True)
+        return Path(tempfile.mkdtemp(prefix=".validating-", dir=output_dir))
+    except OSError as error:
+        raise InputFileError(
+            f"{output_dir}: cannot write here: {error.strerror or error}"
+        ) from error
+
+
+def _publish(staging: Path, output_dir: Path, report: ValidationReport) -> None:
+    """Move the finished validation's files into ``output_dir`` and point the report there
+    (an interrupted validation leaves none behind)."""
+    for item in sorted(staging.iterdir()):
+        target = output_dir / item.name
+        if target.is_dir():
+            shutil.rmtree(target)
+        item.replace(target)
+    prefix = str(staging)
+    for scenario in report.scenarios:
+        if scenario.plot:
+            scenario.plot = str(output_dir) + scenario.plot[len(prefix) :]
+        if scenario.trace:
+            scenario.trace = str(output_dir) + scenario.trace[len(prefix) :]
+
+
 def validate_skill(
     skill: Path,
     capability: Capability,
@@ -347,8 +379,9 @@ def validate_skill(
     ``recording`` is the MCAP file or rosbag2 folder to replay and to read the lidar's geometry
     from (default: the inventory's own source when it is a recording that still exists).
     ``output_dir`` receives per scenario the trajectory plot ``<name>.png`` (with ``plot``),
-    the trace with ground truth ``<name>.trace.json`` and maps the skill saved; without it
-    nothing is written.
+    the trace with ground truth ``<name>.trace.json`` and the maps the skill saved
+    (``<name>.maps/``), all at once when the validation is done; without it nothing is
+    written.
     """
     from skillwright.runtime.skillinfo import SkillSourceError, read_skill
 
@@ -368,7 +401,7 @@ def validate_skill(
         bindings=bindings,
         facts=recorded_facts(inventory, bindings, recording),
         recording=recording,
-        output_dir=output_dir,
+        output_dir=_staging(output_dir),
         folder=Path(chosen.folder) if chosen.folder else None,
         plot=plot,
         lines=lines,
@@ -383,11 +416,17 @@ def validate_skill(
     )
 
     findings: list[Finding] = []
-    for index, scenario in enumerate(selected):
-        progress = _Progress(on_progress, scenario.name, index, len(selected))
-        progress.scenario("scenario-start")
-        report.scenarios.append(_run_scenario(setup, scenario, progress.run, findings))
-        progress.scenario("scenario-end")
+    try:
+        for index, scenario in enumerate(selected):
+            progress = _Progress(on_progress, scenario.name, index, len(selected))
+            progress.scenario("scenario-start")
+            report.scenarios.append(_run_scenario(setup, scenario, progress.run, findings))
+            progress.scenario("scenario-end")
+        if setup.output_dir is not None and output_dir is not None:
+            _publish(setup.output_dir, output_dir, report)
+    finally:
+        if setup.output_dir is not None:
+            shutil.rmtree(setup.output_dir, ignore_errors=True)
     report.findings = sorted(dict.fromkeys(findings), key=lambda f: (f.line, f.check, f.message))
     report.wall_seconds = time.perf_counter() - started
     return report

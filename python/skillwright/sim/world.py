@@ -7,11 +7,11 @@ It takes over the robot's sensor topics (found by type in the inventory, see
 the motion actions (:mod:`skillwright.sim.motion`) and map saving, and records ground truth
 (:mod:`skillwright.sim.truth`) for the oracles.
 
-Physics steps at the model's timestep (10 ms; the driver runs every 20 ms). Publications happen at their own rates and
-virtual times: odometry and its ``odom -> base`` transform, scans (the lidar's rangefinders
-are evaluated only at scan times, not at every step, which keeps the world several times
-faster than real time), IMU, the localisation pose with ``map -> odom``, the occupancy map
-and the static transforms.
+Physics steps at the model's timestep (10 ms; the driver runs every 20 ms). Publications
+happen at their own rates and virtual times: odometry and its ``odom -> base`` transform,
+scans (the lidar's rangefinders are evaluated only when a scan is due, not at every step,
+which makes the world about twice as fast), IMU, the localisation pose with
+``map -> odom``, the occupancy map and the static transforms.
 
 Noise is Gaussian, seeded: odometry integrates noisy wheel speeds, so it drifts a little and
 slips when the chassis is pushed against something; scans, IMU and the localisation pose get
