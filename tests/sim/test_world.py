@@ -246,3 +246,14 @@ def test_the_papers_robot_runs_in_the_same_worlds(shared_data: Path) -> None:
     transforms = [t["header"]["frame_id"] for _, m in host.messages("/tf") for t in m["transforms"]]
     assert "map" not in transforms, "the paper's robot has no localisation"
     assert world.truth.at(1.0).x > 0.2
+
+
+def test_the_same_seed_and_commands_give_the_same_run(mr1_inventory: Inventory) -> None:
+    def run() -> list[tuple[float, ...]]:
+        world, host = _world(mr1_inventory, "corridor", (2.0, 0.2, 0.1), seed=9)
+        host.skill_publishes("/cmd_vel", FORWARD)
+        host.run_until(4.0)
+        odometry = [m["pose"]["pose"]["position"]["x"] for _, m in host.messages("/odom")]
+        return [(s.t, s.x, s.y, s.yaw) for s in world.truth.samples] + [tuple(odometry)]
+
+    assert run() == run()
