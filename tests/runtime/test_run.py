@@ -16,11 +16,9 @@ from skillwright.runtime.report import RunProgress
 from skillwright.runtime.run import run_skill
 from skillwright.runtime.sandbox import SandboxProcess, start_child
 from skillwright.runtime.scenario import ActionScript, load_scenario
-from tests.conftest import REPO_ROOT
 from tests.runtime.conftest import SKILLS, quick, skill_path
 
 SHIPPED = sorted(p for p in SKILLS.glob("*.py"))
-EXAMPLES = REPO_ROOT / "python" / "skillwright" / "generation" / "examples" / "skills"
 
 
 def test_the_nine_mr1_capabilities_have_a_skill_and_a_scenario() -> None:
@@ -30,14 +28,6 @@ def test_the_nine_mr1_capabilities_have_a_skill_and_a_scenario() -> None:
     )
     assert [p.stem for p in SHIPPED] == specs
     assert all(p.with_suffix(".scenario.yaml").is_file() for p in SHIPPED)
-
-
-@pytest.mark.parametrize("example", sorted(EXAMPLES.glob("*.py")), ids=lambda p: p.stem)
-def test_few_shot_examples_are_the_shipped_reference_skills(example: Path) -> None:
-    # The prompt's examples must be skills that run clean; they are the same files.
-    assert example.read_text(encoding="utf-8") == (SKILLS / example.name).read_text(
-        encoding="utf-8"
-    )
 
 
 @pytest.mark.parametrize("skill", SHIPPED, ids=lambda p: p.stem)

@@ -145,7 +145,7 @@ class RunScenario(_Model):
     expect: Literal["complete", "abort"] = Field(
         default="complete", description="How the normal run should end."
     )
-    settle: float = Field(default=1.0, ge=0, description="Virtual seconds watched after resetting.")
+    settle: float = Field(default=0.5, ge=0, description="Virtual seconds watched after resetting.")
     lookahead: float = Field(
         default=0.02,
         ge=0,

@@ -20,8 +20,8 @@ __all__ = ["check", "print_findings"]
 
 
 def print_findings(console: Console, path: object, findings: Sequence[Finding]) -> None:
-    """Prints findings compiler-style: ``path:line:col: severity [check] message``, one
-    line each (never wrapped, so editors and scripts can read them)."""
+    """Prints findings compiler-style: ``path:line:col: severity [check] message``, one line
+    each whatever the terminal's width (editors and CI logs parse these lines)."""
     from rich.markup import escape
 
     for finding in findings:
@@ -97,7 +97,9 @@ def check(
         verdict = "passed" if report.passed else "failed"
         grounding = "" if catalog is not None else " (interfaces not checked: no --interfaces)"
         console.print(
-            f"{report.path}: {verdict}, {errors} error(s), {warnings} warning(s){grounding}"
+            f"{report.path}: {verdict}, {errors} error(s), {warnings} warning(s){grounding}",
+            soft_wrap=True,
+            highlight=False,
         )
     if not report.passed:
         sys.exit(1)

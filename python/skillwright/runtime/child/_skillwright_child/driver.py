@@ -307,7 +307,7 @@ class Driver:
         """Lets virtual time run after the last state, then reports what is left."""
         self.core.notify("phase", name="settle")
         try:
-            self.core.block(self.core.now + float(self.config.get("settle", 1.0)), None, "settle")
+            self.core.block(self.core.now + float(self.config["settle"]), None, "settle")
         except Interrupted:
             pass
         except BaseException as error:
