@@ -44,8 +44,9 @@ from skillwright.validation.model import Finding
 
 if TYPE_CHECKING:
     from skillwright.runtime.report import RunProgress
+    from skillwright.runtime.scenario import RunScenario
 
-__all__ = ["validate_skill"]
+__all__ = ["runtime_scenario", "validate_skill"]
 
 _STATE_OK = {"done", "absent"}
 
@@ -172,6 +173,7 @@ class _Setup:
     """What every scenario of one validation shares."""
 
     skill: Path
+    source: str | None
     capability: Capability
     inventory: Inventory
     bindings: Bindings
@@ -244,18 +246,12 @@ class _Progress:
             )
 
 
-def _run_scenario(
-    setup: _Setup,
-    scenario: Scenario,
-    progress: Callable[[RunProgress], None],
-    findings: list[Finding],
-) -> ScenarioReport:
-    from skillwright.runtime.run import run_skill
+def runtime_scenario(scenario: Scenario) -> RunScenario:
+    """The runtime's settings for a run of ``scenario`` (inputs, seed, expectation,
+    deadlines, and the scenario's own ``runtime`` settings); the world is left to the caller."""
     from skillwright.runtime.scenario import RunScenario
 
-    worlds = _Worlds(setup, scenario)
-    cpu_started = time.process_time()
-    run_scenario = RunScenario.model_validate(
+    return RunScenario.model_validate(
         {
             **scenario.runtime,
             "description": scenario.description,
@@ -273,11 +269,24 @@ def _run_scenario(
             },
         }
     )
+
+
+def _run_scenario(
+    setup: _Setup,
+    scenario: Scenario,
+    progress: Callable[[RunProgress], None],
+    findings: list[Finding],
+) -> ScenarioReport:
+    from skillwright.runtime.run import run_skill
+
+    worlds = _Worlds(setup, scenario)
+    cpu_started = time.process_time()
     run = run_skill(
         setup.skill,
         setup.inventory,
-        scenario=run_scenario,
+        scenario=runtime_scenario(scenario),
         world=worlds,
+        source=setup.source,
         recording=setup.recording,
         on_progress=progress,
         cancel=setup.cancel,
@@ -369,6 +378,7 @@ def validate_skill(
     output_dir: Path | None = None,
     only: list[str] | None = None,
     plot: bool = True,
+    source: str | None = None,
     on_progress: Callable[[ValidationProgress], None] | None = None,
     cancel: threading.Event | None = None,
 ) -> ValidationReport:
@@ -381,7 +391,8 @@ def validate_skill(
     ``output_dir`` receives per scenario the trajectory plot ``<name>.png`` (with ``plot``),
     the trace with ground truth ``<name>.trace.json`` and the maps the skill saved
     (``<name>.maps/``), all at once when the validation is done; without it nothing is
-    written.
+    written. ``source`` is the skill's text when it is not (yet) in the file ``skill``
+    names (findings still refer to ``skill``).
     """
     from skillwright.runtime.skillinfo import SkillSourceError, read_skill
 
@@ -390,12 +401,14 @@ def validate_skill(
     selected = [s for s in chosen.scenarios if not only or s.name in only]
     bindings = bind_interfaces(inventory)
     try:
-        info = read_skill(skill.read_text(encoding="utf-8"), str(skill))
+        text = source if source is not None else skill.read_text(encoding="utf-8")
+        info = read_skill(text, str(skill))
         lines, fallback = dict(info.states), info.class_line
     except (OSError, UnicodeDecodeError, SkillSourceError):
         lines, fallback = {}, 0
     setup = _Setup(
         skill=skill,
+        source=source,
         capability=capability,
         inventory=inventory,
         bindings=bindings,
