@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import logging
 import threading
 from collections.abc import Iterator
 from pathlib import Path
@@ -282,3 +283,22 @@ def test_gguf_that_llama_cpp_cannot_load_is_a_model_error(tmp_path: Path) -> Non
     registry = load_registry(write_models_toml(tmp_path / "models.toml", odd))
     with pytest.raises(ModelError, match=r"model 'tiny': llama.cpp could not load .*odd\.gguf"):
         load_generator(registry, "tiny", cache=tmp_path / "c")
+
+
+def test_llama_cpp_log_lines_reach_python_logging_not_the_terminal(
+    tiny_gguf: Path,
+    tmp_path: Path,
+    cache: Path,
+    caplog: pytest.LogCaptureFixture,
+    capfd: pytest.CaptureFixture[str],
+) -> None:
+    # A context longer than the model was trained with makes llama.cpp itself warn.
+    models = write_models_toml(tmp_path / "long.toml", tiny_gguf, context=16384)
+    with caplog.at_level(logging.DEBUG, logger="skillwright.llama_cpp"):
+        generator = load_generator(load_registry(models), "tiny", cache=cache)
+        generator.close()
+    native = [r for r in caplog.records if r.name == "skillwright.llama_cpp"]
+    warned = [r for r in native if r.levelno == logging.WARNING]
+    assert any("n_ctx_train" in r.getMessage() for r in warned)
+    assert all(r.getMessage().startswith("llama.cpp: ") for r in native)
+    assert "n_ctx_train" not in capfd.readouterr().err

@@ -22,6 +22,12 @@ class InterfaceRef(BaseModel):
     role: Literal["publish", "subscribe", "call"] = Field(
         description="publish / subscribe for topics; call for services and actions."
     )
+    qos: Literal["default", "sensor_data", "latched"] = Field(
+        default="default",
+        description="QoS a subscription needs to receive what the robot's publishers offer: "
+        "sensor_data (best effort) when they publish best effort, latched (transient local) "
+        "when they keep their last message for late subscribers, else default (reliable, 10).",
+    )
 
 
 class SkeletonParameter(BaseModel):

@@ -14,12 +14,15 @@ import ast
 import json
 import re
 from collections.abc import Collection, Sequence
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParameter
 from skillwright.generation.names import attribute_name, class_name, python_import, snake_case
 from skillwright.spec.model import SkillSpec
+
+if TYPE_CHECKING:
+    from skillwright.interfaces.inventory import QosProfile
 
 __all__ = [
     "SKELETON_NOTE",
@@ -169,9 +172,38 @@ def _create_lines(interface: InterfaceRef, indent: str) -> list[str]:
     callback = f"self._on_{snake_case(interface.name)}"
     return [
         f"{indent}{handle} = self.node.create_subscription(",
-        f"{indent}    {cls}, {name}, {callback}, 10",
+        f"{indent}    {cls}, {name}, {callback}, {_QOS_ARGUMENT[interface.qos]}",
         f"{indent})",
     ]
+
+
+_QOS_ARGUMENT = {
+    "default": "10",
+    "sensor_data": "qos_profile_sensor_data",
+    "latched": "QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)",
+}
+_QOS_IMPORTS = {
+    "sensor_data": ["qos_profile_sensor_data"],
+    "latched": ["DurabilityPolicy", "QoSProfile"],
+}
+
+
+def subscription_qos(
+    role: str, offered: Sequence[QosProfile]
+) -> Literal["default", "sensor_data", "latched"]:
+    """The QoS a subscription needs for the profiles the publishers offer.
+
+    A reliable subscription receives nothing from a best-effort publisher, so one best-effort
+    publisher makes it ``sensor_data``; publishers that all keep their last message (transient
+    local, e.g. a map) make it ``latched``, so a skill started later still gets that message.
+    """
+    if role != "subscribe" or not offered:
+        return "default"
+    if any(profile.reliability == "best_effort" for profile in offered):
+        return "sensor_data"
+    if all(profile.durability == "transient_local" for profile in offered):
+        return "latched"
+    return "default"
 
 
 def _release_lines(interface: InterfaceRef, indent: str) -> list[str]:
@@ -214,6 +246,11 @@ def _module_head(
     out.add("import rclpy")
     if any(i.kind == "action" for i in interfaces):
         out.add("from rclpy.action import ActionClient")
+    qos_names = sorted(
+        {n for i in interfaces if i.role == "subscribe" for n in _QOS_IMPORTS.get(i.qos, [])}
+    )
+    if qos_names:
+        out.add(f"from rclpy.qos import {', '.join(qos_names)}")
     out.add(
         "",
         "from pyskillup.decorators.decorators import *  # noqa: F403",

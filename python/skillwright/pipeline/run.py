@@ -299,7 +299,7 @@ def _interface_refs(
     inventory: Inventory, chosen: Sequence[HitRecord]
 ) -> list[tuple[Interface, InterfaceRef]]:
     from skillwright.generation.model import InterfaceRef
-    from skillwright.generation.skeleton import topic_role
+    from skillwright.generation.skeleton import subscription_qos, topic_role
 
     out = []
     for hit in chosen:
@@ -307,7 +307,13 @@ def _interface_refs(
         role: Literal["publish", "subscribe", "call"] = (
             topic_role(hit.name, hit.type_name) if hit.kind == "topic" else "call"
         )
-        ref = InterfaceRef(name=hit.name, kind=interface.kind, type_name=hit.type_name, role=role)
+        ref = InterfaceRef(
+            name=hit.name,
+            kind=interface.kind,
+            type_name=hit.type_name,
+            role=role,
+            qos=subscription_qos(role, interface.qos),
+        )
         out.append((interface, ref))
     return out
 
