@@ -205,6 +205,25 @@ def test_answers_are_bounded_and_later_repairs_sample_with_a_seed(case: _Case) -
     assert sum(a.chosen for a in tries) == 1
 
 
+def test_a_fence_right_after_the_prefilled_handles_ends_the_method(case: _Case) -> None:
+    # "Subscribe to the scan" is done by the prefilled lines: the model closes at once.
+    model = MethodScript({**GOOD, "starting": ["```"]})
+    authored = case.write(model)
+    [first] = [a for a in authored.attempts if a.target == "starting"]
+    assert first.finish == "stop"
+    assert first.code is not None
+    assert "create_subscription" in first.code
+    assert "```" not in authored.code
+
+
+def test_a_repair_of_a_looping_answer_samples_at_once(case: _Case) -> None:
+    loop = "        self.cmd_vel_publisher.publish(Twist())\n" * 40 + "```"
+    model = MethodScript({**GOOD, "stopping": [loop, STOPPING]})
+    authored = case.write(model)
+    tries = [a for a in authored.attempts if a.target == "stopping"]
+    assert [(a.finish, a.temperature) for a in tries] == [("repetition", 0.0), ("stop", 0.6)]
+
+
 def test_a_looping_answer_is_cut_off_and_counts_as_failed(case: _Case) -> None:
     loop = "        self.cmd_vel_publisher.publish(Twist())\n" * 40 + "```"
     model = MethodScript({**GOOD, "stopping": [loop, STOPPING]})

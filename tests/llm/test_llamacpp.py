@@ -301,4 +301,6 @@ def test_llama_cpp_log_lines_reach_python_logging_not_the_terminal(
     warned = [r for r in native if r.levelno == logging.WARNING]
     assert any("n_ctx_train" in r.getMessage() for r in warned)
     assert all(r.getMessage().startswith("llama.cpp: ") for r in native)
-    assert "n_ctx_train" not in capfd.readouterr().err
+    # Only a handler of the logger may print it (the CLI's prints "warning: ..." lines).
+    raw = [line for line in capfd.readouterr().err.splitlines() if "n_ctx_train" in line]
+    assert all(line.startswith("warning: llama.cpp: ") for line in raw)

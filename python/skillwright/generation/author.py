@@ -10,7 +10,8 @@
    static checks, and whatever later stages the caller adds: run, simulation).
 4. Every method with an error — a finding on its lines, or an answer that failed outright —
    is asked for again with its problems, within ``attempts`` per method: the second answer
-   greedy, later ones sampled with a fixed seed. The best answer per method by its findings
+   greedy (sampled when the first looped or ran out of tokens), later ones sampled with a
+   fixed seed. The best answer per method by its findings
    wins; every attempt is kept for the record.
 """
 
@@ -168,7 +169,14 @@ class _Author:
         judges what comes back."""
         self.check_cancel()
         number = len(target.attempts) + 1
-        temperature = 0.0 if number <= 2 else self.settings.repair_temperature
+        # Greedy decoding gives the first answer, and the first repair of an answer that was
+        # written out; an answer that looped or ran too long would only come back the same
+        # way, so its repair samples at once.
+        previous = target.attempts[-1] if target.attempts else None
+        greedy = number == 1 or (
+            number == 2 and previous is not None and previous.finish not in _DEAD_ENDS
+        )
+        temperature = 0.0 if greedy else self.settings.repair_temperature
         seed = self.settings.seed + number
         self.emit(AttemptStarted(target.name, target.kind, number))
         prompt = conversation.prompt(ask, target.prefill, upto=upto, extra=extra)
@@ -231,12 +239,21 @@ class _Author:
                 None,
             )
         text = target.prefill + response
+        # The closing fence right after the prefilled lines (the method was complete with
+        # them) is not preceded by a newline of the answer, so the stop strings miss it.
+        fence_at = text.find("\n```")
+        if fence_at >= 0:
+            text = text[: fence_at + 1]
         method = parse_method(text)
         if method is None:
             return "unparsable", _syntax_note(text, target.name), None
         if method.name != target.name:
             return "unparsable", f"the answer defines {method.name}, not {target.name}", None
         return "stop", None, text.rstrip() + "\n"
+
+
+_DEAD_ENDS = ("repetition", "length")
+"""Finishes after which the same greedy prompt would end the same way."""
 
 
 def _syntax_note(text: str, name: str) -> str:

@@ -17,7 +17,7 @@ import threading
 import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from skillwright.errors import ContextOverflowError, InvalidArgumentError, ModelError
 from skillwright.llm.base import ChatMessage, GenerationOptions, Prompt, TextStream
@@ -256,7 +256,6 @@ class LlamaCppGenerator:
         grammar: LlamaGrammar | None,
         cancel: threading.Event | None,
     ) -> Iterator[str]:
-        import llama_cpp
 
         if not self._busy.acquire(blocking=False):
             raise ModelError(
@@ -273,60 +272,76 @@ class LlamaCppGenerator:
             if cancel is not None and cancel.is_set():
                 stream.finish_reason = "cancelled"
                 return
-            sampling = self.entry.sampling
-            llama = self.llama
-            llama.set_seed(sampling.seed if options.seed is None else options.seed)
-            # The token loop is ours rather than llama-cpp-python's create_completion: that one
-            # detokenises the whole answer after every token and holds back bytes that are not
-            # yet valid UTF-8 (so a model that writes such bytes streams nothing, ever slower).
-            # Here every token's bytes go through an incremental decoder, and only text that
-            # could begin a stop string is held back.
-            decoder = codecs.getincrementaldecoder("utf-8")(errors="replace")
-            splitter = _StopSplitter(options.stop)
-            tokens = llama.generate(
-                prefix + rest,
-                top_k=sampling.top_k,
-                top_p=sampling.top_p if options.top_p is None else options.top_p,
-                min_p=sampling.min_p,
-                temp=sampling.temperature if options.temperature is None else options.temperature,
-                repeat_penalty=sampling.repeat_penalty,
-                grammar=grammar,
-            )
-            written = 0
-            finish = "length"
-            try:
-                for token in tokens:
-                    if cancel is not None and cancel.is_set():
-                        finish = "cancelled"
-                        break
-                    if llama_cpp.llama_vocab_is_eog(llama._model.vocab, token):
-                        finish = "stop"
-                        break
-                    written += 1
-                    stream.completion_tokens = written
-                    text, stopped = splitter.feed(decoder.decode(llama.detokenize([token])))
-                    if text:
-                        yield text
-                    if stopped:
-                        finish = "stop"
-                        break
-                    if written >= max_tokens:
-                        break
-                    # Checked after each token: a cancel set while the caller handled the last
-                    # chunk stops generation before another token is computed.
-                    if cancel is not None and cancel.is_set():
-                        finish = "cancelled"
-                        break
-            finally:
-                tokens.close()
-            stream.completion_tokens = written
-            if finish != "cancelled":
-                tail, _ = splitter.feed(decoder.decode(b"", final=True), final=True)
-                if tail:
-                    yield tail
-            stream.finish_reason = finish
+            yield from self._decode(stream, prefix + rest, max_tokens, options, grammar, cancel)
         finally:
             self._busy.release()
+
+    def _decode(
+        self,
+        stream: TextStream,
+        prompt: list[int],
+        max_tokens: int,
+        options: GenerationOptions,
+        grammar: LlamaGrammar | None,
+        cancel: threading.Event | None,
+    ) -> Iterator[str]:
+        """Samples up to ``max_tokens`` tokens after ``prompt`` and yields their text.
+
+        The token loop is ours rather than llama-cpp-python's create_completion: that one
+        detokenises the whole answer after every token and holds back bytes that are not yet
+        valid UTF-8 (so a model that writes such bytes streams nothing, ever slower). Here each
+        token's bytes go through an incremental decoder, and only text that could begin a stop
+        string is held back.
+        """
+        import llama_cpp
+
+        llama = self.llama
+        sampling = self.entry.sampling
+        llama.set_seed(sampling.seed if options.seed is None else options.seed)
+        decoder = codecs.getincrementaldecoder("utf-8")(errors="replace")
+        splitter = _StopSplitter(options.stop)
+        tokens = llama.generate(
+            prompt,
+            top_k=sampling.top_k,
+            top_p=sampling.top_p if options.top_p is None else options.top_p,
+            min_p=sampling.min_p,
+            temp=sampling.temperature if options.temperature is None else options.temperature,
+            repeat_penalty=sampling.repeat_penalty,
+            grammar=grammar,
+        )
+        written = 0
+        finish: Literal["stop", "length", "cancelled"] = "length"
+        try:
+            for token in tokens:
+                if cancel is not None and cancel.is_set():
+                    finish = "cancelled"
+                    break
+                if llama_cpp.llama_vocab_is_eog(llama._model.vocab, token):
+                    finish = "stop"
+                    break
+                written += 1
+                stream.completion_tokens = written
+                text, stopped = splitter.feed(decoder.decode(llama.detokenize([token])))
+                if text:
+                    yield text
+                if stopped:
+                    finish = "stop"
+                    break
+                if written >= max_tokens:
+                    break
+                # Checked after each token: a cancel set while the caller handled the last
+                # chunk stops generation before another token is computed.
+                if cancel is not None and cancel.is_set():
+                    finish = "cancelled"
+                    break
+        finally:
+            tokens.close()
+        stream.completion_tokens = written
+        if finish != "cancelled":
+            tail, _ = splitter.feed(decoder.decode(b"", final=True), final=True)
+            if tail:
+                yield tail
+        stream.finish_reason = finish
 
     def _cache_context(self) -> str:
         import llama_cpp
