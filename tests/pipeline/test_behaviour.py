@@ -41,6 +41,7 @@ MEASURED_EXECUTE = SET_VELOCITY["execute"][0].replace(
 than the one before it, as the static checks' fixture does)."""
 
 
+@pytest.mark.slow
 def test_a_generated_skill_that_runs_clean_passes_the_run_and_the_simulation(
     tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -106,6 +107,7 @@ def test_a_method_that_fails_at_run_time_gets_a_run_finding_and_is_repaired(
     assert "int(str(" not in outcome.skill_path.read_text(encoding="utf-8")
 
 
+@pytest.mark.slow
 def test_a_failed_oracle_in_the_simulation_reaches_the_models_repair_prompt(
     tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
