@@ -24,6 +24,7 @@ HEAVY_MODULES = [
     "transformers",
     "textual",
     "mujoco",
+    "matplotlib",
     "rosbags",
     "rclpy",
     "skillwright._core",

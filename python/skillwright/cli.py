@@ -32,6 +32,7 @@ COMMANDS: dict[str, str] = {
     "run": "skillwright.runtime.commands:run",
     "spec": "skillwright.spec.commands:spec",
     "tui": "skillwright.tui.commands:tui",
+    "validate": "skillwright.sim.commands:validate",
 }
 
 

@@ -41,7 +41,7 @@ def test_the_skeleton_is_written_with_progress_on_stderr_and_exit_1(tmp_path: Pa
     assert (tmp_path / "out" / "skill.py").is_file()
 
 
-def test_a_good_skill_from_the_model_exits_0_and_json_prints_the_record(
+def test_a_good_skill_from_the_model_runs_exits_0_and_json_prints_the_record(
     tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     use_model(monkeypatch, MethodScript(dict(SET_VELOCITY), model_id="tiny"))
@@ -57,6 +57,7 @@ def test_a_good_skill_from_the_model_exits_0_and_json_prints_the_record(
             "/cmd_vel",
             "--attempts",
             "2",
+            "--no-sim",
             "--json",
         ),
         terminal_width=200,
@@ -68,6 +69,10 @@ def test_a_good_skill_from_the_model_exits_0_and_json_prints_the_record(
     assert record["retrieval"]["pinned"] == ["/odom", "/cmd_vel"]
     assert record["model"]["attempts_allowed"] == 2
     assert "execute answer 1: ok" in result.stderr
+    assert "run: the states in the sandbox" in result.stderr
+    assert "simulate:" not in result.stderr
+    assert record["run"]["passed"] is True
+    assert record["simulation"] is None
 
 
 def test_skeleton_and_model_together_are_refused(tmp_path: Path) -> None:

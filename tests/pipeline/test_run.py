@@ -41,6 +41,9 @@ def request(out: Path, stem: str = "set-velocity", **changes: object) -> Generat
         "out_dir": out,
         "dense": False,
         "pinned": ("/cmd_vel", "/odom"),
+        # The run and simulate stages have their own tests (test_behaviour.py).
+        "run": False,
+        "simulate": False,
     }
     values.update(changes)
     return GenerationRequest(**values)  # type: ignore[arg-type]

@@ -116,6 +116,88 @@ async def test_a_skeleton_run_writes_the_result_and_findings_jump_to_their_lines
         await wait_until(pilot, lambda: [f for f, _ in history.entries] == [result])
 
 
+def _with_behaviour(record: GenerationRecord) -> GenerationRecord:
+    """``record`` as if its skill had been run (one finding) and simulated (one oracle
+    failed), with a plot."""
+    from skillwright.pipeline.record import (
+        RunEpisodeRecord,
+        RunRecord,
+        SimulationRecord,
+        VerdictRecord,
+    )
+    from skillwright.validation.model import Finding
+
+    ran = Finding(check="run.exception", severity="error", line=40, message="ValueError here")
+    judged = Finding(check="behaviour.output", severity="error", line=30, message="off by 0.3")
+    verdicts = [
+        VerdictRecord(
+            episode="normal", oracle="outcome", kind="outcome", check="", passed=True, message=""
+        ),
+        VerdictRecord(
+            episode="normal",
+            oracle="output:outPositionX",
+            kind="output",
+            check="abs(outPositionX - x) <= 0.03",
+            passed=False,
+            message="reported 0.0, measured 0.3",
+        ),
+    ]
+    return record.model_copy(
+        update={
+            "run": RunRecord(
+                passed=False,
+                world="kinematic",
+                errors=1,
+                findings=[ran],
+                episodes=[
+                    RunEpisodeRecord(
+                        name="normal", ended="done", virtual_seconds=1.0, wall_seconds=2.0
+                    )
+                ],
+            ),
+            "simulation": SimulationRecord(
+                passed=False,
+                scenario="at_origin",
+                verdicts=verdicts,
+                findings=[judged],
+                plot="simulation.png",
+            ),
+        }
+    )
+
+
+async def test_run_findings_sim_verdicts_and_the_plot_are_shown_at_80_columns(
+    workspace: Path,
+) -> None:
+    from skillwright.tui.messages import GenerationFinished
+
+    preset_session(workspace, **INPUTS, skeleton=True)
+    app = app_for(workspace)
+    async with running(app, (80, 24)) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.outcome is not None)
+        outcome = pane.outcome
+        outcome.record = _with_behaviour(outcome.record)
+        pane.post_message(GenerationFinished(outcome))
+        await wait_until(pilot, lambda: "run FAILED" in _status(app))
+        assert "sim FAILED" in _status(app)
+        side = str(app.query_one("#generation-behaviour", Static).render()).splitlines()
+        assert side == [
+            "✗ run 1 err, 0 warn",
+            "✗ sim at_origin 1/2",
+            "  ✗ normal output:outPositionX",
+            "plot: simulation.png",
+        ]
+        text = screen_text(app)
+        assert "✗ sim at_origin 1/2" in text
+        assert "plot: simulation.png" in text
+        checks = {f.check for f in pane.findings}
+        assert {"run.exception", "behaviour.output"} <= checks
+        findings = app.query_one("#generation-findings", OptionList)
+        assert findings.option_count == len(pane.findings)
+
+
 async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
     workspace: Path, models_file: Path
 ) -> None:
@@ -134,7 +216,10 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
         assert pane.streamed == "".join(a.response for a in record.model.attempts)
         assert pane.streamed
         assert (result / "conversation.txt").is_file()
-        assert all(state == "done" for state, _ in pane.stages.values())
+        # Random weights write no method that passes the checks: nothing is run or simulated.
+        behaviour = {"run", "simulate"}
+        assert all(state == "done" for n, (state, _) in pane.stages.items() if n not in behaviour)
+        assert [pane.stages[n][0] for n in ("run", "simulate")] == ["skipped", "skipped"]
         # One line per answer, in the order asked, with how it ended.
         attempts = str(app.query_one("#generation-attempts", Static).render()).splitlines()
         assert [line.split()[1] for line in attempts][:3] == ["starting", "execute", "completing"]

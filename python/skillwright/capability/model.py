@@ -67,6 +67,7 @@ class Parameter(_Document):
     name: str = Field(description="Local name of the IRI, e.g. inDistance.")
     direction: Literal["input", "output"] = Field(description="Whether it goes in or comes out.")
     kind: str = Field(description="VDI 3682 class: Information, Product or Energy.")
+    comment: str | None = Field(default=None, description="Its rdfs:comment, when it has one.")
     components: list[DataElement] = Field(
         description="Its instance descriptions: one for a scalar, several for e.g. x and y."
     )

@@ -201,11 +201,14 @@ class _Reader:
             instances = instances or self.objects(data_element, f"{DIN}has_Instance_Description")
             type_description = self.first(data_element, f"{DIN}has_Type_Description")
         components = [self.element(i, type_description, name) for i in instances]
+        from rdflib import RDFS
+
         return Parameter(
             iri=iri,
             name=name,
             direction=direction,
             kind=kinds[0] if kinds else "Information",
+            comment=self.text(node, str(RDFS.comment)),
             components=components or [self.element(None, type_description, name)],
         )
 

@@ -112,8 +112,40 @@ def _summary(outcome: Outcome) -> None:
         f"{checks.warnings} warning(s)\nrecord: {outcome.record_path}",
         highlight=False,
     )
+    _behaviour_summary(console, outcome)
     for backup in outcome.backups:
         console.print(f"earlier version kept in {backup}", style="dim", highlight=False)
+
+
+def _behaviour_summary(console: Console, outcome: Outcome) -> None:
+    from skillwright.validation.commands import print_findings
+
+    record = outcome.record
+    run, simulation = record.run, record.simulation
+    if run is not None and run.skipped is None:
+        print_findings(console, outcome.skill_path, run.findings)
+        verdict = "[green]passed[/]" if run.passed else "[red]failed[/]"
+        console.print(
+            f"run {verdict}: {run.errors} error(s), {run.warnings} warning(s) "
+            f"(world: {run.world or 'none'})",
+            highlight=False,
+        )
+    if simulation is not None and simulation.skipped is None:
+        failed = [v for v in simulation.verdicts if v.passed is False]
+        for verdict_record in failed:
+            console.print(
+                f"  ✗ {verdict_record.episode} {verdict_record.oracle}: {verdict_record.message}",
+                highlight=False,
+                markup=False,
+            )
+        judged = sum(v.passed is not None for v in simulation.verdicts)
+        verdict = "[green]passed[/]" if simulation.passed else "[red]failed[/]"
+        plot = f"; plot: {outcome.out_dir / simulation.plot}" if simulation.plot else ""
+        console.print(
+            f"simulation {verdict} in {simulation.scenario}: {judged - len(failed)}/{judged} "
+            f"verdicts passed{plot}",
+            highlight=False,
+        )
 
 
 @click.command("generate")
@@ -137,6 +169,16 @@ def _summary(outcome: Outcome) -> None:
     show_default=True,
     type=click.IntRange(1, 10),
     help="Answers the model may give per method: the first, then repairs from the findings.",
+)
+@click.option(
+    "--no-run",
+    is_flag=True,
+    help="Do not run the skill in the sandbox after the static checks (stage `run`).",
+)
+@click.option(
+    "--no-sim",
+    is_flag=True,
+    help="Do not validate the skill in MuJoCo after the static checks (stage `simulate`).",
 )
 @click.option(
     "-o",
@@ -165,6 +207,8 @@ def generate(
     include_all: bool,
     no_dense: bool,
     attempts: int,
+    no_run: bool,
+    no_sim: bool,
     out_dir: Path | None,
     models_file: Path | None,
     as_json: bool,
@@ -172,9 +216,13 @@ def generate(
     """Write a skill for a capability and a specification from the robot's interfaces.
 
     Stages: inputs, retrieval, skeleton, model, generation (the model writes each state,
-    then repairs what the checks find), checks, outputs (progress on stderr). Without an
-    installed model the skeleton is written and said so.
-    Exit status 0 when the checks pass, 1 when they find problems, 2 for bad input.
+    then repairs what the checks find), checks, run (the states in the sandbox against the
+    simulated graph), simulate (MuJoCo, the capability's default scenario and its oracles),
+    outputs (progress on stderr). Run and simulate follow only static checks without
+    errors; their findings also go back to the model. Without an installed model the
+    skeleton is written and said so.
+    Exit status 0 when the checks, the run and the simulation pass, 1 when they find
+    problems, 2 for bad input.
     """
     from skillwright.console import err_console, print_model_json
     from skillwright.errors import InvalidArgumentError
@@ -201,11 +249,13 @@ def generate(
         models_file=models_file,
         dense=not no_dense,
         attempts=attempts,
+        run=not no_run,
+        simulate=not no_sim,
     )
     outcome = run_generation(request, on_event=_Progress(err_console()))
     if as_json:
         print_model_json(outcome.record)
     else:
         _summary(outcome)
-    if not outcome.report.passed:
+    if not outcome.passed:
         sys.exit(1)

@@ -24,8 +24,19 @@ __all__ = [
     "TokenChunk",
 ]
 
-STAGES = ("inputs", "retrieval", "skeleton", "model", "generation", "checks", "outputs")
-"""The stages of one generation, in order (``model`` and ``generation`` only with a model)."""
+STAGES = (
+    "inputs",
+    "retrieval",
+    "skeleton",
+    "model",
+    "generation",
+    "checks",
+    "run",
+    "simulate",
+    "outputs",
+)
+"""The stages of one generation, in order (``model`` and ``generation`` only with a model,
+``run`` and ``simulate`` only when the static checks found no error and not turned off)."""
 
 
 @dataclass(frozen=True)

@@ -28,11 +28,16 @@ __all__ = [
     "InterfacesRecord",
     "ModelRecord",
     "RetrievalRecord",
+    "RunEpisodeRecord",
+    "RunRecord",
+    "SimulationRecord",
     "SkeletonRecord",
+    "VerdictRecord",
 ]
 
 RECORD_SCHEMA_VERSION: Final = 2
-"""2: the model writes method by method (``model.attempts``); 1: one whole-file answer."""
+"""2: the model writes method by method (``model.attempts``); 1: one whole-file answer.
+``run`` and ``simulation`` are optional additions to 2 (records without them still load)."""
 
 
 class _Model(BaseModel):
@@ -146,6 +151,78 @@ class ChecksRecord(_Model):
     findings: list[Finding]
 
 
+class RunEpisodeRecord(_Model):
+    """One episode of the run stage, in short (the runtime's trace, summarised)."""
+
+    name: str = Field(description="`normal`, or `stop` (a Stop during execute).")
+    ended: str = Field(description="How the sandboxed process ended (`done`, `killed`, ...).")
+    states: list[str] = Field(
+        default_factory=list, description="`state outcome` in the order run, e.g. `execute done`."
+    )
+    virtual_seconds: float
+    wall_seconds: float
+    outputs: dict[str, Any] = Field(default_factory=dict, description="Outputs read at the end.")
+    published: dict[str, int] = Field(
+        default_factory=dict, description="Messages the skill published, by topic."
+    )
+    goals: int = Field(default=0, description="Action goals the skill sent.")
+
+
+class RunRecord(_Model):
+    """The run stage: the skill's states in the sandbox against the simulated graph."""
+
+    passed: bool = Field(description="Ran, and no finding is an error.")
+    skipped: str | None = Field(default=None, description="Why it did not run, if it did not.")
+    world: str | None = Field(default=None, description="The world the run used.")
+    inputs: dict[str, Any] = Field(default_factory=dict, description="Inputs by name.")
+    errors: int = 0
+    warnings: int = 0
+    findings: list[Finding] = Field(default_factory=list, description="At the skill's lines.")
+    episodes: list[RunEpisodeRecord] = Field(default_factory=list)
+    seconds: float | None = Field(default=None, description="Wall time of the run.")
+    repair_runs: int = Field(
+        default=0, description="Runs made while the model repaired its answers."
+    )
+
+
+class VerdictRecord(_Model):
+    """One oracle's verdict on one run in the simulation."""
+
+    episode: str = Field(description="`normal`, or `stop` (a Stop during execute).")
+    oracle: str
+    kind: str = Field(description="Family: outcome, constraint, truth, limit, contact, rest, ...")
+    check: str = Field(description="What it checks.")
+    passed: bool | None = Field(description="None when it does not apply.")
+    message: str
+    measured: dict[str, Any] = Field(default_factory=dict)
+    tolerance: float | None = None
+    time: float | None = Field(default=None, description="Virtual time of the violation.")
+    state: str | None = Field(default=None, description="The state running at a violation.")
+
+
+class SimulationRecord(_Model):
+    """The simulate stage: the skill in MuJoCo in the capability's default scenario."""
+
+    passed: bool = Field(description="Simulated, every oracle passed and no error was found.")
+    skipped: str | None = Field(default=None, description="Why it did not run, if it did not.")
+    scenario: str | None = Field(default=None, description="The scenario's name.")
+    scenario_source: str | None = Field(default=None, description="Where it came from.")
+    world: str | None = None
+    inputs: dict[str, Any] = Field(default_factory=dict)
+    verdicts: list[VerdictRecord] = Field(default_factory=list)
+    findings: list[Finding] = Field(
+        default_factory=list, description="Run findings and failed oracles, at the skill's lines."
+    )
+    plot: str | None = Field(
+        default=None, description="The trajectory plot, a file in the output folder."
+    )
+    speed: float | None = Field(default=None, description="Virtual per wall seconds, normal run.")
+    seconds: float | None = Field(default=None, description="Wall time of the validation.")
+    repair_runs: int = Field(
+        default=0, description="Simulations made while the model repaired its answers."
+    )
+
+
 class GenerationRecord(_Model):
     """Everything about one generation."""
 
@@ -160,6 +237,10 @@ class GenerationRecord(_Model):
     model: ModelRecord | None = None
     timings: dict[str, float] = Field(description="Seconds per stage.")
     checks: ChecksRecord
+    run: RunRecord | None = Field(default=None, description="The run stage, when it ran.")
+    simulation: SimulationRecord | None = Field(
+        default=None, description="The simulate stage, when it ran."
+    )
     files: list[str] = Field(description="Files written into the output folder.")
     notes: list[str] = Field(default_factory=list, description="What the user should know.")
 

@@ -3,7 +3,10 @@
 Stages (each timed, each announced through ``on_event``): read the inputs, retrieve the
 interfaces the capability needs, write the skeleton, load the model, have it write the
 behaviour method by method and repair what the checks find
-(:mod:`skillwright.generation.author`), run the static checks, write the output folder.
+(:mod:`skillwright.generation.author`), run the static checks, then — when they find no
+error — run the skill in the sandbox and simulate it in MuJoCo
+(:mod:`skillwright.pipeline.behaviour`; their findings also feed the repair loop), and
+write the output folder.
 Without a model (``skeleton=True``, or the default model's file is not installed) the
 skeleton is the result, and the record and a notice say so plainly.
 
@@ -16,6 +19,7 @@ from __future__ import annotations
 import difflib
 import hashlib
 import json
+import tempfile
 import threading
 import time
 from collections.abc import Callable, Collection, Iterator, Sequence
@@ -30,6 +34,7 @@ from skillwright.errors import (
     InvalidArgumentError,
     ModelFileMissingError,
 )
+from skillwright.pipeline.behaviour import RUN_WORLD, Behaviour
 from skillwright.pipeline.events import (
     Event,
     GenerationStats,
@@ -48,6 +53,8 @@ from skillwright.pipeline.record import (
     InterfacesRecord,
     ModelRecord,
     RetrievalRecord,
+    RunRecord,
+    SimulationRecord,
     SkeletonRecord,
 )
 
@@ -89,6 +96,14 @@ class GenerationRequest:
     """Use the embedding model in retrieval (else lexical scores only)."""
     attempts: int = 3
     """Answers the model may give per method: the first, then repairs from the findings."""
+    run: bool = True
+    """Run a skill that passes the static checks in the sandbox (stage ``run``)."""
+    simulate: bool = True
+    """Validate a skill that passes the static checks in MuJoCo (stage ``simulate``)."""
+    run_seconds: float = 120.0
+    """Wall-clock budget of one run."""
+    sim_seconds: float = 240.0
+    """Wall-clock budget of one simulation."""
 
 
 @dataclass
@@ -114,6 +129,16 @@ class Outcome:
     mode: Literal["llm", "skeleton"]
     hits: list[Hit]
     backups: list[Path] = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        """The static checks passed, and the run and the simulation, where they ran."""
+        run, simulation = self.record.run, self.record.simulation
+        return (
+            self.report.passed
+            and (run is None or run.skipped is not None or run.passed)
+            and (simulation is None or simulation.skipped is not None or simulation.passed)
+        )
 
 
 class _Stages:
@@ -360,6 +385,7 @@ def _generate(
     inventory: Inventory,
     chosen: Sequence[tuple[Interface, InterfaceRef]],
     stages: _Stages,
+    behaviour: Behaviour,
 ) -> _ModelResult:
     from skillwright.generation.author import (
         AttemptFinished,
@@ -411,7 +437,9 @@ def _generate(
             load.capability,
             spec,
             [CardInterface(interface, ref) for interface, ref in chosen],
-            _static_validator(load, spec, inventory, request.out_dir / "skill.py"),
+            behaviour.validator(
+                _static_validator(load, spec, inventory, request.out_dir / "skill.py")
+            ),
             settings=settings,
             on_event=forward,
             cancel=stages.cancel,
@@ -424,6 +452,8 @@ def _generate(
         summary.append(
             f"{len(authored.attempts)} answers ({repairs} repairs), {written} tokens"
             + (f", {rate:.1f} tokens/s" if rate else "")
+            + (f", {behaviour.repair_runs} runs" if behaviour.repair_runs else "")
+            + (f", {behaviour.repair_sims} simulations" if behaviour.repair_sims else "")
         )
         for attempt in authored.attempts:
             if attempt.finish == "length":
@@ -477,6 +507,8 @@ def _record(
     stages: _Stages,
     files: list[str],
     notes: list[str],
+    run: RunRecord | None,
+    simulation: SimulationRecord | None,
 ) -> GenerationRecord:
     from skillwright import __version__
 
@@ -520,6 +552,8 @@ def _record(
             warnings=len(report.findings) - errors,
             findings=report.findings,
         ),
+        run=run,
+        simulation=simulation,
         files=files,
         notes=notes,
     )
@@ -532,6 +566,7 @@ def _model_stages(
     spec: SkillSpec,
     inventory: Inventory,
     chosen: Sequence[tuple[Interface, InterfaceRef]],
+    behaviour: Behaviour,
 ) -> _ModelResult | None:
     """Loads the model and has it write the behaviour; ``None`` when there is no model."""
     if request.skeleton:
@@ -545,7 +580,7 @@ def _model_stages(
     try:
         if generator is not None and registry is not None:
             model_result = _generate(
-                generator, registry, request, load, spec, inventory, chosen, stages
+                generator, registry, request, load, spec, inventory, chosen, stages, behaviour
             )
     finally:
         if generator is not None:
@@ -555,7 +590,7 @@ def _model_stages(
 
 def _result_files(
     skeleton: Skeleton, model_result: _ModelResult | None, notes: list[str]
-) -> dict[str, str]:
+) -> dict[str, str | bytes]:
     """The files of the output folder but the record; adds what the user must know to
     ``notes``."""
     if model_result is None:
@@ -572,6 +607,75 @@ def _result_files(
             + "; those states still raise NotImplementedError (see conversation.txt)"
         )
     return {"skill.py": model_result.code, "conversation.txt": model_result.transcript}
+
+
+PLOT_FILE = "simulation.png"
+"""The simulation's trajectory plot in the output folder."""
+
+
+def _run_summary(run: RunRecord) -> str:
+    if run.skipped is not None:
+        return run.skipped
+    normal = next((e for e in run.episodes if e.name == "normal"), None)
+    verdict = f"{'passed' if run.passed else 'failed'}, {run.errors} error(s)"
+    if normal is None:
+        return verdict
+    return f"{verdict}; {normal.virtual_seconds:.1f} s simulated in {normal.wall_seconds:.1f} s"
+
+
+def _sim_summary(simulation: SimulationRecord) -> str:
+    if simulation.skipped is not None:
+        return simulation.skipped
+    judged = [v for v in simulation.verdicts if v.passed is not None]
+    failed = sorted({v.oracle for v in judged if v.passed is False})
+    speed = f", {simulation.speed:.0f}x real time" if simulation.speed else ""
+    head = f"{simulation.scenario}: {len(judged) - len(failed)}/{len(judged)} verdicts passed"
+    return head + speed + (f"; failed {', '.join(failed)}" if failed else "")
+
+
+def _behaviour_stages(
+    behaviour: Behaviour,
+    stages: _Stages,
+    code: str,
+    errors: int,
+    files: dict[str, str | bytes],
+    notes: list[str],
+) -> tuple[RunRecord | None, SimulationRecord | None]:
+    """The run and simulate stages, when the static checks found no error; a simulation's
+    plot joins ``files``."""
+    if not behaviour.enabled:
+        return None, None
+    if errors:
+        skipped = f"not run: the static checks found {errors} error(s)"
+        run = RunRecord(passed=False, skipped=skipped) if behaviour.run_enabled else None
+        sim = SimulationRecord(passed=False, skipped=skipped) if behaviour.sim_enabled else None
+        return run, sim
+    run_record: RunRecord | None = None
+    sim_record: SimulationRecord | None = None
+    if behaviour.run_enabled:
+        with stages.stage(
+            "run", f"the states in the sandbox against the simulated graph ({RUN_WORLD} world)"
+        ) as s:
+            run_record = behaviour.run_record(behaviour.run(code))
+            s.append(_run_summary(run_record))
+        stages.check_cancel()
+    if behaviour.sim_enabled:
+        with stages.stage(
+            "simulate", "MuJoCo, the capability's default scenario and its oracles"
+        ) as s:
+            result = behaviour.simulate(code)
+            plot = result.plot
+            if plot is not None and plot.is_file():
+                files[PLOT_FILE] = plot.read_bytes()
+            sim_record = behaviour.sim_record(result, PLOT_FILE if PLOT_FILE in files else None)
+            s.append(_sim_summary(sim_record))
+        stages.check_cancel()
+    for name, record in (("run", run_record), ("simulation", sim_record)):
+        if record is not None and record.skipped is not None:
+            message = f"the {name} gave no verdict: {record.skipped}"
+            notes.append(message)
+            stages.emit(Notice("warning", message))
+    return run_record, sim_record
 
 
 def run_generation(
@@ -627,23 +731,36 @@ def run_generation(
         )
         s.append(f"{skeleton.class_name}, {len(skeleton.unimplemented)} states to write")
 
-    model_result = _model_stages(request, stages, load, spec, inventory, chosen)
-    files = _result_files(skeleton, model_result, notes)
-    code = files["skill.py"]
-    kept = skeleton if model_result is None else model_result.skeleton
-
-    with stages.stage("checks", "static checks") as s:
-        report = check_skill(
-            code,
-            capability=load.capability,
-            spec=spec,
-            catalog=catalog_from_inventory(inventory),
-            retrieved=[i.name for i in kept.interfaces],
-            path=str(request.out_dir / "skill.py"),
+    with tempfile.TemporaryDirectory(prefix="skillwright-behaviour-") as work:
+        behaviour = Behaviour(
+            load.capability,
+            inventory,
+            request.out_dir / "skill.py",
+            Path(work),
+            run=request.run,
+            simulate=request.simulate,
+            run_seconds=request.run_seconds,
+            sim_seconds=request.sim_seconds,
+            cancel=cancel,
         )
-        errors = sum(f.severity == "error" for f in report.findings)
-        s.append(f"{'passed' if report.passed else 'failed'}, {errors} error(s)")
-    stages.check_cancel()
+        model_result = _model_stages(request, stages, load, spec, inventory, chosen, behaviour)
+        files = _result_files(skeleton, model_result, notes)
+        code = skeleton.code if model_result is None else model_result.code
+        kept = skeleton if model_result is None else model_result.skeleton
+
+        with stages.stage("checks", "static checks") as s:
+            report = check_skill(
+                code,
+                capability=load.capability,
+                spec=spec,
+                catalog=catalog_from_inventory(inventory),
+                retrieved=[i.name for i in kept.interfaces],
+                path=str(request.out_dir / "skill.py"),
+            )
+            errors = sum(f.severity == "error" for f in report.findings)
+            s.append(f"{'passed' if report.passed else 'failed'}, {errors} error(s)")
+        stages.check_cancel()
+        run_record, sim_record = _behaviour_stages(behaviour, stages, code, errors, files, notes)
 
     record = _record(
         request,
@@ -658,6 +775,8 @@ def run_generation(
         stages=stages,
         files=[*files, "record.json"],
         notes=notes,
+        run=run_record,
+        simulation=sim_record,
     )
     with stages.stage("outputs", f"writing {request.out_dir}") as s:
         files["record.json"] = json.dumps(record.model_dump(mode="json"), indent=2) + "\n"

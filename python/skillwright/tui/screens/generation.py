@@ -1,7 +1,8 @@
 """The Generation tab: run :func:`skillwright.pipeline.run_generation` and watch it work.
 
 Each stage's start and end, every answer the model starts and how it ended (the model
-writes one method at a time and repairs what the checks find), the prefix cache,
+writes one method at a time and repairs what the checks find), the run's and the
+simulation's verdicts with the plot's file (their findings join the list), the prefix cache,
 throughput and every streamed token arrive as pipeline events, posted from the worker
 thread. Esc sets the pipeline's cancel event; the pipeline then stops and writes nothing.
 The result folder and record are the pipeline's, exactly as in headless mode.
@@ -69,6 +70,7 @@ class GenerationPane(Pane):
             with VerticalScroll(id="generation-side"):
                 yield Static(_IDLE, id="generation-stages", markup=False)
                 yield Static("", id="generation-attempts", markup=False)
+                yield Static("", id="generation-behaviour", markup=False)
                 yield Static("", id="generation-stats", markup=False)
             with Vertical(id="generation-main"):
                 yield CodeView(id="generation-code")
@@ -210,6 +212,7 @@ class GenerationPane(Pane):
         self.findings = []
         self.outcome = None
         self.streamed = ""
+        self.query_one("#generation-behaviour", Static).update("")
         self.query_one(CodeView).show("")
         findings = self.query_one("#generation-findings", OptionList)
         findings.clear_options()
@@ -296,7 +299,14 @@ class GenerationPane(Pane):
         code = self.query_one(CodeView)
         code.show(Path(outcome.skill_path).read_text(encoding="utf-8"))
         report = outcome.report
-        self.findings = list(report.findings)
+        record = outcome.record
+        behaviour = [
+            f for part in (record.run, record.simulation) if part is not None for f in part.findings
+        ]
+        self.findings = list(dict.fromkeys([*report.findings, *behaviour]))
+        self.query_one("#generation-behaviour", Static).update(
+            "\n".join(self._behaviour_lines(record))
+        )
         findings = self.query_one("#generation-findings", OptionList)
         findings.clear_options()
         findings.add_options(
@@ -305,17 +315,51 @@ class GenerationPane(Pane):
         )
         findings.display = bool(self.findings)
         verdict = "checks passed" if report.passed else "checks FAILED"
+        for name, part in (("run", record.run), ("sim", record.simulation)):
+            if part is not None and part.skipped is None:
+                verdict += f", {name} {'passed' if part.passed else 'FAILED'}"
         errors = sum(f.severity == "error" for f in self.findings)
         self.query_one("#generation-status", Static).update(
             f"{outcome.mode}: {verdict} ({errors} errors, {len(self.findings) - errors} warnings)"
             f" — written to {self.sw.workspace.relative(Path(outcome.out_dir))}"
         )
+        plot = record.simulation.plot if record.simulation is not None else None
+        shown = (
+            f"; plot in {self.sw.workspace.relative(Path(outcome.out_dir) / plot)}" if plot else ""
+        )
         self.notify(
-            f"{verdict}; record in {self.sw.workspace.relative(Path(outcome.record_path))}",
+            f"{verdict}; record in {self.sw.workspace.relative(Path(outcome.record_path))}{shown}",
             title="Generation",
             markup=False,
         )
         self.sw.history_changed()
+
+    @staticmethod
+    def _behaviour_lines(record: Any) -> list[str]:
+        """The run's and the simulation's verdicts, short enough for the side column."""
+        lines: list[str] = []
+        run = record.run
+        if run is not None:
+            if run.skipped is not None:
+                lines.append(f"- run: {run.skipped}")
+            else:
+                mark = "✓" if run.passed else "✗"
+                lines.append(f"{mark} run {run.errors} err, {run.warnings} warn")
+        simulation = record.simulation
+        if simulation is not None:
+            if simulation.skipped is not None:
+                lines.append(f"- sim: {simulation.skipped}")
+            else:
+                judged = [v for v in simulation.verdicts if v.passed is not None]
+                failed = [v for v in judged if v.passed is False]
+                mark = "✓" if simulation.passed else "✗"
+                lines.append(
+                    f"{mark} sim {simulation.scenario} {len(judged) - len(failed)}/{len(judged)}"
+                )
+                lines += [f"  ✗ {v.episode} {v.oracle}" for v in failed]
+            if simulation.plot:
+                lines.append(f"plot: {simulation.plot}")
+        return lines
 
     @on(OptionList.OptionSelected, "#generation-findings")
     def _finding_chosen(self, event: OptionList.OptionSelected) -> None:

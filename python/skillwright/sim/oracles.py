@@ -1,0 +1,863 @@
+"""Oracles derived from the capability model, judged on the simulator's ground truth.
+
+For one run of a skill in a scenario:
+
+* ``outcome`` — the run ended as the scenario expects (completed, stopped, or aborted
+  because the skill refused its inputs).
+* ``constraint:<name>`` — each OpenMath constraint of the capability holds for the inputs
+  and the outputs **the skill reported**; constraints on inputs alone are preconditions.
+* ``truth:<name>`` — the same constraint with the outputs replaced by what the simulator
+  **measured** (the distance really travelled, the heading really reached), so a skill
+  that reports the right number without doing the work fails.
+* ``output:<name>`` — each reported output equals its measured value, within the tolerance
+  of its unit (angles on the circle); ``assured:<name>`` — an output whose value the model
+  asserts (``outLinearVelocity = 0.0``, Assurance) is reported with that value.
+* ``requirement:<input>`` — an input that is a requirement on the motion
+  (``inMinObstacleDistance``, ``>=``): the clearance the lidar saw stays above it, less the
+  distance the base needs to brake once something came that close.
+* ``limit:<property>`` — the resource's velocity requirements (``linearVelocity <= 0.8``)
+  are never exceeded: neither by a command the skill published nor by the base's measured
+  velocity.
+* ``contact`` — the chassis never touched anything.
+* ``rest:<state>`` — when completing (or stopping, or aborting) ended, nothing kept the base
+  moving: the command in force was zero and no navigation goal was running. It does not
+  apply after completing when the capability promises motion (an output velocity that is
+  not asserted to be zero, as set-velocity's).
+
+Resource properties that are actual values (``heading``, ``positionX``) take the measured
+value of the moment execute began; outputs are measured when execute returned.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from skillwright.capability.model import Capability, Constraint, DataElement
+from skillwright.sim.openmath import (
+    UNIT_TOLERANCES,
+    EvaluationError,
+    Value,
+    as_value,
+    difference,
+    evaluate,
+    is_output_variable,
+)
+from skillwright.sim.scenario import Scenario, infer_quantity
+from skillwright.sim.truth import GroundTruth, wrap_pi, wrap_two_pi
+
+__all__ = ["RunView", "StateSpan", "Verdict", "judge"]
+
+REST_LINEAR = 0.01
+REST_ANGULAR = 0.02
+MEASURED_LIMIT_SLACK = {"m/s": 0.02, "rad/s": 0.03}
+"""Measured velocities may overshoot a limit this much (servo tracking, not the skill)."""
+_VELOCITY_UNITS = ("m/s", "rad/s")
+
+
+class Verdict(BaseModel):
+    """The judgement of one oracle on one run."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    oracle: str = Field(description="Identifier, e.g. `constraint:distanceCovered`.")
+    kind: Literal[
+        "outcome",
+        "precondition",
+        "constraint",
+        "truth",
+        "output",
+        "requirement",
+        "limit",
+        "contact",
+        "rest",
+    ] = Field(description="Which family of oracle.")
+    check: str = Field(description="What it checks, e.g. `abs(outDistance - inDistance) <= 0.02`.")
+    passed: bool | None = Field(description="True, False, or None when it does not apply.")
+    message: str = Field(description="The verdict in words, with the values compared.")
+    measured: dict[str, Any] = Field(
+        default_factory=dict, description="The values involved, by name."
+    )
+    tolerance: float | None = Field(default=None, description="The tolerance used, if any.")
+    time: float | None = Field(
+        default=None, description="Virtual time the verdict refers to (e.g. first violation)."
+    )
+    state: str | None = Field(default=None, description="The PackML state running then.")
+
+
+@dataclass(frozen=True)
+class StateSpan:
+    """One state method run: when, and how it ended."""
+
+    name: str
+    start: float
+    end: float
+    outcome: str = "returned"
+
+
+@dataclass
+class RunView:
+    """What the oracles need to know about a run, whatever ran it."""
+
+    states: list[StateSpan]
+    outputs: dict[str, Any]
+    ended: Literal["completed", "stopped", "aborted", "failed"]
+    end_time: float
+    message: str = ""
+    """Why the run aborted or failed, in the runtime's words."""
+    notes: list[str] = field(default_factory=list)
+    events: list[dict[str, Any]] = field(default_factory=list)
+    """The runtime's trace entries in the order things happened (several can share a time)."""
+    command_topic: str | None = None
+    """The base's velocity command topic."""
+
+    def at_end_of(self, state: str) -> _InForce | None:
+        """The skill's velocity command and the world's running goals when ``state`` ended,
+        in the order of events (a command published by the next state at the same virtual
+        time does not count); ``None`` when the trace does not show the state's end."""
+        end = None
+        for index, event in enumerate(self.events):
+            if (
+                event.get("kind") == "state"
+                and event.get("name") == state
+                and event.get("phase") in ("end", "absent")
+            ):
+                end = index
+        if end is None:
+            return None
+        found = _InForce()
+        for event in self.events[: end + 1]:
+            kind = event.get("kind")
+            if kind == "publish" and event.get("topic") == self.command_topic:
+                message = event.get("message") or {}
+                twist = message.get("twist", message)
+                linear, angular = twist.get("linear") or {}, twist.get("angular") or {}
+                found.command = (
+                    float(linear.get("x", 0.0) or 0.0),
+                    float(linear.get("y", 0.0) or 0.0),
+                    float(angular.get("z", 0.0) or 0.0),
+                )
+                found.published = (float(event.get("t", 0.0)), event.get("state"))
+            elif kind == "world.goal":
+                key = f"{event.get('action')}@{event.get('accepted')}"
+                if event.get("outcome") == "executing":
+                    found.goals[key] = str(event.get("action"))
+                elif key in found.goals:
+                    del found.goals[key]
+                    # The world's controller stopped the base when its goal ended.
+                    found.command = (0.0, 0.0, 0.0)
+        return found
+
+    def state_at(self, t: float) -> str | None:
+        """The state running at ``t``."""
+        for span in self.states:
+            if span.start - 1e-9 <= t <= span.end + 1e-9:
+                return span.name
+        return None
+
+    def span(self, name: str) -> StateSpan | None:
+        """The last run of the state ``name``."""
+        found = None
+        for span in self.states:
+            if span.name == name:
+                found = span
+        return found
+
+
+@dataclass
+class _InForce:
+    """What kept the base moving at a moment of a run."""
+
+    command: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    published: tuple[float, str | None] | None = None
+    """Time and state of the skill's last velocity command."""
+    goals: dict[str, str] = field(default_factory=dict)
+    """Running goals of the world's action servers (key -> action)."""
+
+
+@dataclass
+class _Context:
+    capability: Capability
+    scenario: Scenario
+    run: RunView
+    truth: GroundTruth
+    units: dict[str, str | None]
+    tolerances: dict[str, float]
+    exec_start: float
+    exec_end: float
+
+
+def _elements(capability: Capability, direction: str) -> list[tuple[DataElement, Any]]:
+    parameters = capability.inputs if direction == "input" else capability.outputs
+    return [(e, p) for p in parameters for e in p.components]
+
+
+_DEGREES = ("deg", "°", "degree")
+_ANGLES = ("heading", "nearest_obstacle_bearing", "angular_velocity")
+
+
+def measure(
+    quantity: str, truth: GroundTruth, start: float, end: float, unit: str | None = None
+) -> Value | None:
+    """The simulator's value of a quantity (see :data:`~skillwright.sim.scenario.QUANTITIES`)
+    for an execute state that ran from ``start`` to ``end``, in ``unit`` where that is
+    degrees (the simulator measures in radians)."""
+    value = _measure(quantity, truth, start, end)
+    base = (unit or "").split("/")[0]
+    if quantity in _ANGLES and base in _DEGREES and isinstance(value, float):
+        value = math.degrees(value)
+    return value
+
+
+def _measure(quantity: str, truth: GroundTruth, start: float, end: float) -> Value | None:
+    sample = truth.at(end)
+    if quantity.startswith("tcp_position_"):
+        return sample.tcp["xyz".index(quantity[-1])]
+    simple: dict[str, float] = {
+        "position_x": sample.x,
+        "position_y": sample.y,
+        "heading": wrap_two_pi(sample.yaw),
+        "linear_velocity_x": sample.vx,
+        "linear_velocity_y": sample.vy,
+        "angular_velocity": sample.wz,
+    }
+    if quantity in simple:
+        return simple[quantity]
+    if quantity == "travelled_distance":
+        return truth.travelled(start, end)
+    if quantity == "displacement":
+        return truth.displacement(start, end)
+    if quantity == "path_length":
+        return truth.path_length(start, end)
+    if quantity == "command_duration":
+        return truth.command_duration(start, end)
+    if quantity in ("nearest_obstacle_distance", "nearest_obstacle_bearing"):
+        nearest = truth.nearest_at(end)
+        if nearest is None:
+            return None
+        return nearest[0] if quantity.endswith("distance") else wrap_pi(nearest[1])
+    if quantity in ("map_length", "map_width"):
+        extent = truth.extent_at(end)
+        if extent is None:
+            return None
+        return extent[0] if quantity == "map_length" else extent[1]
+    if quantity == "map_file":
+        saved = [m for m in truth.saved_maps if m["t"] <= end + 1e-9]
+        return saved[-1]["name"] if saved else None
+    return None
+
+
+def _values(context: _Context, outputs: Mapping[str, Value | None]) -> dict[str, Value]:
+    """Variables of the constraints by IRI: inputs, outputs, resource properties."""
+    capability = context.capability
+    values: dict[str, Value] = {}
+    for element, _p in _elements(capability, "input"):
+        value = as_value(context.scenario.inputs.get(element.name))
+        if value is not None and element.iri:
+            values[element.iri] = value
+    for element, _p in _elements(capability, "output"):
+        value = outputs.get(element.name)
+        if value is not None and element.iri:
+            values[element.iri] = value
+    if capability.resource is not None:
+        for prop in capability.resource.properties:
+            for instance in prop.instances:
+                if instance.iri is None:
+                    continue
+                if instance.value is not None:
+                    values[instance.iri] = instance.value
+                    continue
+                quantity = infer_quantity(instance)
+                if quantity is None:
+                    continue
+                measured = measure(
+                    quantity, context.truth, context.exec_start, context.exec_start, instance.unit
+                )
+                if measured is not None:
+                    values[instance.iri] = measured
+    return values
+
+
+def _units(capability: Capability) -> dict[str, str | None]:
+    units: dict[str, str | None] = {}
+    elements = [e for e, _ in _elements(capability, "input") + _elements(capability, "output")]
+    if capability.resource is not None:
+        elements += [i for p in capability.resource.properties for i in p.instances]
+    for element in elements:
+        if element.iri:
+            units[element.iri] = (element.unit or "").strip() or None
+        units.setdefault(element.name, (element.unit or "").strip() or None)
+    return units
+
+
+def _tolerance_for(context: _Context, name: str, unit: str | None) -> float:
+    scenario_tolerances = context.scenario.tolerances
+    if name in scenario_tolerances:
+        return scenario_tolerances[name]
+    return context.tolerances.get(unit or "", 0.0)
+
+
+def _constraint_verdicts(context: _Context) -> list[Verdict]:
+    capability = context.capability
+    output_iris = {e.iri for e, _ in _elements(capability, "output") if e.iri}
+    reported = {name: as_value(value) for name, value in context.run.outputs.items()}
+    quantities = context.scenario.ground_truth
+    units = {e.name: e.unit for e, _ in _elements(capability, "output")}
+    measured: dict[str, Value | None] = {
+        name: measure(q, context.truth, context.exec_start, context.exec_end, units.get(name))
+        for name, q in quantities.items()
+    }
+    verdicts: list[Verdict] = []
+    # Preconditions (on inputs alone) first: they say whether the rest can hold at all.
+    ordered = sorted(
+        capability.constraints, key=lambda c: is_output_variable(c.expression, output_iris)
+    )
+    for constraint in ordered:
+        tolerances = dict(context.tolerances)
+        if constraint.name in context.scenario.tolerances:
+            for unit in UNIT_TOLERANCES:
+                tolerances[unit] = context.scenario.tolerances[constraint.name]
+        if not is_output_variable(constraint.expression, output_iris):
+            verdicts.append(_judge(constraint, "precondition", context, reported, tolerances))
+            continue
+        verdicts.append(_judge(constraint, "constraint", context, reported, tolerances))
+        names = {
+            e.name
+            for e, _ in _elements(capability, "output")
+            if e.iri and _mentions(constraint, e.iri)
+        }
+        if names and all(measured.get(n) is not None for n in names):
+            verdicts.append(_judge(constraint, "truth", context, measured, tolerances))
+        else:
+            missing = sorted(n for n in names if measured.get(n) is None)
+            verdicts.append(
+                Verdict(
+                    oracle=f"truth:{constraint.name}",
+                    kind="truth",
+                    check=constraint.text,
+                    passed=None,
+                    message="not checked on ground truth: nothing measured for "
+                    + ", ".join(missing),
+                )
+            )
+    return verdicts
+
+
+def _mentions(constraint: Constraint, iri: str) -> bool:
+    from skillwright.sim.openmath import variables
+
+    return any(v.refers_to == iri for v in variables(constraint.expression))
+
+
+def _judge(
+    constraint: Constraint,
+    kind: Literal["precondition", "constraint", "truth"],
+    context: _Context,
+    outputs: Mapping[str, Value | None],
+    tolerances: Mapping[str, float],
+) -> Verdict:
+    oracle = f"{kind}:{constraint.name}"
+    values = _values(context, outputs)
+    shown = {}
+    from skillwright.sim.openmath import variables
+
+    for variable in variables(constraint.expression):
+        key = variable.refers_to or variable.text
+        if key in values:
+            shown[variable.text] = values[key]
+    try:
+        result = evaluate(constraint.expression, values, context.units, tolerances)
+    except EvaluationError as error:
+        missing = str(error)
+        passed = False if kind == "constraint" else None
+        return Verdict(
+            oracle=oracle,
+            kind=kind,
+            check=constraint.text,
+            passed=passed,
+            message=f"cannot be evaluated: {missing}"
+            + (" (an output the skill never set?)" if kind == "constraint" else ""),
+            measured=shown,
+        )
+    holds = result.value is True
+    source = {"constraint": "as reported", "truth": "as measured", "precondition": "inputs"}[kind]
+    detail = "; ".join(result.checks)
+    if kind == "precondition" and not holds:
+        message = (
+            f"the scenario's inputs violate it ({detail}); a correct skill refuses them, so "
+            "the scenario should expect: aborted"
+        )
+    else:
+        message = f"{'holds' if holds else 'violated'} {source}: {detail}"
+    return Verdict(
+        oracle=oracle,
+        kind=kind,
+        check=constraint.text,
+        passed=holds,
+        message=message,
+        measured=shown,
+        time=context.exec_end,
+        state="execute",
+    )
+
+
+def _assured_verdicts(context: _Context) -> list[Verdict]:
+    """Outputs whose value the model asserts (``outLinearVelocity`` Assurance ``= 0.0``)."""
+    verdicts = []
+    for element, _parameter in _elements(context.capability, "output"):
+        if element.value is None or element.expression_goal != "Assurance":
+            continue
+        name = element.name
+        unit = (element.unit or "").strip() or None
+        tolerance = _tolerance_for(context, name, unit)
+        reported = as_value(context.run.outputs.get(name))
+        expected = as_value(element.value)
+        if isinstance(reported, float) and isinstance(expected, float):
+            passed = abs(reported - expected) <= tolerance + 1e-9
+        else:
+            passed = reported == expected
+        verdicts.append(
+            Verdict(
+                oracle=f"assured:{name}",
+                kind="output",
+                check=f"{name} {element.logic_interpretation or '='} {element.value} (Assurance)",
+                passed=passed,
+                message=f"reported {reported!r}, the model asserts {element.value!r}"
+                + (f" (tolerance {tolerance:g})" if isinstance(expected, float) else ""),
+                measured={"reported": reported, "asserted": element.value},
+                tolerance=tolerance,
+                time=context.exec_end,
+                state="execute",
+            )
+        )
+    return verdicts
+
+
+def _output_verdicts(context: _Context) -> list[Verdict]:
+    verdicts = _assured_verdicts(context)
+    for element, _parameter in _elements(context.capability, "output"):
+        name = element.name
+        quantity = context.scenario.ground_truth.get(name)
+        oracle = f"output:{name}"
+        reported = context.run.outputs.get(name)
+        if element.value is not None and element.expression_goal == "Assurance":
+            # "The base has stopped" (0.0) is a promise about the end of the skill: the
+            # base may still be braking when execute returns. assured: checks the value
+            # reported, rest: that nothing keeps the base moving.
+            verdicts.append(
+                Verdict(
+                    oracle=oracle,
+                    kind="output",
+                    check=f"{name} equals what the simulator measures",
+                    passed=None,
+                    message=f"the model asserts {element.value!r}: checked by assured:{name} "
+                    "and the rest oracles",
+                )
+            )
+            continue
+        if quantity is None:
+            verdicts.append(
+                Verdict(
+                    oracle=oracle,
+                    kind="output",
+                    check=f"{name} equals what the simulator measures",
+                    passed=None,
+                    message="not checked: the scenario binds no measured quantity to it",
+                )
+            )
+            continue
+        unit = (element.unit or "").strip() or None
+        measured = measure(quantity, context.truth, context.exec_start, context.exec_end, unit)
+        tolerance = _tolerance_for(context, name, unit)
+        check = f"{name} = {quantity}"
+        values = {"reported": reported, "measured": measured}
+        if measured is None:
+            verdicts.append(
+                Verdict(
+                    oracle=oracle,
+                    kind="output",
+                    check=check,
+                    passed=False if quantity == "map_file" else None,
+                    message=(
+                        "no map was saved through the map-saver service"
+                        if quantity == "map_file"
+                        else f"nothing measured for {quantity} (the world has no such sensor)"
+                    ),
+                    measured=values,
+                    state="execute",
+                )
+            )
+            continue
+        value = as_value(reported)
+        if value is None:
+            verdicts.append(
+                Verdict(
+                    oracle=oracle,
+                    kind="output",
+                    check=check,
+                    passed=False,
+                    message=f"the skill did not report {name} (got {reported!r})",
+                    measured=values,
+                    time=context.exec_end,
+                    state="execute",
+                )
+            )
+            continue
+        if quantity == "map_file":
+            from skillwright.sim.mapfiles import safe_map_name
+
+            passed = isinstance(value, str) and safe_map_name(value) == measured
+            message = (
+                f"reported {value!r} names the saved map {measured!r}"
+                if passed
+                else f"reported {value!r}, but the map saved was {measured!r}"
+            )
+        elif isinstance(value, bool | str) or isinstance(measured, bool | str):
+            passed = value == measured
+            message = f"reported {value!r}, measured {measured!r}"
+        else:
+            gap = difference(value, float(measured), unit)
+            passed = gap <= tolerance + 1e-9
+            message = (
+                f"reported {value:.4g}, measured {float(measured):.4g}: "
+                f"{'within' if passed else 'off by'} {gap:.3g}"
+                f"{' ' + unit if unit else ''} (tolerance {tolerance:g})"
+            )
+        verdicts.append(
+            Verdict(
+                oracle=oracle,
+                kind="output",
+                check=check,
+                passed=passed,
+                message=message,
+                measured=values,
+                tolerance=tolerance,
+                time=context.exec_end,
+                state="execute",
+            )
+        )
+    return verdicts
+
+
+def _requirement_verdicts(context: _Context) -> list[Verdict]:
+    """Inputs that are requirements on the motion (``inMinObstacleDistance >=``): the
+    clearance the lidar saw never fell below the requested one by more than the base
+    needs to brake from the speed it had when something first came that close."""
+    verdicts = []
+    truth = context.truth
+    for element, parameter in _elements(context.capability, "input"):
+        if element.expression_goal != "Requirement" or element.logic_interpretation not in (
+            ">=",
+            ">",
+        ):
+            continue
+        if (element.unit or "").strip() != "m" or infer_quantity(
+            element, parameter, "obstacle"
+        ) != "nearest_obstacle_distance":
+            continue
+        required = as_value(context.scenario.inputs.get(element.name))
+        seen = truth.clearance(context.exec_start, context.exec_end)
+        if not isinstance(required, float) or seen is None:
+            continue
+        closest, when = seen
+        crossed = truth.first_closer(context.exec_start, context.exec_end, required)
+        speed = truth.at(crossed).speed if crossed is not None else 0.0
+        allowance = (
+            speed * speed / (2.0 * truth.braking)
+            + speed * truth.reaction
+            + _tolerance_for(context, element.name, "m")
+        )
+        passed = closest >= required - allowance
+        verdicts.append(
+            Verdict(
+                oracle=f"requirement:{element.name}",
+                kind="requirement",
+                check=f"clearance {element.logic_interpretation} {element.name}",
+                passed=passed,
+                message=(
+                    f"closest {closest:.3g} m at t={when:.2f} s for {required:g} m required "
+                    f"(allowing {allowance:.3g} m to brake from {speed:.2g} m/s)"
+                ),
+                measured={"closest": closest, "required": required, "allowance": allowance},
+                tolerance=allowance,
+                time=when,
+                state=context.run.state_at(when),
+            )
+        )
+    return verdicts
+
+
+def _limit_verdicts(context: _Context) -> list[Verdict]:
+    capability = context.capability
+    if capability.resource is None:
+        return []
+    verdicts = []
+    truth = context.truth
+    for prop in capability.resource.properties:
+        for instance in prop.instances:
+            unit = (instance.unit or "").strip()
+            if (
+                instance.expression_goal != "Requirement"
+                or unit not in _VELOCITY_UNITS
+                or not isinstance(instance.value, int | float)
+                or instance.logic_interpretation not in ("<=", "<")
+            ):
+                continue
+            limit = float(instance.value)
+            angular = unit == "rad/s"
+            oracle = f"limit:{prop.name}"
+            check = f"{prop.name} <= {limit:g} {unit}"
+            worst_command = 0.0
+            first: tuple[float, str] | None = None
+            for command in truth.commands:
+                size = abs(command.wz) if angular else max(abs(command.vx), abs(command.vy))
+                worst_command = max(worst_command, size)
+                if size > limit + 1e-6 and first is None:
+                    first = (command.t, f"the skill commanded {size:.3g} {unit}")
+            slack = MEASURED_LIMIT_SLACK[unit]
+            worst_measured = 0.0
+            for sample in truth.samples:
+                size = abs(sample.wz) if angular else max(abs(sample.vx), abs(sample.vy))
+                worst_measured = max(worst_measured, size)
+                if size > limit + slack and (first is None or sample.t < first[0]):
+                    first = (sample.t, f"the base moved at {size:.3g} {unit}")
+                    break
+            measured = {
+                "max_commanded": worst_command,
+                "max_measured": worst_measured,
+                "limit": limit,
+            }
+            if first is None:
+                verdicts.append(
+                    Verdict(
+                        oracle=oracle,
+                        kind="limit",
+                        check=check,
+                        passed=True,
+                        message=f"kept: at most {worst_command:.3g} {unit} commanded, "
+                        f"{worst_measured:.3g} {unit} measured",
+                        measured=measured,
+                        tolerance=slack,
+                    )
+                )
+            else:
+                t, what = first
+                verdicts.append(
+                    Verdict(
+                        oracle=oracle,
+                        kind="limit",
+                        check=check,
+                        passed=False,
+                        message=f"exceeded at t={t:.2f} s: {what}, more than {limit:g} {unit}",
+                        measured=measured,
+                        tolerance=slack,
+                        time=t,
+                        state=context.run.state_at(t),
+                    )
+                )
+    return verdicts
+
+
+def _contact_verdict(context: _Context) -> Verdict:
+    contacts = context.truth.contacts
+    if not contacts:
+        return Verdict(
+            oracle="contact",
+            kind="contact",
+            check="the chassis touches nothing",
+            passed=True,
+            message="no contact with any obstacle",
+        )
+    first = contacts[0]
+    return Verdict(
+        oracle="contact",
+        kind="contact",
+        check="the chassis touches nothing",
+        passed=False,
+        message=f"the chassis hit {first.geom} at t={first.t:.2f} s at ({first.x:.2f}, "
+        f"{first.y:.2f})" + (f", {len(contacts) - 1} more contact(s)" if len(contacts) > 1 else ""),
+        measured={"contacts": len(contacts), "first_with": first.geom},
+        time=first.t,
+        state=context.run.state_at(first.t),
+    )
+
+
+def _promises_motion(capability: Capability) -> str | None:
+    """An output velocity the capability does not assert to be zero (motion goes on)."""
+    for element, _p in _elements(capability, "output"):
+        unit = (element.unit or "").strip()
+        if unit in _VELOCITY_UNITS and element.value in (None, ""):
+            return element.name
+    return None
+
+
+def _rest_verdict(context: _Context, state: str) -> Verdict:
+    oracle = f"rest:{state}"
+    check = f"nothing keeps the base moving once {state} has ended"
+    span = context.run.span(state)
+    if span is None:
+        # A skill without that state: its predecessor's end is the moment that counts.
+        span = context.run.states[-1] if context.run.states else None
+    if span is None:
+        return Verdict(oracle=oracle, kind="rest", check=check, passed=None, message="no state ran")
+    t = span.end
+    truth = context.truth
+    seen = context.run.at_end_of(span.name)
+    if seen is None:
+        # The trace lost the state's end (too long a run): judge by the virtual times.
+        seen = _InForce()
+        last = truth.command_in_force(t)
+        if last is not None:
+            seen.command = (last[1], last[2], last[3])
+        skill = truth.skill_command_at(t)
+        if skill is not None:
+            seen.published = (skill.t, context.run.state_at(skill.t))
+        seen.goals = {g: g for g in truth.goals_active_at(t)}
+    vx, vy, wz = seen.command
+    goals = sorted(set(seen.goals.values()))
+    sample = truth.at(t)
+    measured = {
+        "time": t,
+        "command": [vx, vy, wz],
+        "speed": sample.speed,
+        "yaw_rate": sample.wz,
+        "goals": goals,
+    }
+    if goals:
+        return Verdict(
+            oracle=oracle,
+            kind="rest",
+            check=check,
+            passed=False,
+            message=f"when {span.name} ended at t={t:.2f} s the goal of {', '.join(goals)} was "
+            "still running; cancel it",
+            measured=measured,
+            time=t,
+            state=span.name,
+        )
+    if abs(vx) > REST_LINEAR or abs(vy) > REST_LINEAR or abs(wz) > REST_ANGULAR:
+        origin = ""
+        where = None
+        if seen.published is not None:
+            when, where = seen.published
+            origin = (
+                f"; the skill's last command (t={when:.2f} s, in {where or 'no state'}) "
+                "was not zero"
+            )
+        return Verdict(
+            oracle=oracle,
+            kind="rest",
+            check=check,
+            passed=False,
+            message=f"when {span.name} ended at t={t:.2f} s the base was still commanded to move "
+            f"(vx {vx:.3g} m/s, vy {vy:.3g} m/s, wz {wz:.3g} rad/s){origin}",
+            measured=measured,
+            time=t,
+            state=span.name if state != "completing" else (where or span.name),
+        )
+    settled = next(
+        (
+            s.t
+            for s in context.truth.between(t, context.truth.end)
+            if s.speed < REST_LINEAR and abs(s.wz) < REST_ANGULAR
+        ),
+        None,
+    )
+    message = f"zero command in force when {span.name} ended at t={t:.2f} s"
+    if settled is not None:
+        message += f"; at rest from t={settled:.2f} s"
+    return Verdict(
+        oracle=oracle,
+        kind="rest",
+        check=check,
+        passed=True,
+        message=message,
+        measured=measured,
+        time=t,
+    )
+
+
+def _outcome_verdict(context: _Context, expected: str) -> Verdict:
+    run = context.run
+    passed = run.ended == expected
+    message = f"the run {run.ended}" + (f" ({run.message})" if run.message else "")
+    if not passed:
+        message += f"; the scenario expects it to have {expected}"
+    failing = next((s for s in run.states if s.outcome != "returned"), None)
+    return Verdict(
+        oracle="outcome",
+        kind="outcome",
+        check=f"the run {expected}",
+        passed=passed,
+        message=message,
+        measured={"ended": run.ended, "expected": expected},
+        time=run.end_time,
+        state=failing.name if failing is not None else None,
+    )
+
+
+Expected = Literal["completed", "stopped", "aborted"]
+
+
+def judge(
+    capability: Capability,
+    scenario: Scenario,
+    run: RunView,
+    truth: GroundTruth,
+    expected: Expected,
+) -> list[Verdict]:
+    """Every oracle's verdict on one run that should have ended ``expected`` (oracles the
+    scenario skips are left out)."""
+    execute = run.span("execute")
+    exec_start = execute.start if execute is not None else 0.0
+    exec_end = execute.end if execute is not None else run.end_time
+    names = {e.name for e, _ in _elements(capability, "output")}
+    names |= {c.name for c in capability.constraints}
+    tolerances = dict(UNIT_TOLERANCES)
+    tolerances.update({k: v for k, v in scenario.tolerances.items() if k not in names})
+    context = _Context(
+        capability=capability,
+        scenario=scenario,
+        run=run,
+        truth=truth,
+        units=_units(capability),
+        tolerances=tolerances,
+        exec_start=exec_start,
+        exec_end=exec_end,
+    )
+    verdicts = [_outcome_verdict(context, expected)]
+    if run.ended == expected == "completed":
+        verdicts += _constraint_verdicts(context)
+        verdicts += _output_verdicts(context)
+        moving = _promises_motion(capability)
+        if moving is None:
+            last = "completing" if run.span("completing") else "execute"
+            verdicts.append(_rest_verdict(context, last))
+        else:
+            verdicts.append(
+                Verdict(
+                    oracle="rest:completing",
+                    kind="rest",
+                    check="nothing keeps the base moving once completing has ended",
+                    passed=None,
+                    message=f"does not apply: the capability leaves the base moving ({moving})",
+                )
+            )
+    elif run.ended == expected == "stopped":
+        verdicts.append(_rest_verdict(context, "stopping"))
+    elif run.ended == expected == "aborted":
+        aborting = run.span("aborting")
+        last = (
+            aborting.name
+            if aborting is not None
+            else (run.states[-1].name if run.states else "execute")
+        )
+        verdicts.append(_rest_verdict(context, last))
+    verdicts += _requirement_verdicts(context)
+    verdicts += _limit_verdicts(context)
+    verdicts.append(_contact_verdict(context))
+    return [v for v in verdicts if v.oracle not in scenario.skip and v.kind not in scenario.skip]

@@ -1,0 +1,135 @@
+"""The run and simulate stages: a generated skill is run and simulated, and what they find
+goes back to the model."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from skillwright.pipeline import GenerationRecord, run_generation
+from skillwright.pipeline.events import Event, StageFinished, StageStarted
+from tests.fixtures.scripted import MethodScript
+from tests.pipeline.conftest import SET_VELOCITY, stems, use_model
+from tests.pipeline.test_run import request
+
+
+@pytest.fixture(autouse=True)
+def shared_matplotlib_cache(
+    tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The isolated XDG folders would make matplotlib build its font cache for every test."""
+    monkeypatch.setenv("MPLCONFIGDIR", str(tmp_path_factory.getbasetemp() / "matplotlib"))
+
+
+MEASURED_EXECUTE = SET_VELOCITY["execute"][0].replace(
+    """        twist = self.odom_msg.twist.twist
+        self._wait_until(
+            lambda: abs(self.odom_msg.twist.twist.linear.x - linear) <= 0.05, 5.0, "the velocity"
+        )
+""",
+    """        self._wait_until(
+            lambda: abs(self.odom_msg.twist.twist.linear.x - linear) <= 0.01
+            and abs(self.odom_msg.twist.twist.angular.z - angular) <= 0.01,
+            5.0,
+            "the velocity",
+        )
+        twist = self.odom_msg.twist.twist
+""",
+)
+"""The scripted execute, waiting until the velocity is reached and reading it then (rather
+than the one before it, as the static checks' fixture does)."""
+
+
+@pytest.mark.slow
+def test_a_generated_skill_that_runs_clean_passes_the_run_and_the_simulation(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    assert SET_VELOCITY["execute"][0] != MEASURED_EXECUTE
+    model = MethodScript({**SET_VELOCITY, "execute": [MEASURED_EXECUTE]}, model_id="tiny")
+    use_model(monkeypatch, model)
+    events: list[Event] = []
+    outcome = run_generation(
+        request(tmp_path / "out", models_file=models_file, run=True, simulate=True),
+        on_event=events.append,
+    )
+    assert stems(events, StageStarted)[-4:] == ["checks", "run", "simulate", "outputs"]
+    assert stems(events, StageFinished) == stems(events, StageStarted)
+    record = GenerationRecord.load(outcome.record_path)
+    assert record.run is not None
+    assert record.run.passed, record.run.findings
+    assert record.run.world == "kinematic"
+    assert record.run.episodes[0].states[:2] == ["starting done", "execute done"]
+    assert record.run.episodes[0].published["/cmd_vel"] > 0
+    assert record.simulation is not None
+    assert record.simulation.passed, [v.message for v in record.simulation.verdicts]
+    assert record.simulation.scenario == "arc"
+    assert any(v.kind == "constraint" and v.passed for v in record.simulation.verdicts)
+    assert record.simulation.plot == "simulation.png"
+    assert (outcome.out_dir / "simulation.png").read_bytes().startswith(b"\x89PNG")
+    assert "simulation.png" in record.files
+    assert outcome.passed
+    # One run and one simulation of the one file the model wrote, reused by the stages.
+    assert (record.run.repair_runs, record.simulation.repair_runs) == (1, 1)
+
+
+def _asks(model: MethodScript, method: str) -> list[str]:
+    """The last user message of every request for ``method``."""
+    return [
+        prompt.messages[-1].content
+        for prompt, asked in zip(model.prompts, model.asked, strict=True)
+        if asked == method
+    ]
+
+
+def test_a_method_that_fails_at_run_time_gets_a_run_finding_and_is_repaired(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    failing = """        percent = int(str(self.out_linear_velocity))
+        self.node.get_logger().info(f"measured {percent} m/s")
+```"""
+    answers = {**SET_VELOCITY, "completing": [failing, *SET_VELOCITY["completing"]]}
+    model = MethodScript(answers, model_id="tiny")
+    use_model(monkeypatch, model)
+    outcome = run_generation(
+        request(tmp_path / "out", models_file=models_file, run=True, attempts=2)
+    )
+    assert outcome.record.model is not None
+    tries = [a for a in outcome.record.model.attempts if a.target == "completing"]
+    assert [(a.number, a.errors, a.chosen) for a in tries] == [(1, 1, False), (2, 0, True)]
+    assert "ValueError" in tries[1].problems[0]
+    assert "int(str(self.out_linear_velocity))" in _asks(model, "completing")[1]
+    run = outcome.record.run
+    assert run is not None
+    assert run.passed, run.findings
+    assert run.repair_runs == 2
+    assert outcome.record.simulation is None
+    assert "int(str(" not in outcome.skill_path.read_text(encoding="utf-8")
+
+
+@pytest.mark.slow
+def test_a_failed_oracle_in_the_simulation_reaches_the_models_repair_prompt(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The scripted execute passes the static checks and runs, but stores the velocity read
+    # before the base reached it: the simulation's ground truth shows the output is wrong.
+    model = MethodScript(dict(SET_VELOCITY), model_id="tiny")
+    use_model(monkeypatch, model)
+    events: list[Event] = []
+    outcome = run_generation(
+        request(tmp_path / "out", models_file=models_file, simulate=True, attempts=2),
+        on_event=events.append,
+    )
+    assert "run" not in stems(events, StageStarted)
+    simulation = outcome.record.simulation
+    assert simulation is not None
+    assert not simulation.passed
+    failed = {v.oracle for v in simulation.verdicts if v.passed is False}
+    assert any(o.startswith("output:outAngularVelocity") for o in failed), failed
+    assert any(f.check.startswith("behaviour.") for f in simulation.findings)
+    repair = _asks(model, "execute")[1]
+    assert "scenario arc" in repair
+    assert "outAngularVelocity" in repair
+    assert not outcome.passed
+    # The repair repeated the answer: the same file is not simulated again.
+    assert simulation.repair_runs == 1

@@ -1,0 +1,98 @@
+"""Finding the interfaces the world serves by type and role, and the recorded geometry."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from skillwright.interfaces.inventory import Inventory
+from skillwright.sim.bindings import ScanGeometry, bind_interfaces, nominal_rate, recorded_facts
+
+
+@pytest.mark.parametrize(
+    ("measured", "nominal"),
+    [
+        (49.93, 50.0),
+        (9.718, 10.0),
+        (4.69, 5.0),
+        (0.52, 0.5),
+        (0.839, 0.839),
+        (None, 7.0),
+        (0.0, 7.0),
+    ],
+)
+def test_a_measured_rate_snaps_to_the_nominal_rate_within_ten_percent(
+    measured: float | None, nominal: float
+) -> None:
+    assert nominal_rate(measured, 7.0) == pytest.approx(nominal)
+
+
+def test_the_mr1_recording_binds_every_role(mr1_inventory: Inventory) -> None:
+    bindings = bind_interfaces(mr1_inventory)
+    assert bindings.command_topic == "/cmd_vel"
+    assert bindings.odometry_topics == ["/odom"]
+    assert bindings.scan_topics == ["/scan"]
+    assert bindings.imu_topics == ["/imu/data"]
+    assert bindings.pose_topics == ["/pose"]
+    assert (bindings.tf_topic, bindings.tf_static_topic) == ("/tf", "/tf_static")
+    assert (bindings.map_topic, bindings.map_metadata_topic) == ("/map", "/map_metadata")
+    assert bindings.actions == {
+        "/backup": "backup",
+        "/move_action": "move_group",
+        "/navigate_through_poses": "navigate_through_poses",
+        "/navigate_to_pose": "navigate_to_pose",
+        "/spin": "spin",
+    }
+    assert set(bindings.services.values()) == {"nav2_save_map", "slam_save_map", "compute_fk"}
+    assert bindings.rates["/odom"] == 50.0
+    assert bindings.rates["/scan"] == 10.0
+    assert bindings.has_localisation
+    assert "/cmd_vel" not in bindings.owned_topics()
+
+
+def test_the_scan_geometry_and_frames_come_from_the_first_recorded_messages(
+    mr1_inventory: Inventory, recording: Path
+) -> None:
+    bindings = bind_interfaces(mr1_inventory)
+    facts = recorded_facts(mr1_inventory, bindings, recording)
+    scan = facts.scans["/scan"]
+    assert scan.recorded
+    assert scan.count == 360
+    assert scan.angle_min == pytest.approx(-math.pi)
+    assert scan.angle_max == pytest.approx(math.pi - 2 * math.pi / 360, abs=1e-6)
+    assert (scan.range_min, scan.range_max, scan.frame_id) == (
+        pytest.approx(0.05),
+        12.0,
+        "laser_link",
+    )
+    assert (facts.odom_frame, facts.base_frame, facts.map_frame) == ("odom", "base_link", "map")
+    assert facts.map_resolution == pytest.approx(0.05)
+    assert facts.notes == []
+
+
+def test_a_report_without_messages_gives_default_geometry_and_says_so(shared_data: Path) -> None:
+    from skillwright.interfaces.load import load_inventory
+
+    inventory = load_inventory(
+        shared_data / "cap2skill" / "interface-reports" / "ros2_system_report.json"
+    )
+    bindings = bind_interfaces(inventory)
+    assert bindings.command_topic == "/cmd_vel"
+    assert bindings.odometry_topics == ["/odom"]
+    assert bindings.scan_topics == ["/scan", "/scan2"]
+    assert not bindings.has_localisation
+    assert bindings.actions == {}
+    facts = recorded_facts(inventory, bindings)
+    assert facts.scans == {"/scan": ScanGeometry(), "/scan2": ScanGeometry()}
+    assert "defaults" in facts.notes[0]
+
+
+def test_an_inventory_without_a_base_says_what_is_missing() -> None:
+    from skillwright.interfaces.inventory import Resource
+
+    bindings = bind_interfaces(Inventory(resource=Resource(name="arm only")))
+    assert bindings.command_topic is None
+    assert any("no velocity command topic" in note for note in bindings.notes)
+    assert any("no Odometry topic" in note for note in bindings.notes)

@@ -1,0 +1,375 @@
+"""Oracles from the capability model, judged on ground truth made up for each case."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from skillwright.capability.model import Capability
+from skillwright.sim.oracles import RunView, StateSpan, Verdict, judge
+from skillwright.sim.scenario import Scenario
+from skillwright.sim.truth import CommandRecord, ContactRecord, GroundTruth, Sample
+
+STATES = [
+    StateSpan("starting", 0.0, 0.5),
+    StateSpan("execute", 0.5, 5.0),
+    StateSpan("completing", 5.0, 5.1),
+    StateSpan("resetting", 5.1, 5.2),
+]
+
+
+def _truth(
+    distance: float,
+    *,
+    speed: float = 0.4,
+    heading: float = 0.0,
+    final_yaw: float | None = None,
+    last_command: float = 0.0,
+) -> GroundTruth:
+    """The base drives ``distance`` along x between 1 s and the time it needs, then rests."""
+    truth = GroundTruth()
+    stop = 1.0 + distance / speed if speed else 1.0
+    for k in range(301):
+        t = k * 0.02
+        moving = 1.0 < t < stop
+        x = min(max(t - 1.0, 0.0) * speed, distance)
+        yaw = heading if final_yaw is None or t < 3.0 else final_yaw
+        truth.add(
+            Sample(
+                t,
+                x,
+                0.0,
+                yaw,
+                speed if moving else 0.0,
+                0.0,
+                0.0,
+                (0.0, 0.0, 0.0),
+                (0.0, 0.0, 0.0),
+            )
+        )
+    truth.commands = [
+        CommandRecord(1.0, "/cmd_vel", speed, 0.0, 0.0),
+        CommandRecord(stop, "/cmd_vel", last_command, 0.0, 0.0),
+    ]
+    truth.drive = [(c.t, c.vx, c.vy, c.wz, "skill") for c in truth.commands]
+    return truth
+
+
+def _run(outputs: dict[str, object], ended: str = "completed") -> RunView:
+    return RunView(states=list(STATES), outputs=outputs, ended=ended, end_time=5.2)  # type: ignore[arg-type]
+
+
+def _by_oracle(verdicts: list[Verdict]) -> dict[str, Verdict]:
+    return {v.oracle: v for v in verdicts}
+
+
+MOVE = Scenario(
+    name="s",
+    inputs={"inDistance": 1.5, "inLinearVelocity": 0.4},
+    ground_truth={"outDistance": "travelled_distance", "outLinearVelocity": "linear_velocity_x"},
+)
+
+
+def test_a_correct_run_passes_every_oracle(mr1_capabilities: dict[str, Capability]) -> None:
+    verdicts = judge(
+        mr1_capabilities["move-forward"],
+        MOVE,
+        _run({"outDistance": 1.505, "outLinearVelocity": 0.0}),
+        _truth(1.5),
+        "completed",
+    )
+    failed = [v for v in verdicts if v.passed is False]
+    assert failed == []
+    assert [v.oracle for v in verdicts] == [
+        "outcome",
+        "precondition:distanceForward",
+        "constraint:distanceCovered",
+        "truth:distanceCovered",
+        "assured:outLinearVelocity",
+        "output:outDistance",
+        "output:outLinearVelocity",
+        "rest:completing",
+        "limit:linearVelocity",
+        "contact",
+    ]
+
+
+def test_a_made_up_output_fails_on_ground_truth_but_not_as_reported(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5, "outLinearVelocity": 0.0}),
+            _truth(0.7),
+            "completed",
+        )
+    )
+    assert verdicts["constraint:distanceCovered"].passed is True
+    assert verdicts["truth:distanceCovered"].passed is False
+    assert verdicts["output:outDistance"].passed is False
+    assert "reported 1.5, measured 0.7" in verdicts["output:outDistance"].message
+    assert verdicts["output:outDistance"].state == "execute"
+
+
+def test_an_output_the_model_asserts_must_be_reported_with_that_value(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5, "outLinearVelocity": 0.4}),
+            _truth(1.5),
+            "completed",
+        )
+    )
+    assert verdicts["assured:outLinearVelocity"].passed is False
+    assert "the model asserts 0.0" in verdicts["assured:outLinearVelocity"].message
+
+
+def test_an_output_never_set_fails_its_constraint(mr1_capabilities: dict[str, Capability]) -> None:
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": None}),
+            _truth(1.5),
+            "completed",
+        )
+    )
+    assert verdicts["constraint:distanceCovered"].passed is False
+    assert "never set" in verdicts["constraint:distanceCovered"].message
+    assert verdicts["output:outDistance"].passed is False
+
+
+def test_a_command_over_the_limit_fails_with_its_time_and_state(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    truth = _truth(1.5)
+    truth.commands.insert(1, CommandRecord(2.0, "/cmd_vel", 1.1, 0.0, 0.0))
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5, "outLinearVelocity": 0.0}),
+            truth,
+            "completed",
+        )
+    )["limit:linearVelocity"]
+    assert verdict.passed is False
+    assert (verdict.time, verdict.state) == (2.0, "execute")
+    assert "the skill commanded 1.1 m/s, more than 0.8 m/s" in verdict.message
+
+
+def test_a_contact_fails_naming_what_was_hit(mr1_capabilities: dict[str, Capability]) -> None:
+    truth = _truth(1.5)
+    truth.contacts.append(ContactRecord(3.2, "obstacle", 4.0, 0.2))
+    verdict = _by_oracle(
+        judge(mr1_capabilities["move-forward"], MOVE, _run({}), truth, "completed")
+    )["contact"]
+    assert verdict.passed is False
+    assert verdict.state == "execute"
+    assert "hit obstacle at t=3.20 s" in verdict.message
+
+
+def test_a_base_still_commanded_to_move_after_completing_fails_at_the_state_that_sent_it(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5}),
+            _truth(1.5, last_command=0.4),
+            "completed",
+        )
+    )["rest:completing"]
+    assert verdict.passed is False
+    assert verdict.state == "execute"
+    assert "still commanded to move (vx 0.4 m/s" in verdict.message
+
+
+def test_a_running_goal_after_stopping_fails_rest(mr1_capabilities: dict[str, Capability]) -> None:
+    truth = _truth(1.5)
+    truth.goals = [{"action": "/navigate_to_pose", "accepted": 1.0, "outcome": "executing"}]
+    run = RunView(
+        states=[StateSpan("execute", 0.5, 2.0, "interrupted"), StateSpan("stopping", 2.0, 2.1)],
+        outputs={},
+        ended="stopped",
+        end_time=2.1,
+    )
+    verdict = _by_oracle(
+        judge(mr1_capabilities["navigate-to-point"], Scenario(name="s"), run, truth, "stopped")
+    )["rest:stopping"]
+    assert verdict.passed is False
+    assert "the goal of /navigate_to_pose was still running" in verdict.message
+
+
+def test_rest_after_completing_does_not_apply_when_the_capability_keeps_moving(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    scenario = Scenario(name="s", inputs={"inLinearVelocity": 0.4, "inAngularVelocity": 0.0})
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["set-velocity"],
+            scenario,
+            _run({"outLinearVelocity": 0.4}),
+            _truth(1.5, last_command=0.4),
+            "completed",
+        )
+    )["rest:completing"]
+    assert verdict.passed is None
+    assert "leaves the base moving" in verdict.message
+
+
+def test_a_skill_that_completes_what_it_should_refuse_fails_the_outcome_only(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    scenario = MOVE.model_copy(
+        update={"inputs": {"inDistance": -1.0, "inLinearVelocity": 0.4}, "expect": "aborted"}
+    )
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            scenario,
+            _run({"outDistance": 0.0}),
+            _truth(0.0),
+            "aborted",
+        )
+    )
+    assert verdicts["outcome"].passed is False
+    assert "expects it to have aborted" in verdicts["outcome"].message
+    assert not any(o.startswith(("constraint:", "output:")) for o in verdicts)
+
+
+def test_the_resource_heading_is_taken_when_execute_begins(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    scenario = Scenario(
+        name="s",
+        inputs={"inAngle": -1.0, "inAngularVelocity": 0.5},
+        ground_truth={"outHeading": "heading", "outAngularVelocity": "angular_velocity"},
+    )
+    truth = _truth(0.0, speed=0.0, heading=0.5, final_yaw=0.5 - 1.0)
+    reported = {"outHeading": 2 * math.pi - 0.5, "outAngularVelocity": 0.0}
+    verdicts = _by_oracle(
+        judge(mr1_capabilities["rotate"], scenario, _run(reported), truth, "completed")
+    )
+    assert verdicts["constraint:headingTarget"].passed is True
+    assert verdicts["truth:headingTarget"].passed is True
+    assert verdicts["output:outHeading"].passed is True
+    wrong = _by_oracle(
+        judge(
+            mr1_capabilities["rotate"],
+            scenario,
+            _run({**reported, "outHeading": 1.5}),
+            truth,
+            "completed",
+        )
+    )
+    assert wrong["constraint:headingTarget"].passed is False
+
+
+def test_oracles_the_scenario_skips_are_left_out(mr1_capabilities: dict[str, Capability]) -> None:
+    scenario = MOVE.model_copy(update={"skip": ["contact", "limit"]})
+    verdicts = judge(mr1_capabilities["move-forward"], scenario, _run({}), _truth(1.5), "completed")
+    assert not any(v.kind in ("contact", "limit") for v in verdicts)
+
+
+@pytest.mark.parametrize(("tolerance", "passed"), [(0.05, True), (0.01, False)])
+def test_a_scenario_tolerance_for_an_output_replaces_the_units(
+    mr1_capabilities: dict[str, Capability], tolerance: float, passed: bool
+) -> None:
+    scenario = MOVE.model_copy(update={"tolerances": {"outDistance": tolerance}})
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            scenario,
+            _run({"outDistance": 1.52}),
+            _truth(1.5),
+            "completed",
+        )
+    )["output:outDistance"]
+    assert verdict.passed is passed
+    assert verdict.tolerance == tolerance
+
+
+def test_an_angle_in_degrees_is_measured_in_degrees() -> None:
+    from skillwright.sim.oracles import measure
+
+    truth = GroundTruth()
+    truth.add(Sample(0.0, 0.0, 0.0, -math.pi / 2, 0.0, 0.0, 0.5, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    assert measure("heading", truth, 0.0, 0.0, "°") == pytest.approx(270.0)
+    assert measure("heading", truth, 0.0, 0.0, "rad") == pytest.approx(3 * math.pi / 2)
+    assert measure("angular_velocity", truth, 0.0, 0.0, "deg/s") == pytest.approx(math.degrees(0.5))
+
+
+def _publish(t: float, state: str, vx: float) -> dict[str, object]:
+    twist = {"linear": {"x": vx, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": 0.0}}
+    return {"t": t, "kind": "publish", "state": state, "topic": "/cmd_vel", "message": twist}
+
+
+def _state(t: float, name: str, phase: str) -> dict[str, object]:
+    return {"t": t, "kind": "state", "name": name, "phase": phase}
+
+
+def test_what_the_next_state_does_at_the_same_instant_does_not_count_for_rest(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    events = [
+        _state(0.5, "execute", "begin"),
+        _publish(1.0, "execute", 0.4),
+        _state(2.0, "execute", "end"),
+        _state(2.0, "stopping", "begin"),
+        _state(2.1, "stopping", "end"),
+        _state(2.1, "resetting", "begin"),
+        _publish(2.1, "resetting", 0.0),
+        _state(2.1, "resetting", "end"),
+    ]
+    run = RunView(
+        states=[
+            StateSpan("execute", 0.5, 2.0, "interrupted"),
+            StateSpan("stopping", 2.0, 2.1),
+            StateSpan("resetting", 2.1, 2.1),
+        ],
+        outputs={},
+        ended="stopped",
+        end_time=2.1,
+        events=events,
+        command_topic="/cmd_vel",
+    )
+    verdict = _by_oracle(
+        judge(mr1_capabilities["move-forward"], MOVE, run, _truth(1.5), "stopped")
+    )["rest:stopping"]
+    assert verdict.passed is False
+    assert "the skill's last command (t=1.00 s, in execute)" in verdict.message
+
+
+def test_a_goal_the_world_finished_before_the_state_ended_leaves_the_base_at_rest(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    goal = {"kind": "world.goal", "action": "/navigate_to_pose", "accepted": 1.0}
+    events = [
+        _state(0.5, "execute", "begin"),
+        {**goal, "t": 1.0, "outcome": "executing"},
+        _publish(1.5, "execute", 0.3),
+        {**goal, "t": 4.0, "outcome": "succeeded", "finished": 4.0},
+        _state(4.5, "execute", "end"),
+    ]
+    run = RunView(
+        states=[StateSpan("execute", 0.5, 4.5)],
+        outputs={},
+        ended="completed",
+        end_time=4.5,
+        events=events,
+        command_topic="/cmd_vel",
+    )
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["navigate-to-point"], Scenario(name="s"), run, _truth(1.5), "completed"
+        )
+    )["rest:execute"]
+    assert verdict.passed is True

@@ -1,0 +1,63 @@
+"""Ground truth queries by virtual time."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from skillwright.sim.truth import CommandRecord, GroundTruth, Sample, wrap_pi, wrap_two_pi
+
+
+def _sample(t: float, x: float, y: float = 0.0) -> Sample:
+    return Sample(t, x, y, 0.0, 0.0, 0.0, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+
+
+@pytest.mark.parametrize(
+    ("angle", "pi_wrapped", "two_pi_wrapped"),
+    [
+        (0.0, 0.0, 0.0),
+        (3 * math.pi / 2, -math.pi / 2, 3 * math.pi / 2),
+        (-0.5, -0.5, 2 * math.pi - 0.5),
+    ],
+)
+def test_angles_wrap_into_their_ranges(
+    angle: float, pi_wrapped: float, two_pi_wrapped: float
+) -> None:
+    assert wrap_pi(angle) == pytest.approx(pi_wrapped)
+    assert wrap_two_pi(angle) == pytest.approx(two_pi_wrapped)
+
+
+def test_samples_are_found_by_time_and_distances_measured_between_times() -> None:
+    truth = GroundTruth()
+    for k in range(11):
+        truth.add(_sample(0.1 * k, 0.1 * k, 0.05 * k if k > 5 else 0.0))
+    assert truth.at(0.25).t == pytest.approx(0.2)
+    assert truth.at(-1.0).t == 0.0
+    assert truth.displacement(0.0, 0.5) == pytest.approx(0.5)
+    assert truth.path_length(0.0, 1.0) > truth.displacement(0.0, 1.0)
+
+
+def test_command_duration_runs_from_the_first_motion_to_the_zero_command() -> None:
+    truth = GroundTruth()
+    truth.commands = [
+        CommandRecord(0.5, "/cmd_vel", 0.0, 0.0, 0.0),
+        CommandRecord(1.0, "/cmd_vel", 0.3, 0.0, 0.0),
+        CommandRecord(1.05, "/cmd_vel", 0.3, 0.0, 0.0),
+        CommandRecord(4.0, "/cmd_vel", 0.0, 0.0, 0.0),
+    ]
+    assert truth.command_duration(0.0, 10.0) == pytest.approx(3.0)
+    assert truth.command_duration(0.0, 2.0) == pytest.approx(1.0)
+
+
+def test_a_goal_is_active_from_acceptance_until_it_finishes() -> None:
+    truth = GroundTruth()
+    truth.goals = [
+        {"action": "/navigate_to_pose", "accepted": 1.0, "outcome": "executing"},
+        {"action": "/navigate_to_pose", "accepted": 1.0, "outcome": "succeeded", "finished": 5.0},
+        {"action": "/spin", "accepted": 6.0, "outcome": "executing"},
+    ]
+    assert truth.goals_active_at(0.5) == []
+    assert truth.goals_active_at(3.0) == ["/navigate_to_pose"]
+    assert truth.goals_active_at(5.5) == []
+    assert truth.goals_active_at(7.0) == ["/spin"]

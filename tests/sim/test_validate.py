@@ -1,0 +1,148 @@
+"""Validating skills end to end: the sandboxed runtime, the MuJoCo world, the oracles."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from skillwright.capability.model import Capability
+from skillwright.interfaces.inventory import Inventory
+from skillwright.sim.scenario import scenarios_for
+from skillwright.sim.validate import validate_skill
+
+HERE = Path(__file__).parent
+SKILL = HERE / "skills" / "move_forward.py"
+SCENARIOS = HERE / "move_forward.scenarios.yaml"
+
+
+def _mutant(tmp_path: Path, *edits: tuple[str, str]) -> Path:
+    text = SKILL.read_text(encoding="utf-8")
+    for old, new in edits:
+        assert old in text, f"the mutation does not apply: {old!r}"
+        text = text.replace(old, new)
+    path = tmp_path / "mutant.py"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_a_correct_skill_passes_every_scenario_and_leaves_plots_and_traces(
+    tmp_path: Path, mr1_capabilities: dict[str, Capability], mr1_inventory: Inventory
+) -> None:
+    progress: list[str] = []
+    report = validate_skill(
+        SKILL,
+        mr1_capabilities["move-forward"],
+        mr1_inventory,
+        scenario_file=SCENARIOS,
+        output_dir=tmp_path,
+        on_progress=lambda p: progress.append(p.event),
+    )
+    assert report.failed_oracles() == [], report.findings
+    assert report.passed
+    metre, fast = report.scenarios
+    assert [e.episode for e in metre.episodes] == ["normal", "stop"]
+    assert [e.ended for e in metre.episodes] == ["completed", "stopped"]
+    assert [e.episode for e in fast.episodes] == ["normal"]
+    assert metre.plot
+    assert Path(metre.plot).read_bytes().startswith(b"\x89PNG")
+    assert metre.trace
+    assert '"ground_truth"' in Path(metre.trace).read_text()
+    assert progress[0] == "scenario-start"
+    assert progress[-1] == "scenario-end"
+    assert metre.episodes[0].virtual_seconds > 2.0
+    assert metre.episodes[0].world_seconds > 0
+
+
+MUTANTS = {
+    "ignores the distance, reports the request": (
+        "fast",
+        [
+            ("self._travelled() < self.in_distance:", "self._travelled() < 0.5:"),
+            ("self.out_distance = self._travelled()", "self.out_distance = self.in_distance"),
+        ],
+        {"truth:distanceCovered", "output:outDistance"},
+    ),
+    "exceeds the speed limit": (
+        "fast",
+        [
+            (
+                "top = min(abs(self.in_linear_velocity), self.SPEED_LIMIT)",
+                "top = abs(self.in_linear_velocity)",
+            )
+        ],
+        {"limit:linearVelocity"},
+    ),
+    "wrong sign": (
+        "fast",
+        [("command.linear.x = max(", "command.linear.x = -max(")],
+        {"truth:distanceCovered"},
+    ),
+    "never stops": (
+        "fast",
+        [("        self.publisher.publish(Twist())\n", "        self.active = False\n")],
+        {"rest:completing"},
+    ),
+}
+
+
+@pytest.mark.parametrize("mutant", sorted(MUTANTS))
+def test_a_mutant_fails_the_oracle_that_describes_its_fault(
+    tmp_path: Path, mr1_capabilities: dict[str, Capability], mr1_inventory: Inventory, mutant: str
+) -> None:
+    scenario, edits, oracles = MUTANTS[mutant]
+    skill = _mutant(tmp_path, *edits)
+    report = validate_skill(
+        skill,
+        mr1_capabilities["move-forward"],
+        mr1_inventory,
+        scenario_file=SCENARIOS,
+        only=[scenario],
+    )
+    failed = {
+        v.oracle for e in report.scenarios[0].episodes for v in e.verdicts if v.passed is False
+    }
+    assert oracles <= failed
+    assert not report.passed
+    lines = {f.line for f in report.findings if f.check.startswith("behaviour.")}
+    text = skill.read_text().splitlines()
+    assert all(text[line - 1].lstrip().startswith("def ") for line in lines), (
+        "findings point at state methods"
+    )
+
+
+def test_only_selects_scenarios_and_the_shipped_ones_are_used_by_default(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    chosen = scenarios_for(mr1_capabilities["move-forward"])
+    assert [s.name for s in chosen.scenarios] == [
+        "straight_ahead",
+        "too_fast_asked",
+        "backwards_refused",
+    ]
+
+
+def test_a_cancelled_validation_leaves_no_files_behind(
+    tmp_path: Path, mr1_capabilities: dict[str, Capability], mr1_inventory: Inventory
+) -> None:
+    import threading
+
+    from skillwright.errors import GenerationCancelledError
+
+    cancel = threading.Event()
+
+    def stop_at_the_second_scenario(progress: object) -> None:
+        if getattr(progress, "index", 0) == 1:
+            cancel.set()
+
+    with pytest.raises(GenerationCancelledError):
+        validate_skill(
+            SKILL,
+            mr1_capabilities["move-forward"],
+            mr1_inventory,
+            scenario_file=SCENARIOS,
+            output_dir=tmp_path,
+            on_progress=stop_at_the_second_scenario,
+            cancel=cancel,
+        )
+    assert list(tmp_path.iterdir()) == []
