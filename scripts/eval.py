@@ -3,7 +3,8 @@
 The pairs are the nine MR-1 capabilities shipped in ``capabilities/`` against the shipped MR-1
 recording, and the paper's nine (``../shared/data/cap2skill``) against the paper robot's raw
 interface report. Each runs through the same pipeline as ``skillwright generate`` (default
-retrieval, the default model, repairs from the findings); the results go to ``eval-out/``
+retrieval, the default model, repairs from the findings of the checks, the sandboxed run and the
+MuJoCo simulation); the results go to ``eval-out/``
 (one folder per skill with its record, and ``summary.json``) and a table is printed:
 per skill the verdict of the checks, answers and repairs, errors by kind, tokens and seconds,
 then the totals the targets are judged by.
@@ -56,6 +57,10 @@ class Row:
     generation_seconds: float = 0.0
     hit_limit: int = 0
     looped: int = 0
+    ran: str = "-"
+    """The run stage: pass, fail, or - when it did not run (the checks failed)."""
+    behaved: str = "-"
+    """The simulation: oracles passed/applied, or - when it did not run."""
     failure: str | None = None
 
 
@@ -124,21 +129,30 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
         row.looped = sum(a.finish == "repetition" for a in record.model.attempts)
     else:
         row.failure = "no model: the skeleton was written"
+    if record.run is not None and record.run.skipped is None:
+        row.ran = "pass" if record.run.passed else "fail"
+    simulation = record.simulation
+    if simulation is not None and simulation.skipped is None:
+        judged = [v for v in simulation.verdicts if v.passed is not None]
+        row.behaved = f"{sum(bool(v.passed) for v in judged)}/{len(judged)}"
+        if not simulation.passed:
+            row.behaved += " fail"
     return row
 
 
 def table(rows: list[Row]) -> str:
     head = (
-        f"{'robot':<10} {'skill':<32} {'checks':<7} {'errors by kind':<28} "
-        f"{'answers':>7} {'repairs':>7} {'tokens':>6} {'seconds':>8}"
+        f"{'robot':<10} {'skill':<32} {'checks':<7} {'errors by kind':<28} {'run':<5} "
+        f"{'sim':<9} {'answers':>7} {'repairs':>7} {'tokens':>6} {'seconds':>8}"
     )
     lines = [head, "-" * len(head)]
     for row in rows:
         kinds = ", ".join(f"{k} {n}" for k, n in sorted(row.kinds.items())) or "-"
         verdict = "pass" if row.passed else ("ERROR" if row.failure else "fail")
         lines.append(
-            f"{row.robot:<10} {row.name:<32} {verdict:<7} {kinds:<28} "
-            f"{row.answers:>7} {row.repairs:>7} {row.tokens:>6} {row.seconds:>8.1f}"
+            f"{row.robot:<10} {row.name:<32} {verdict:<7} {kinds:<28} {row.ran:<5} "
+            f"{row.behaved:<9} {row.answers:>7} {row.repairs:>7} {row.tokens:>6} "
+            f"{row.seconds:>8.1f}"
         )
         if row.failure:
             lines.append(f"{'':<10} {row.failure}")
@@ -146,7 +160,9 @@ def table(rows: list[Row]) -> str:
     seconds = [r.seconds for r in rows if not r.failure]
     lines += [
         "-" * len(head),
-        f"passed every static check: {passed} of {len(rows)}",
+        f"passed every static check: {passed} of {len(rows)}; ran clean: "
+        f"{sum(r.ran == 'pass' for r in rows)}; behaved in the simulation: "
+        f"{sum(r.behaved != '-' and not r.behaved.endswith('fail') for r in rows)}",
         f"answers cut at the token limit: {sum(r.hit_limit for r in rows)}; "
         f"stopped as loops: {sum(r.looped for r in rows)}",
         f"repairs: {sum(r.repairs for r in rows)} of {sum(r.answers for r in rows)} answers",
