@@ -10,7 +10,13 @@ import pytest
 from skillwright.capability import Capability, load_capability
 from skillwright.generation.model import InterfaceRef
 from skillwright.generation.names import class_name, python_import, snake_case
-from skillwright.generation.skeleton import build_skeleton, mint_skill_iri, topic_role
+from skillwright.generation.skeleton import (
+    build_skeleton,
+    mint_skill_iri,
+    subscription_qos,
+    topic_role,
+)
+from skillwright.interfaces.inventory import QosProfile
 from skillwright.spec import SkillSpec, load_spec, parse_spec
 from tests.conftest import SHIPPED_CAPABILITIES
 
@@ -132,6 +138,51 @@ def test_move_forward_skeleton_carries_iris_types_limits_and_handles() -> None:
     )
     assert "self.node.destroy_subscription(self.odom_subscription)" in skeleton.code
     assert spec.states["completing"] in skeleton.code
+
+
+def test_subscriptions_use_the_qos_the_publishers_offer() -> None:
+    capability, spec = shipped("collision-avoidance")
+    scan = InterfaceRef(
+        name="/scan",
+        kind="topic",
+        type_name="sensor_msgs/msg/LaserScan",
+        role="subscribe",
+        qos="sensor_data",
+    )
+    grid = InterfaceRef(
+        name="/map",
+        kind="topic",
+        type_name="nav_msgs/msg/OccupancyGrid",
+        role="subscribe",
+        qos="latched",
+    )
+    code = build_skeleton(capability, spec, [CMD_VEL, scan, grid, ODOM]).code
+    assert "from rclpy.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data" in code
+    assert 'LaserScan, "/scan", self._on_scan, qos_profile_sensor_data' in code
+    assert (
+        'OccupancyGrid, "/map", self._on_map, '
+        "QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)" in code
+    )
+    assert 'Odometry, "/odom", self._on_odom, 10' in code
+    ast.parse(code)
+
+
+@pytest.mark.parametrize(
+    ("role", "offered", "expected"),
+    [
+        ("subscribe", [("best_effort", "volatile")], "sensor_data"),
+        ("subscribe", [("reliable", "volatile"), ("best_effort", "volatile")], "sensor_data"),
+        ("subscribe", [("reliable", "transient_local")], "latched"),
+        ("subscribe", [("reliable", "transient_local"), ("reliable", "volatile")], "default"),
+        ("subscribe", [], "default"),
+        ("publish", [("best_effort", "volatile")], "default"),
+    ],
+)
+def test_subscription_qos_follows_the_offered_profiles(
+    role: str, offered: list[tuple[str, str]], expected: str
+) -> None:
+    profiles = [QosProfile(reliability=r, durability=d) for r, d in offered]
+    assert subscription_qos(role, profiles) == expected
 
 
 def test_services_and_actions_get_clients_and_are_released() -> None:
