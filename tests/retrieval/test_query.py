@@ -1,4 +1,4 @@
-"""The retrieval query: facets of evidence with their terms, quantity and intent."""
+"""The retrieval query: facets of evidence with their terms and intent."""
 
 from __future__ import annotations
 

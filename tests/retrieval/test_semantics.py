@@ -8,9 +8,7 @@ from skillwright.interfaces.inventory import Interface, InterfaceKind
 from skillwright.retrieval.semantics import (
     body_of,
     body_of_text,
-    carried,
     directness,
-    quantity_of_unit,
 )
 
 
@@ -64,19 +62,6 @@ def test_a_costmap_is_auxiliary_while_the_map_of_the_same_type_is_direct() -> No
 
 def test_a_vendor_type_is_neutral() -> None:
     assert directness(interface("/api/sport/request", "unitree_api/msg/Request")) == "neutral"
-
-
-def test_units_name_quantities_and_types_carry_them() -> None:
-    assert quantity_of_unit("m") == "length"
-    assert quantity_of_unit(" m/s ") == "velocity"
-    assert quantity_of_unit("°") == "angle"
-    assert quantity_of_unit("s") is None
-    assert quantity_of_unit(None) is None
-    odometry = carried(interface("/odom", "nav_msgs/msg/Odometry"))
-    assert {"length", "angle", "velocity", "angular velocity"} <= odometry
-    assert carried(interface("/cmd_vel", "geometry_msgs/msg/Twist")) >= {"velocity"}
-    assert "length" in carried(interface("/scan", "sensor_msgs/msg/LaserScan"))
-    assert carried(interface("/backup", "nav2_msgs/action/BackUp", "action")) == frozenset()
 
 
 def test_types_tell_the_base_from_the_arm() -> None:

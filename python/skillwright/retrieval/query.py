@@ -26,7 +26,6 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from skillwright.capability.model import Capability, Parameter
-from skillwright.retrieval.semantics import quantity_of_unit
 from skillwright.retrieval.text import UNIT_WORDS, weighted_tokens
 from skillwright.spec.model import SkillSpec
 
@@ -72,9 +71,6 @@ class Facet:
     """Weighted lexical terms."""
     weight: float
     """How much the facet counts among the others."""
-    quantity: str | None = None
-    """The physical quantity a parameter's unit names (see
-    :func:`~skillwright.retrieval.semantics.quantity_of_unit`)."""
     intent: Intent | None = None
     """For a state's sentence: whether it sends something (``command``: "Set the velocity
     to zero") or reads something (``measure``: "Print the current velocity"), by its verb."""
@@ -134,7 +130,6 @@ def _parameter_facets(capability: Capability) -> list[Facet]:
                 text=text,
                 terms=_terms(parts),
                 weight=FACET_WEIGHTS["parameter"],
-                quantity=quantity_of_unit(unit),
             )
         )
     return facets

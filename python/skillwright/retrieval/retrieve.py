@@ -35,7 +35,7 @@ from skillwright.retrieval.documents import (
 )
 from skillwright.retrieval.lexical import BM25
 from skillwright.retrieval.query import Facet, Query, build_query
-from skillwright.retrieval.semantics import body_of, body_of_text, carried, directness
+from skillwright.retrieval.semantics import body_of, body_of_text, directness
 from skillwright.spec.model import SkillSpec
 
 __all__ = ["DENSE_WEIGHT", "Embedder", "Hit", "Ranking", "candidates", "rank_interfaces"]
@@ -83,9 +83,6 @@ class Ranking:
     body_factor: float = 0.5
     """Evidence factor for a candidate whose type moves or senses the other part of the
     robot than the capability's text names (an arm action for a base capability)."""
-    quantity_score: float = 0.0
-    """Least score of a parameter facet for a candidate whose type carries the quantity
-    the parameter's unit names (a distance in m: a pose or ranges); 0 leaves it out."""
     """Evidence factor for a candidate of an auxiliary type (a composite behaviour, a
     kinematics service, a controller's state); below 1 the direct interfaces win ties."""
 
@@ -241,21 +238,13 @@ def _apply_type_semantics(
     mixed: list[list[float]], pool: Sequence[Interface], facets: Sequence[Facet], ranking: Ranking
 ) -> None:
     """Weighs each facet's scores (in place) by what the candidates' types do
-    (:mod:`~skillwright.retrieval.semantics`): the quantities they carry, the direction of
-    a state's sentence, how direct they are and which part of the robot they serve."""
+    (:mod:`~skillwright.retrieval.semantics`): the direction of a state's sentence, how
+    direct they are and which part of the robot they serve."""
     factors = {
         "direct": 1.0,
         "neutral": ranking.neutral_factor,
         "auxiliary": ranking.auxiliary_factor,
     }
-    if ranking.quantity_score > 0:
-        quantities = [carried(i) for i in pool]
-        for f, facet in enumerate(facets):
-            if facet.quantity is not None:
-                row = mixed[f]
-                for i, held in enumerate(quantities):
-                    if facet.quantity in held:
-                        row[i] = max(row[i], ranking.quantity_score)
     if ranking.intent_factor != 1.0:
         roles = [interface_role(i) for i in pool]
         for f, facet in enumerate(facets):

@@ -28,10 +28,6 @@ words and an auxiliary one still wins when the capability or the spec clearly as
 Rules are by type, never by a robot's interface names; the one name they read is Nav2's
 own convention that a costmap (an ``OccupancyGrid`` of costs, not a map) is published as
 ``<costmap>/costmap``.
-
-Each direct type also *carries* physical quantities (:func:`carried`): a capability's input
-or output with a unit (a distance in m, a velocity in m/s, an angle in degrees) is evidence
-for the interfaces whose fields hold that quantity, whatever their names say.
 """
 
 from __future__ import annotations
@@ -42,14 +38,11 @@ from typing import Literal
 from skillwright.interfaces.inventory import Interface
 
 __all__ = [
-    "QUANTITIES",
     "Body",
     "Directness",
     "body_of",
     "body_of_text",
-    "carried",
     "directness",
-    "quantity_of_unit",
 ]
 
 Body = Literal["arm", "base"]
@@ -107,52 +100,6 @@ _AUXILIARY = re.compile(
 
 
 _COSTMAP = re.compile(r"(^|/)[^/]*costmap[^/]*(/|$)")
-
-QUANTITIES = ("length", "velocity", "angle", "angular velocity")
-"""The physical quantities a capability's parameter unit can name."""
-
-_UNIT_QUANTITIES = {
-    "m": "length",
-    "mm": "length",
-    "cm": "length",
-    "m/s": "velocity",
-    "rad": "angle",
-    "deg": "angle",
-    "°": "angle",
-    "rad/s": "angular velocity",
-    "deg/s": "angular velocity",
-    "°/s": "angular velocity",
-}
-
-_POSE = frozenset({"length", "angle"})
-_TWIST = frozenset({"velocity", "angular velocity"})
-# type -> the quantities its fields hold (a pose: positions in m and an orientation; a
-# twist: linear and angular velocity; ranges: distances in m at known bearings)
-_CARRIED: tuple[tuple[re.Pattern[str], frozenset[str]], ...] = (
-    (re.compile(r"geometry_msgs/msg/Twist(Stamped)?"), _TWIST),
-    (re.compile(r"nav_msgs/msg/Odometry"), _POSE | _TWIST),
-    (re.compile(r"geometry_msgs/msg/PoseWithCovarianceStamped|tf2_msgs/msg/TFMessage"), _POSE),
-    (re.compile(r"sensor_msgs/msg/Imu"), frozenset({"angle", "angular velocity"})),
-    (re.compile(r"sensor_msgs/msg/(LaserScan|Range|PointCloud2?)"), _POSE),
-    (re.compile(r"nav2_msgs/action/NavigateToPose"), _POSE),
-    (re.compile(r"moveit_msgs/action/MoveGroup"), _POSE),
-)
-
-
-def quantity_of_unit(unit: str | None) -> str | None:
-    """The quantity a unit of measure names (``m/s`` -> velocity), if one of
-    :data:`QUANTITIES`."""
-    return _UNIT_QUANTITIES.get((unit or "").strip().lower())
-
-
-def carried(interface: Interface) -> frozenset[str]:
-    """The quantities of :data:`QUANTITIES` the interface's type holds in its fields."""
-    if directness(interface) != "direct":
-        return frozenset()
-    for pattern, quantities in _CARRIED:
-        if pattern.fullmatch(interface.type_name):
-            return quantities
-    return frozenset()
 
 
 def directness(interface: Interface) -> Directness:
