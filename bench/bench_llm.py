@@ -25,12 +25,7 @@ sys.path.insert(0, str(REPO_ROOT))  # for tests.fixtures (the synthetic model wr
 from skillwright.errors import ModelError  # noqa: E402
 from skillwright.llm.base import ChatMessage, GenerationOptions, Prompt  # noqa: E402
 from skillwright.llm.config import LlamaCppModel, Registry, load_registry  # noqa: E402
-from skillwright.llm.embeddings import (  # noqa: E402
-    Embedder,
-    EmbeddingCache,
-    SentenceTransformerEncoder,
-    model_folder,
-)
+from skillwright.llm.embeddings import Embedder, EmbeddingCache, load_encoder  # noqa: E402
 from skillwright.llm.llamacpp import LlamaCppGenerator, load_llamacpp  # noqa: E402
 
 PREFIX_TOKENS = 4000
@@ -145,10 +140,7 @@ def _descriptions(count: int) -> list[str]:
 
 
 def bench_embeddings(registry: Registry, cache: Path) -> list[tuple[str, float, str]]:
-    entry = registry.embedding_model()
-    encoder = SentenceTransformerEncoder(
-        entry.id, model_folder(entry, registry), batch_size=entry.batch_size
-    )
+    encoder = load_encoder(registry)
     texts = _descriptions(1000)
     embedder = Embedder(encoder, EmbeddingCache(cache / "embeddings.sqlite"))
     started = time.perf_counter()

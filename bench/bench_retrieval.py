@@ -31,10 +31,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from tests.retrieval.labelled import Ranker
+    from tests.retrieval.labelled import LabelledSet, Ranker
 
     from skillwright.capability import Capability
     from skillwright.interfaces.inventory import Inventory
+    from skillwright.retrieval.retrieve import Ranking
     from skillwright.spec import SkillSpec
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -80,6 +81,9 @@ def main() -> int:
     dense_pooled = Ranking(dense_weight=1.0, facets=False, coverage=0.0)
     hybrid_pooled = Ranking(dense_weight=0.3, facets=False, coverage=0.0)
     rrf = Ranking(dense_weight=0.5, fusion="rrf")
+    words_only = Ranking(
+        neutral_factor=1.0, auxiliary_factor=1.0, intent_factor=1.0, body_factor=1.0
+    )
     methods: list[tuple[str, Ranker]] = [
         ("paper: rdfs:comment only, dense (alternative)", paper),
         ("dense, pooled query (all evidence, one text)", ours(dense_pooled, True)),
@@ -87,22 +91,26 @@ def main() -> int:
         ("lexical, pooled query, by relevance", ours(pooled, False)),
         ("hybrid 0.3, pooled query, by relevance", ours(hybrid_pooled, True)),
         ("hybrid RRF 0.5, facets + coverage", ours(rrf, True)),
-        ("lexical, facets + coverage (--no-dense)", ours(Ranking(), False)),
-        ("hybrid 0.1, facets + coverage (default)", ours(Ranking(), True)),
+        ("lexical, words only (no type semantics)", ours(words_only, False)),
+        ("hybrid 0.1, words only (no type semantics)", ours(words_only, True)),
+        ("lexical + type semantics (--no-dense)", ours(Ranking(), False)),
+        ("hybrid 0.1 + type semantics (default)", ours(Ranking(), True)),
         ("hybrid default, capability only (no spec)", no_spec),
     ]
 
     labelled = {name: load_set(name) for name in sets}
-    header = "".join(f"{name:>26}" for name in sets)
-    print(f"\nrecall: needs found @1 / @4 / @8 (fit@4 = needs k=4 can hold)\n{'method':48}{header}")
+    print("\nrecall: needs found @1 / @4 / @8 of all needs (fit = needs k=4 can hold)")
+    print(f"{'method':48}" + "".join(f"{name:>19}" for name in sets))
+    totals = "".join(
+        f"{f'{labelled[n].need_count} (fit {measure(labelled[n], _none, 4).attainable})':>19}"
+        for n in sets
+    )
+    print(f"{'needs':48}{totals}")
     for label, rank in methods:
-        cells = []
-        for name in sets:
-            r1, r4, r8 = (measure(labelled[name], rank, k) for k in (1, 4, 8))
-            cells.append(
-                f"{r1.found:>2}/{r4.found:>2}/{r8.found:>2} of {r4.total} (fit {r4.attainable})"
-            )
-        print(f"{label:48}" + "".join(f"{c:>26}" for c in cells))
+        cells = [recall_cell(labelled[name], rank) for name in sets]
+        print(f"{label:48}" + "".join(f"{c:>19}" for c in cells))
+
+    leave_one_robot_out(labelled, ours)
 
     print(
         f"\nlatency per capability query, MR-1 inventory ({embedder.encoder.model_id} "
@@ -131,6 +139,78 @@ def main() -> int:
     for (label, _), w, c in zip(timings, warm, cold, strict=True):
         print(f"{label:48}{w * 1e3:>9.2f} ms{c * 1e3:>9.1f} ms{warm[0] / w:>15.2f}x")
     return 0
+
+
+def _none(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:
+    return []
+
+
+def recall_cell(labelled: LabelledSet, rank: Ranker) -> str:
+    """``@1/@4/@8`` found, from one ranking of 8 (the greedy picks do not depend on k)."""
+    from tests.retrieval.labelled import measure
+
+    ranked: dict[str, list[str]] = {}
+
+    def once(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:
+        if cap.iri not in ranked:
+            ranked[cap.iri] = list(rank(inventory, cap, spec, 8))
+        return ranked[cap.iri][:k]
+
+    return "/".join(f"{measure(labelled, once, k).found:>2}" for k in (1, 4, 8))
+
+
+GRID = {
+    "neutral_factor": (1.0, 0.8),
+    "auxiliary_factor": (1.0, 0.5, 0.3),
+    "intent_factor": (1.0, 0.5),
+    "body_factor": (1.0, 0.5),
+}
+"""The type-semantics settings leave-one-robot-out chooses among (lexical ranking)."""
+
+
+def leave_one_robot_out(
+    labelled: dict[str, LabelledSet], ours: Callable[[Ranking, bool], Ranker]
+) -> None:
+    """For each robot: the grid point with the most needs found @4 on the *other* robots
+    (ties to the default), scored on the robot left out, next to the default's score."""
+    import itertools
+
+    from tests.retrieval.labelled import ROBOTS, measure
+
+    from skillwright.retrieval.retrieve import Ranking
+
+    points = [dict(zip(GRID, values, strict=True)) for values in itertools.product(*GRID.values())]
+    default = Ranking()
+    default_point = points.index({key: getattr(default, key) for key in GRID})
+    words_only = points.index({key: values[0] for key, values in GRID.items()})
+    found: dict[tuple[int, str], int] = {}
+    started = time.perf_counter()
+    for p, point in enumerate(points):
+        rank = ours(Ranking(**point), False)  # type: ignore[arg-type]
+        for name, labelled_set in labelled.items():
+            found[(p, name)] = measure(labelled_set, rank, 4).found
+    seconds = time.perf_counter() - started
+    print(
+        f"\nleave-one-robot-out, lexical, recall@4 ({len(points)} settings x {len(labelled)} "
+        f"sets in {seconds:.0f} s): chosen on the other robots, scored on the one left out"
+    )
+    print(f"{'robot left out':16}{'held out':>10}{'default':>10}{'words only':>12}  chosen")
+    for robot in sorted({ROBOTS[name] for name in labelled}):
+        held = [n for n in labelled if ROBOTS[n] == robot]
+        others = [n for n in labelled if ROBOTS[n] != robot]
+
+        def on_others(p: int, others: list[str] = others) -> tuple[int, bool]:
+            return (sum(found[(p, n)] for n in others), p == default_point)
+
+        best = max(range(len(points)), key=on_others)
+        total = sum(labelled[n].need_count for n in held)
+
+        def score(p: int, held: list[str] = held, total: int = total) -> str:
+            return f"{sum(found[(p, n)] for n in held)}/{total}"
+
+        chosen = ", ".join(f"{k}={v}" for k, v in points[best].items())
+        cells = f"{score(best):>10}{score(default_point):>10}{score(words_only):>12}"
+        print(f"{robot:16}{cells}  {chosen}")
 
 
 def paper_ranking(

@@ -18,6 +18,7 @@ HEAVY_MODULES = [
     "numpy",
     "torch",
     "sentence_transformers",
+    "tokenizers",
     "llama_cpp",
     "gguf",
     "jinja2",

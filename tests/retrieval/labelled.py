@@ -9,7 +9,12 @@ A capability can need more interfaces than ``k`` (the MR-1's mapping needs six);
 needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
 the *attainable* count, ``min(needs, k)`` summed over the capabilities.
 
-The paper's robot is read from its Cap2Skill reports by the report import.
+The paper's robot is read from its Cap2Skill reports by the report import. Four more robots,
+written down from public sources (``tests/retrieval/robots``), run the paper's nine
+capabilities and specs, as the robot this retrieval is judged on does: a TurtleBot 4 with Nav2,
+PAL TIAGo (a mobile manipulator with Nav2, SLAM Toolbox, MoveIt and ros2_control), a UR5e arm
+and a Unitree Go2 whose names are not English words. Only the capabilities a robot can serve
+are labelled; the label files say why the others are left out.
 """
 
 from __future__ import annotations
@@ -27,13 +32,20 @@ from skillwright.interfaces.load import load_inventory
 from skillwright.interfaces.sources.report import read_report
 from skillwright.spec import SkillSpec, load_spec
 from tests.conftest import REPO_ROOT, SHARED
+from tests.retrieval.robots import robot_inventory
 
 LABELS = Path(__file__).resolve().parent / "labels"
 
-SETS = ("mr1", "cap2skill", "cap2skill-filtered")
+SETS = ("mr1", "cap2skill", "cap2skill-filtered", "tb4", "tiago", "ur5e", "go2")
 """The labelled settings: our MR-1 recording; the paper's robot with its full report
 (infrastructure left out by our rules); the same robot with only the 33 interfaces the
-paper's relevance filter kept, carrying the paper's LLM-written descriptions."""
+paper's relevance filter kept, carrying the paper's LLM-written descriptions; and the four
+robots of ``tests/retrieval/robots``."""
+
+ROBOTS = {"mr1": "mr1", "cap2skill": "mmo700", "cap2skill-filtered": "mmo700"} | {
+    name: name for name in ("tb4", "tiago", "ur5e", "go2")
+}
+"""The robot of each set (the two Cap2Skill settings share one), for leave-one-robot-out."""
 
 Ranker = Callable[[Inventory, Capability, SkillSpec, int], Sequence[str]]
 """(inventory, capability, spec, k) -> interface names, best first."""
@@ -62,6 +74,8 @@ class LabelledSet:
     name: str
     inventory: Inventory
     cases: tuple[Case, ...]
+    unserved: tuple[str, ...] = ()
+    """Capabilities the robot cannot serve (left out of the cases)."""
 
     @property
     def need_count(self) -> int:
@@ -101,10 +115,12 @@ def measure(labelled: LabelledSet, rank: Ranker, k: int) -> Recall:
 @cache
 def load_set(name: str) -> LabelledSet:
     """One of :data:`SETS`; the Cap2Skill ones need ``../shared/data``."""
-    label_file = "mr1.yaml" if name == "mr1" else "cap2skill.yaml"
+    label_file = "cap2skill.yaml" if name.startswith("cap2skill") else f"{name}.yaml"
     document = yaml.safe_load((LABELS / label_file).read_text(encoding="utf-8"))
     root = REPO_ROOT if name == "mr1" else SHARED / "data"
-    if name == "mr1":
+    if "robot_file" in document:
+        inventory = robot_inventory(document["robot_file"])
+    elif name == "mr1":
         inventory = load_inventory(root / document["inventory"])
     elif name == "cap2skill":
         inventory = read_report(root / document["inventory"])
@@ -124,7 +140,7 @@ def load_set(name: str) -> LabelledSet:
                 alternatives=tuple(tuple(group) for group in entry["alternatives"] or []),
             )
         )
-    return LabelledSet(name, inventory, tuple(cases))
+    return LabelledSet(name, inventory, tuple(cases), tuple(document.get("unserved") or {}))
 
 
 _KEPT = Relevance(

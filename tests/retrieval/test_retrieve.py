@@ -4,11 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from functools import cache
+from typing import Literal
 
 import pytest
 
 from skillwright.capability import Capability, load_capability
-from skillwright.interfaces.inventory import Interface, Inventory, Resource
+from skillwright.capability.model import DataElement, Parameter
+from skillwright.interfaces.inventory import Interface, InterfaceKind, Inventory, Resource
 from skillwright.interfaces.load import load_inventory
 from skillwright.retrieval.retrieve import Ranking, rank_interfaces
 from skillwright.spec import SkillSpec, load_spec, parse_spec
@@ -181,3 +183,59 @@ def test_without_coverage_the_goal_variants_crowd_out_the_stop_command() -> None
         ranking=Ranking(coverage=0.0, facets=False),
     )
     assert "/cmd_vel" not in [h.name for h in hits]
+
+
+def behaviour_inventory() -> Inventory:
+    """A base whose Nav2 behaviours and limits share words with a move-forward capability."""
+
+    def make(name: str, kind: InterfaceKind, type_name: str) -> Interface:
+        return Interface(name=name, kind=kind, type_name=type_name)
+
+    return Inventory(
+        resource=Resource(name="base"),
+        interfaces=[
+            make("/cmd_vel", "topic", "geometry_msgs/msg/Twist"),
+            make("/odom", "topic", "nav_msgs/msg/Odometry"),
+            make("/backup", "action", "nav2_msgs/action/BackUp"),
+            make("/drive_on_heading", "action", "nav2_msgs/action/DriveOnHeading"),
+            make("/speed_limit", "topic", "nav2_msgs/msg/SpeedLimit"),
+        ],
+    )
+
+
+def parameter(name: str, unit: str, definition: str) -> Parameter:
+    direction: Literal["input", "output"] = "input" if name.startswith("in") else "output"
+    element = DataElement(name=name, unit=unit, definition=definition)
+    return Parameter(
+        iri=f"http://example.org/{name}",
+        name=name,
+        direction=direction,
+        kind="VDI3682:Information",
+        components=[element],
+    )
+
+
+def forward_capability() -> Capability:
+    return Capability(
+        iri="http://example.org/forward",
+        name="moveForward",
+        label="Move forward",
+        kinds=["CaSk:ProvidedCapability"],
+        comment="I drive the base forward by a distance at a speed, then stop.",
+        inputs=[parameter("inDistance", "m", "The distance to drive.")],
+        outputs=[
+            parameter("outDistance", "m", "The distance to drive."),
+            parameter("outVelocity", "m/s", "The velocity reached."),
+        ],
+    )
+
+
+def test_direct_interfaces_beat_composite_behaviours_that_share_the_words() -> None:
+    hits = rank_interfaces(behaviour_inventory(), forward_capability(), k=2)
+    assert [h.name for h in hits] == ["/cmd_vel", "/odom"]
+
+
+def test_without_the_type_prior_a_behaviour_wins_a_place() -> None:
+    flat = Ranking(neutral_factor=1.0, auxiliary_factor=1.0)
+    hits = rank_interfaces(behaviour_inventory(), forward_capability(), k=2, ranking=flat)
+    assert [h.name for h in hits] == ["/cmd_vel", "/drive_on_heading"]

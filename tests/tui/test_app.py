@@ -27,6 +27,7 @@ ENGINE_MODULES = [
     "numpy",
     "torch",
     "sentence_transformers",
+    "tokenizers",
     "llama_cpp",
     "skillwright._core",
     "skillwright.pipeline.run",

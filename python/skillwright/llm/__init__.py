@@ -1,7 +1,7 @@
 """Local models: the ``models.toml`` registry, text generation and embeddings.
 
 Every LLM and embedding call of skillwright goes through this package. Importing it is cheap:
-llama-cpp-python, sentence-transformers and torch load only inside the functions that use them.
+llama-cpp-python and the embedding model load only inside the functions that use them.
 
 - :mod:`~skillwright.llm.config` reads and merges ``models.toml``;
 - :mod:`~skillwright.llm.base` is the backend contract (:class:`TextGenerator`, :class:`Prompt`,

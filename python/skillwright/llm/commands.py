@@ -1,7 +1,7 @@
 """``skillwright models list|check``: what models are configured, present and working.
 
 Only click is imported at module level (``skillwright --help`` imports this module); the
-registry, llama.cpp and sentence-transformers load inside the commands.
+registry, llama.cpp and the embedding model load inside the commands.
 """
 
 from __future__ import annotations
@@ -199,15 +199,12 @@ def check_model(ctx: click.Context, model_id: str, tokens: int) -> None:
 
 def _check_embedding(registry: Registry, model_id: str) -> None:
     from skillwright.console import out_console
-    from skillwright.llm.embeddings import Embedder, SentenceTransformerEncoder, model_folder
+    from skillwright.llm.embeddings import Embedder, load_encoder
 
     console = out_console()
-    entry = registry.embedding_model(model_id)
     started = time.perf_counter()
-    encoder = SentenceTransformerEncoder(
-        entry.id, model_folder(entry, registry), batch_size=entry.batch_size
-    )
-    console.print(f"{entry.id}: loaded in {time.perf_counter() - started:.2f} s")
+    encoder = load_encoder(registry, model_id)
+    console.print(f"{encoder.model_id}: loaded in {time.perf_counter() - started:.2f} s")
     texts = [f"Topic /robot_{i}/cmd_vel accepts velocity commands for base {i}." for i in range(64)]
     embedder = Embedder(encoder, cache=None)  # measure the encoder, not the cache
     started = time.perf_counter()

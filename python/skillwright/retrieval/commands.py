@@ -2,7 +2,7 @@
 
 Only click is imported at module level (``skillwright --help`` imports this module); the
 capability reader, the inventory, the ranking and the embedding model load inside the
-command, the model (torch) only when dense scoring is on.
+command, the embedding model only when dense scoring is on.
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ __all__ = ["retrieve"]
 @click.option(
     "--no-dense",
     is_flag=True,
-    help="Lexical ranking only: no embedding model (and no torch) is loaded.",
+    help="Lexical ranking only: no embedding model is loaded.",
 )
 @click.option(
     "--models",
@@ -110,7 +110,7 @@ def retrieve(
 
 
 def _embedder(models_file: Path | None, count: int) -> tuple[Embedder, str]:
-    """The configured embedding model, announced on stderr (loading torch takes seconds)."""
+    """The configured embedding model, announced on stderr (loading it takes a moment)."""
     from skillwright.console import err_console
     from skillwright.errors import ModelError
     from skillwright.llm.config import load_registry

@@ -25,10 +25,11 @@ TERM_WEIGHTS = {
     "role": 2.0,
 }
 
-# Topics a skill writes to rather than reads: velocity commands, goals, setpoints,
-# trajectories sent to a controller.
+# Topics a skill writes to rather than reads: velocity commands (a bare Twist is one,
+# whatever the topic's name: measured velocities come stamped or inside an Odometry),
+# goals, setpoints, trajectories sent to a controller.
 _COMMAND_NAME = re.compile(r"(^|[/_])(cmd|command|commands|goal|setpoint)s?([/_]|$)")
-_COMMAND_TYPE = re.compile(r"trajectory_msgs/msg/\w+|\w+/msg/\w*Command")
+_COMMAND_TYPE = re.compile(r"trajectory_msgs/msg/\w+|\w+/msg/\w*Command|geometry_msgs/msg/Twist")
 _MAIN_ROLES = ("message", "goal", "request", "feedback", "result", "response")
 
 

@@ -23,12 +23,15 @@ import math
 import re
 from collections import defaultdict
 from dataclasses import dataclass, field
+from typing import Literal
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.retrieval.text import UNIT_WORDS, weighted_tokens
 from skillwright.spec.model import SkillSpec
 
-__all__ = ["FACET_WEIGHTS", "Facet", "Query", "build_query"]
+__all__ = ["FACET_WEIGHTS", "Facet", "Intent", "Query", "build_query", "intent_of"]
+
+Intent = Literal["command", "measure"]
 
 FACET_WEIGHTS = {
     "capability": 1.0,
@@ -68,6 +71,9 @@ class Facet:
     """Weighted lexical terms."""
     weight: float
     """How much the facet counts among the others."""
+    intent: Intent | None = None
+    """For a state's sentence: whether it sends something (``command``: "Set the velocity
+    to zero") or reads something (``measure``: "Print the current velocity"), by its verb."""
 
 
 @dataclass
@@ -134,6 +140,40 @@ def _parameter_facets(capability: Capability) -> list[Facet]:
 _SENTENCE_END = re.compile(r"(?<=[.;!?])\s+(?=[A-Z])")
 
 
+# The verb a specified state's sentence starts with says which way data flows.
+_COMMAND_VERBS = frozenset(
+    [
+        "set",
+        "publish",
+        "send",
+        "command",
+        "drive",
+        "move",
+        "turn",
+        "rotate",
+        "stop",
+        "cancel",
+        "reset",
+        "zero",
+        "trigger",
+    ]
+)
+_MEASURE_VERBS = frozenset(
+    ["print", "read", "retrieve", "get", "measure", "report", "return", "obtain"]
+)
+
+
+def intent_of(sentence: str) -> Intent | None:
+    """``command`` or ``measure`` by the sentence's first word, else ``None``."""
+    words = sentence.split(maxsplit=1)
+    verb = words[0].lower().strip(",.;:") if words else ""
+    if verb in _COMMAND_VERBS:
+        return "command"
+    if verb in _MEASURE_VERBS:
+        return "measure"
+    return None
+
+
 def _sentences(text: str) -> list[str]:
     return [p.strip() for p in _SENTENCE_END.split(" ".join(text.split())) if p.strip()]
 
@@ -171,6 +211,7 @@ def build_query(capability: Capability, spec: SkillSpec | None = None) -> Query:
                         terms=_terms([(piece, "state")]),
                         # a long state counts more than a short one, but not n times more
                         weight=weight / math.sqrt(len(pieces)),
+                        intent=intent_of(piece),
                     )
                 )
     union: defaultdict[str, float] = defaultdict(float)

@@ -27,9 +27,15 @@ from typing import Literal
 
 from skillwright.capability.model import Capability
 from skillwright.interfaces.inventory import Interface, Inventory
-from skillwright.retrieval.documents import describe, interface_terms, interface_text
+from skillwright.retrieval.documents import (
+    describe,
+    interface_role,
+    interface_terms,
+    interface_text,
+)
 from skillwright.retrieval.lexical import BM25
 from skillwright.retrieval.query import Facet, Query, build_query
+from skillwright.retrieval.semantics import body_of, body_of_text, directness
 from skillwright.spec.model import SkillSpec
 
 __all__ = ["DENSE_WEIGHT", "Embedder", "Hit", "Ranking", "candidates", "rank_interfaces"]
@@ -66,6 +72,19 @@ class Ranking:
     state's zero velocity command) counts fully. 0 scales each facet alone."""
     duplicate_type_factor: float = 0.5
     """Relevance factor for a candidate whose type an already picked hit has."""
+    neutral_factor: float = 0.8
+    """Evidence factor for a candidate whose type :mod:`~skillwright.retrieval.semantics`
+    does not know (a direct type counts fully)."""
+    auxiliary_factor: float = 0.5
+    intent_factor: float = 0.5
+    """Evidence factor where a state's sentence and a candidate disagree on the direction:
+    a sentence that sends ("Set the velocity to zero") and a topic that is read (odometry),
+    or one that reads ("Print the current velocity") and a command topic; 1 ignores it."""
+    body_factor: float = 0.5
+    """Evidence factor for a candidate whose type moves or senses the other part of the
+    robot than the capability's text names (an arm action for a base capability)."""
+    """Evidence factor for a candidate of an auxiliary type (a composite behaviour, a
+    kinematics service, a controller's state); below 1 the direct interfaces win ties."""
 
 
 @dataclass(frozen=True)
@@ -215,6 +234,34 @@ def _reason(
     return "; ".join(parts) if parts else "no evidence matched"
 
 
+def _apply_type_semantics(
+    mixed: list[list[float]], pool: Sequence[Interface], facets: Sequence[Facet], ranking: Ranking
+) -> None:
+    """Weighs each facet's scores (in place) by what the candidates' types do
+    (:mod:`~skillwright.retrieval.semantics`): the direction of a state's sentence, how
+    direct they are and which part of the robot they serve."""
+    factors = {
+        "direct": 1.0,
+        "neutral": ranking.neutral_factor,
+        "auxiliary": ranking.auxiliary_factor,
+    }
+    if ranking.intent_factor != 1.0:
+        roles = [interface_role(i) for i in pool]
+        for f, facet in enumerate(facets):
+            if facet.intent is not None:
+                row = mixed[f]
+                for i, role in enumerate(roles):
+                    if role is not None and role != facet.intent:
+                        row[i] *= ranking.intent_factor
+    prior = [factors[directness(i)] for i in pool]
+    body = body_of_text(facets[0].text) if facets else None
+    if body is not None and ranking.body_factor != 1.0:
+        other = [(b is not None and b != body) for b in map(body_of, pool)]
+        prior = [p * (ranking.body_factor if o else 1.0) for p, o in zip(prior, other, strict=True)]
+    for row in mixed:
+        row[:] = [v * p for v, p in zip(row, prior, strict=True)]
+
+
 def rank_interfaces(
     inventory: Inventory,
     capability: Capability,
@@ -239,6 +286,7 @@ def rank_interfaces(
         texts = [interface_text(i, d) for i, d in zip(pool, descriptions, strict=True)]
         dense_raw = _cosines(embed, [f.text for f in facets], texts, [i.kind for i in pool])
     scores = _facet_scores(facets, documents, dense_raw, ranking)
+    _apply_type_semantics(scores.mixed, pool, facets, ranking)
     weights = [f.weight for f in facets]
     total = sum(weights)
     relevance = [_weighted(scores.mixed, weights, i) for i in range(len(pool))]
@@ -256,7 +304,7 @@ def rank_interfaces(
             ]
 
         def objective(i: int) -> float:
-            duplicate = pool[i].type_name in picked_types
+            duplicate = _family(pool[i].type_name) in picked_types
             factor = ranking.duplicate_type_factor if duplicate else 1.0
             mix = (1.0 - ranking.coverage) * relevance[i] * factor
             return mix + ranking.coverage * sum(gains(i)) / total
@@ -283,9 +331,14 @@ def rank_interfaces(
                 facets=tuple(facets[f].key for f in order[:2] if gained[f] > 1e-9),
             )
         )
-        picked_types.add(interface.type_name)
+        picked_types.add(_family(interface.type_name))
         covered = [max(c, row[best]) for c, row in zip(covered, scores.mixed, strict=True)]
     return hits
+
+
+def _family(type_name: str) -> str:
+    """A type with its stamped variant: a Twist and a TwistStamped carry the same thing."""
+    return type_name.removesuffix("Stamped")
 
 
 def _pooled(query: Query) -> Facet:

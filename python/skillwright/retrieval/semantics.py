@@ -1,0 +1,146 @@
+"""What standard interface types do, as retrieval needs to know it: direct or auxiliary.
+
+Word overlap alone lets a composite action beat the plain interface a skill actually uses:
+a move-forward capability shares "drive", "distance" and "speed" with Nav2's ``BackUp``
+behaviour and ``SpeedLimit`` topic, and "position" with MoveIt's forward kinematics service,
+while the velocity command (a ``Twist``) and the measured pose and velocity (an
+``Odometry``) carry exactly what the capability commands and measures. So every candidate
+gets a *directness* from its type, by what the type's definition and package say it is:
+
+- **direct**: the type carries a quantity a skill commands or measures itself, or is the
+  one entry point of a whole task: ``Twist`` (velocity), ``Odometry`` (pose and velocity),
+  ``LaserScan``/``Range``/``PointCloud2`` (ranges), ``Imu``, ``JointState``, ``TFMessage``
+  (frames), a pose estimate, ``OccupancyGrid`` (a map), ``NavigateToPose`` (move the base
+  to a pose), MoveIt's ``MoveGroup`` (move the arm to a goal), ``FollowJointTrajectory``,
+  a gripper command, the map service;
+- **auxiliary**: the type is a building block or a side channel of such a task, used by
+  the stacks themselves rather than by a skill: Nav2's behaviours (back up, spin, drive on
+  heading, assisted teleop, wait) and its planner, smoother and controller steps, speed
+  limits, costmaps and their updates, paths, behaviour-tree logs; MoveIt's kinematics,
+  planning and planning-scene services and messages; controller state, controller manager
+  and lifecycle plumbing; visualisation markers, footprints, clicked points, camera
+  calibration, diagnostics, bare strings and triggers;
+- **neutral**: everything else (vendor types this table does not know).
+
+Retrieval multiplies each candidate's evidence by the factor of its directness
+(:class:`~skillwright.retrieval.retrieve.Ranking`), so a direct interface wins a tie of
+words and an auxiliary one still wins when the capability or the spec clearly asks for it.
+Rules are by type, never by a robot's interface names; the one name they read is Nav2's
+own convention that a costmap (an ``OccupancyGrid`` of costs, not a map) is published as
+``<costmap>/costmap``.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Literal
+
+from skillwright.interfaces.inventory import Interface
+
+__all__ = [
+    "Body",
+    "Directness",
+    "body_of",
+    "body_of_text",
+    "directness",
+]
+
+Body = Literal["arm", "base"]
+
+Directness = Literal["direct", "neutral", "auxiliary"]
+
+_DIRECT = re.compile(
+    "|".join(
+        (
+            r"geometry_msgs/msg/Twist(Stamped)?",
+            r"geometry_msgs/msg/PoseWithCovarianceStamped",
+            r"nav_msgs/msg/(Odometry|OccupancyGrid)",
+            r"nav_msgs/srv/GetMap",
+            r"sensor_msgs/msg/(LaserScan|Range|PointCloud2?|Imu|JointState)",
+            r"tf2_msgs/msg/TFMessage",
+            r"nav2_msgs/action/NavigateToPose",
+            r"moveit_msgs/action/MoveGroup",
+            r"control_msgs/action/(FollowJointTrajectory|(Parallel)?GripperCommand)",
+            r"trajectory_msgs/msg/JointTrajectory",
+        )
+    )
+)
+
+_AUXILIARY = re.compile(
+    "|".join(
+        (
+            # Nav2: behaviours composed of base motion, the navigator's inner steps,
+            # limits, costmaps, plans and its own plumbing
+            r"nav2_msgs/action/(BackUp|Spin|DriveOnHeading|AssistedTeleop|Wait"
+            r"|ComputePath\w*|SmoothPath|FollowPath|FollowWaypoints|FollowGPSWaypoints)",
+            r"nav2_msgs/msg/\w+",
+            r"nav2_msgs/srv/\w*(Costmap|Path|Lifecycle)\w*",
+            r"map_msgs/msg/\w+",
+            r"nav_msgs/msg/(Path|MapMetaData|GridCells)",
+            r"dwb_msgs/\w+/\w+",
+            # MoveIt: kinematics, planning and the planning scene serve move_group
+            r"moveit_msgs/(srv|msg)/\w+",
+            r"moveit_msgs/action/(ExecuteTrajectory|LocalPlanner|GlobalPlanner)",
+            # ros2_control: controller state and management
+            r"control_msgs/msg/\w*(ControllerState|DynamicJointState)\w*",
+            r"control_msgs/srv/QueryTrajectoryState",
+            r"controller_manager_msgs/\w+/\w+",
+            r"lifecycle_msgs/\w+/\w+",
+            r"bond/msg/\w+",
+            # display and bookkeeping
+            r"visualization_msgs/msg/\w+",
+            r"geometry_msgs/msg/(Polygon|PolygonStamped|PointStamped)",
+            r"sensor_msgs/msg/CameraInfo",
+            r"diagnostic_msgs/\w+/\w+",
+            r"std_msgs/msg/String",
+            r"std_srvs/srv/(Empty|Trigger)",
+        )
+    )
+)
+
+
+_COSTMAP = re.compile(r"(^|/)[^/]*costmap[^/]*(/|$)")
+
+
+def directness(interface: Interface) -> Directness:
+    """How directly the interface's type carries what a skill commands or measures."""
+    if interface.type_name == "nav_msgs/msg/OccupancyGrid" and _COSTMAP.search(interface.name):
+        return "auxiliary"
+    if _DIRECT.fullmatch(interface.type_name):
+        return "direct"
+    if _AUXILIARY.fullmatch(interface.type_name):
+        return "auxiliary"
+    return "neutral"
+
+
+# Types that move or sense one part of a mobile manipulator only: the base (velocity,
+# odometry, navigation, maps, costmaps) or the arm (MoveIt, joint trajectories, grippers).
+_BASE_TYPES = re.compile(
+    r"geometry_msgs/msg/(Twist(Stamped)?|PoseWithCovarianceStamped)"
+    r"|nav_msgs/\w+/\w+|nav2_msgs/\w+/\w+|map_msgs/\w+/\w+"
+)
+_ARM_TYPES = re.compile(
+    r"moveit_msgs/\w+/\w+|trajectory_msgs/msg/\w+|control_msgs/action/\w+"
+    r"|control_msgs/msg/JointTrajectoryControllerState|control_msgs/srv/QueryTrajectoryState"
+)
+_ARM_WORDS = re.compile(r"\b(manipulator|arm|gripper|end[- ]effector|joints?)\b", re.IGNORECASE)
+_BASE_WORDS = re.compile(r"\b(mobile|base|navigat\w*|drive|wheels?)\b", re.IGNORECASE)
+
+
+def body_of(interface: Interface) -> Body | None:
+    """The part of the robot the interface's type moves or senses, if only one."""
+    if _BASE_TYPES.fullmatch(interface.type_name):
+        return "base"
+    if _ARM_TYPES.fullmatch(interface.type_name):
+        return "arm"
+    return None
+
+
+def body_of_text(text: str) -> Body | None:
+    """The part of the robot a capability's text is about: the arm when it names one (a
+    manipulator of a mobile robot is still the arm), else the base when it names one."""
+    if _ARM_WORDS.search(text):
+        return "arm"
+    if _BASE_WORDS.search(text):
+        return "base"
+    return None

@@ -1,0 +1,94 @@
+"""Robot graphs written down from public sources, built into inventories for the labelled sets.
+
+A robot file (``tests/retrieval/robots/*.yaml``) lists what the robot's ROS 2 graph offers, as
+the sources it names show it: its nodes, and the topics, services and actions with their types.
+The plumbing every ROS 2 node has is added here the way ``rclcpp`` and ``rclpy`` create it, so
+the files stay readable and the graphs stay as large as real ones:
+
+- every node offers the six parameter services (``describe_parameters``, ``get_parameters``,
+  ``get_parameter_types``, ``list_parameters``, ``set_parameters``,
+  ``set_parameters_atomically``), and from Jazzy on ``get_type_description``;
+- a lifecycle node (``lifecycle: true``: Nav2's servers, the map server, AMCL) also offers
+  ``change_state``, ``get_state``, ``get_available_states``, ``get_available_transitions`` and
+  ``get_transition_graph`` and publishes ``transition_event``;
+- the graph has ``/rosout`` and ``/parameter_events``.
+
+Definitions come from the offline type stores where they have the type (standard messages);
+the others (nav2_msgs, moveit_msgs, vendor packages) stay unknown, as they would for a source
+that names types only. Infrastructure is flagged by the same rules as for any source.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+from pathlib import Path
+
+import yaml
+
+from skillwright.interfaces.infrastructure import classify
+from skillwright.interfaces.inventory import Interface, InterfaceKind, Inventory, Resource, Source
+from skillwright.interfaces.typestore import fill_missing_definitions
+
+ROBOTS = Path(__file__).resolve().parent / "robots"
+
+_PARAMETER_SERVICES = {
+    "describe_parameters": "rcl_interfaces/srv/DescribeParameters",
+    "get_parameters": "rcl_interfaces/srv/GetParameters",
+    "get_parameter_types": "rcl_interfaces/srv/GetParameterTypes",
+    "list_parameters": "rcl_interfaces/srv/ListParameters",
+    "set_parameters": "rcl_interfaces/srv/SetParameters",
+    "set_parameters_atomically": "rcl_interfaces/srv/SetParametersAtomically",
+}
+_LIFECYCLE_SERVICES = {
+    "change_state": "lifecycle_msgs/srv/ChangeState",
+    "get_state": "lifecycle_msgs/srv/GetState",
+    "get_available_states": "lifecycle_msgs/srv/GetAvailableStates",
+    "get_available_transitions": "lifecycle_msgs/srv/GetAvailableTransitions",
+    "get_transition_graph": "lifecycle_msgs/srv/GetAvailableTransitions",
+}
+
+
+@cache
+def robot_inventory(name: str) -> Inventory:
+    """The inventory of ``robots/<name>.yaml``."""
+    path = ROBOTS / f"{name}.yaml"
+    document = yaml.safe_load(path.read_text(encoding="utf-8"))
+    distro = str(document["distro"])
+    entries: dict[tuple[str, InterfaceKind], str] = {
+        ("/rosout", "topic"): "rcl_interfaces/msg/Log",
+        ("/parameter_events", "topic"): "rcl_interfaces/msg/ParameterEvent",
+    }
+    for node in document.get("nodes") or []:
+        node_name, lifecycle = (node, False) if isinstance(node, str) else (node["name"], True)
+        for service, type_name in _PARAMETER_SERVICES.items():
+            entries[(f"{node_name}/{service}", "service")] = type_name
+        if distro != "humble":
+            entries[(f"{node_name}/get_type_description", "service")] = (
+                "type_description_interfaces/srv/GetTypeDescription"
+            )
+        if lifecycle:
+            for service, type_name in _LIFECYCLE_SERVICES.items():
+                entries[(f"{node_name}/{service}", "service")] = type_name
+            entries[(f"{node_name}/transition_event", "topic")] = (
+                "lifecycle_msgs/msg/TransitionEvent"
+            )
+    for section, kind in (("topics", "topic"), ("services", "service"), ("actions", "action")):
+        for interface_name, type_name in (document.get(section) or {}).items():
+            entries[(interface_name, kind)] = type_name  # type: ignore[index]
+    interfaces = [
+        Interface(
+            name=interface_name,
+            kind=kind,
+            type_name=type_name,
+            infrastructure=classify(kind, interface_name, type_name),
+        )
+        for (interface_name, kind), type_name in sorted(
+            entries.items(), key=lambda item: (item[0][1], item[0][0])
+        )
+    ]
+    fill_missing_definitions(interfaces, distro)
+    return Inventory(
+        resource=Resource(name=document["robot"], description=document["description"]),
+        sources=[Source(kind="report", location=str(path), ros_distro=distro)],
+        interfaces=interfaces,
+    )

@@ -1,0 +1,77 @@
+"""What standard interface types do: direct, auxiliary or unknown, and what they carry."""
+
+from __future__ import annotations
+
+import pytest
+
+from skillwright.interfaces.inventory import Interface, InterfaceKind
+from skillwright.retrieval.semantics import (
+    body_of,
+    body_of_text,
+    directness,
+)
+
+
+def interface(name: str, type_name: str, kind: InterfaceKind = "topic") -> Interface:
+    return Interface(name=name, kind=kind, type_name=type_name)
+
+
+@pytest.mark.parametrize(
+    ("kind", "type_name"),
+    [
+        ("topic", "geometry_msgs/msg/Twist"),
+        ("topic", "geometry_msgs/msg/TwistStamped"),
+        ("topic", "nav_msgs/msg/Odometry"),
+        ("topic", "sensor_msgs/msg/LaserScan"),
+        ("topic", "nav_msgs/msg/OccupancyGrid"),
+        ("topic", "tf2_msgs/msg/TFMessage"),
+        ("action", "nav2_msgs/action/NavigateToPose"),
+        ("action", "moveit_msgs/action/MoveGroup"),
+        ("action", "control_msgs/action/FollowJointTrajectory"),
+    ],
+)
+def test_the_plain_interfaces_a_skill_uses_are_direct(kind: InterfaceKind, type_name: str) -> None:
+    assert directness(interface("/x", type_name, kind)) == "direct"
+
+
+@pytest.mark.parametrize(
+    ("kind", "type_name"),
+    [
+        ("action", "nav2_msgs/action/BackUp"),
+        ("action", "nav2_msgs/action/Spin"),
+        ("action", "nav2_msgs/action/DriveOnHeading"),
+        ("action", "nav2_msgs/action/AssistedTeleop"),
+        ("topic", "nav2_msgs/msg/SpeedLimit"),
+        ("service", "moveit_msgs/srv/GetPositionFK"),
+        ("topic", "control_msgs/msg/JointTrajectoryControllerState"),
+        ("service", "controller_manager_msgs/srv/ListControllers"),
+        ("topic", "visualization_msgs/msg/MarkerArray"),
+    ],
+)
+def test_composite_behaviours_and_side_channels_are_auxiliary(
+    kind: InterfaceKind, type_name: str
+) -> None:
+    assert directness(interface("/x", type_name, kind)) == "auxiliary"
+
+
+def test_a_costmap_is_auxiliary_while_the_map_of_the_same_type_is_direct() -> None:
+    grid = "nav_msgs/msg/OccupancyGrid"
+    assert directness(interface("/map", grid)) == "direct"
+    assert directness(interface("/local_costmap/costmap", grid)) == "auxiliary"
+
+
+def test_a_vendor_type_is_neutral() -> None:
+    assert directness(interface("/api/sport/request", "unitree_api/msg/Request")) == "neutral"
+
+
+def test_types_tell_the_base_from_the_arm() -> None:
+    assert body_of(interface("/cmd_vel", "geometry_msgs/msg/Twist")) == "base"
+    assert body_of(interface("/navigate_to_pose", "nav2_msgs/action/NavigateToPose")) == "base"
+    assert body_of(interface("/move_action", "moveit_msgs/action/MoveGroup")) == "arm"
+    assert body_of(interface("/tf", "tf2_msgs/msg/TFMessage")) is None
+
+
+def test_a_capability_about_a_mobile_robots_manipulator_is_about_the_arm() -> None:
+    assert body_of_text("Move the manipulator of the mobile robot to a goal point.") == "arm"
+    assert body_of_text("Navigate the mobile robot to a goal point.") == "base"
+    assert body_of_text("Print the current time.") is None
