@@ -51,7 +51,9 @@ async def test_a_file_outside_the_workspace_opens_from_the_dialog(
         field = app.screen.query_one("#open-path", Input)
         field.value = str(elsewhere / "nothing.ttl")
         await pilot.press("enter")
-        assert "no such file or folder" in screen_text(app)
+        error = app.screen.query_one("#open-error", Static)
+        assert str(error.render()) == f"no such file or folder: nothing.ttl is not in {elsewhere}"
+        assert "no such file or folder: nothing.ttl" in screen_text(app)
         field.value = str(elsewhere / "turn.ttl")
         await pilot.press("enter")
         await wait_until(pilot, lambda: app.loaded.capability is not None)
