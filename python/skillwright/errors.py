@@ -26,6 +26,7 @@ __all__ = [
     "ModelFileMissingError",
     "ModelFormatError",
     "ModelServerError",
+    "OperationCancelledError",
     "Ros2UnavailableError",
     "SkillwrightError",
     "SpecError",
@@ -91,10 +92,15 @@ class ModelServerError(ModelError, ConnectionError):
     """A configured model server (OpenAI-compatible HTTP) failed or could not be reached."""
 
 
-class GenerationCancelledError(SkillwrightError):
-    """The user cancelled a generation; nothing was written."""
+class OperationCancelledError(SkillwrightError):
+    """The user cancelled a long operation (reading, ranking, generating); its work stopped
+    at the next step and nothing it would have produced was kept."""
 
     exit_code = 130
+
+
+class GenerationCancelledError(OperationCancelledError):
+    """The user cancelled a generation; nothing was written."""
 
 
 class Ros2UnavailableError(SkillwrightError):

@@ -8,11 +8,13 @@ so later stages can still work with what is there.
 from __future__ import annotations
 
 import re
+import threading
 from collections.abc import Iterable, Sequence
 from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
+from skillwright.cancel import raise_if_cancelled
 from skillwright.capability.model import (
     Capability,
     CapabilityLoad,
@@ -373,21 +375,26 @@ def load_capability(
     *,
     capability_iri: str | None = None,
     ontologies: Iterable[str | Path] = (),
+    cancel: threading.Event | None = None,
 ) -> CapabilityLoad:
     """Reads the capability model at ``path``.
 
     ``capability_iri`` selects one capability when the file holds several (its full IRI
     or its local name). ``ontologies`` are local copies of imported ontologies; their
-    class hierarchy lets domain-specific capability classes be recognised.
+    class hierarchy lets domain-specific capability classes be recognised. ``cancel`` is
+    looked at before and after each file is parsed (see :mod:`skillwright.cancel`).
     """
     from rdflib import RDFS, URIRef
 
     from skillwright.capability.vocabulary import load_vocabulary
 
+    what = f"reading {path}"
+    raise_if_cancelled(cancel, what)
     source = Path(path)
     graph = parse_graph(source)
     ontology_paths = [Path(p) for p in ontologies]
-    vocabulary = load_vocabulary(ontology_paths) if ontology_paths else None
+    vocabulary = load_vocabulary(ontology_paths, cancel=cancel) if ontology_paths else None
+    raise_if_cancelled(cancel, what)
     reader = _Reader(graph, source)
 
     imports = sorted(
