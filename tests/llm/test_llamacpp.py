@@ -8,6 +8,7 @@ import sys
 import threading
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -92,6 +93,38 @@ def test_cancel_stops_between_tokens(tiny: LlamaCppGenerator) -> None:
     assert stream.finish_reason == "cancelled"
     # The model is free again for the next request.
     assert tiny.stream(QUESTION, GenerationOptions(max_tokens=2)).text() is not None
+
+
+def test_cancel_stops_the_next_token_even_while_no_text_comes_out(
+    tiny: LlamaCppGenerator, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    llama = tiny.llama
+    cancel = threading.Event()
+    sampled = 0
+    real_sample = llama.sample
+
+    def sample(*args: Any, **kwargs: Any) -> Any:
+        nonlocal sampled
+        sampled += 1
+        if sampled == 3:
+            cancel.set()  # Esc while the model writes
+        return real_sample(*args, **kwargs)
+
+    real_completion = llama.create_completion
+
+    def held_back(*args: Any, **kwargs: Any) -> Iterator[Any]:
+        # llama-cpp-python yields nothing while the text so far may be the start of a stop
+        # sequence or of a UTF-8 character; the random model's bytes often are.
+        for _ in real_completion(*args, **kwargs):
+            pass
+        yield from ()
+
+    monkeypatch.setattr(llama, "sample", sample)
+    monkeypatch.setattr(llama, "create_completion", held_back)
+    stream = tiny.stream(QUESTION, GenerationOptions(max_tokens=40), cancel=cancel)
+    assert list(stream) == []
+    assert stream.finish_reason == "cancelled"
+    assert sampled == 3
 
 
 def test_cancel_before_start_generates_nothing(tiny: LlamaCppGenerator) -> None:

@@ -242,6 +242,10 @@ class LlamaCppGenerator:
                 # max_tokens, which llama-cpp-python overruns while a UTF-8 character is
                 # incomplete: the token after the limit is dropped, never shown.
                 nonlocal halted
+                if cancel is not None and cancel.is_set():
+                    # Tokens held back (a possible stop sequence, an unfinished UTF-8
+                    # character) yield no chunk, so the loop below may not look for a while.
+                    return True
                 done = len(input_ids) - prompt_length + 1
                 stream.completion_tokens = min(max_tokens, max(stream.completion_tokens or 0, done))
                 if done > max_tokens and not halted:
@@ -281,7 +285,9 @@ class LlamaCppGenerator:
                 close = getattr(completion, "close", None)
                 if close is not None:
                     close()
-            if stream.finish_reason is None:
+            if cancel is not None and cancel.is_set():
+                stream.finish_reason = "cancelled"
+            elif stream.finish_reason is None:
                 stream.finish_reason = "stop"
         finally:
             self._busy.release()
