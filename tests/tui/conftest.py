@@ -3,12 +3,15 @@ configuration, the tiny GGUF model, and helpers to wait for workers and read the
 
 from __future__ import annotations
 
+import asyncio
 import io
 import shutil
+import threading
 import time
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from pathlib import Path
+from typing import Any
 
 import pytest
 from pytest_textual_snapshot import SVGImageExtension
@@ -26,7 +29,16 @@ from tests.llm.conftest import isolated_config, tiny_gguf
 # syrupy 5 and later read file_extension and would store the SVG snapshots as .raw files.
 SVGImageExtension.file_extension = "svg"
 
-__all__ = ["choose", "isolated_config", "running", "screen_text", "tiny_gguf", "wait_until"]
+__all__ = [
+    "Gate",
+    "Watch",
+    "choose",
+    "isolated_config",
+    "running",
+    "screen_text",
+    "tiny_gguf",
+    "wait_until",
+]
 
 
 @pytest.fixture
@@ -159,3 +171,55 @@ def rich_text(renderable: object, width: int = 120) -> str:
 def notifications(app: App[object]) -> list[str]:
     """Messages of the notifications currently shown."""
     return [n.message for n in app._notifications]
+
+
+class Gate:
+    """Holds the engine inside one of its steps until the test opens the gate, so the test
+    can cancel while the step runs (as a user pressing Esc during a slow read would)."""
+
+    def __init__(self, monkeypatch: pytest.MonkeyPatch, module: object, name: str) -> None:
+        self.entered = threading.Event()
+        self.opened = threading.Event()
+        real = getattr(module, name)
+
+        def held(*args: Any, **kwargs: Any) -> Any:
+            self.entered.set()
+            self.opened.wait(60)
+            return real(*args, **kwargs)
+
+        monkeypatch.setattr(module, name, held)
+
+    async def reached(self) -> None:
+        """Waits (without blocking the app) until a worker is inside the step."""
+        assert await asyncio.to_thread(self.entered.wait, 60), "the engine never got there"
+
+    def open(self) -> None:
+        """Lets the step finish."""
+        self.opened.set()
+
+
+class Watch:
+    """Records what an engine function called by a worker returned or raised."""
+
+    def __init__(self, monkeypatch: pytest.MonkeyPatch, module: object, name: str) -> None:
+        self.outcomes: list[object] = []
+        self.returned = threading.Event()
+        real = getattr(module, name)
+
+        def watched(*args: Any, **kwargs: Any) -> Any:
+            try:
+                result = real(*args, **kwargs)
+            except BaseException as error:
+                self.outcomes.append(error)
+                self.returned.set()
+                raise
+            self.outcomes.append(result)
+            self.returned.set()
+            return result
+
+        monkeypatch.setattr(module, name, watched)
+
+    async def first(self) -> object:
+        """The first call's result or exception, once it has returned."""
+        assert await asyncio.to_thread(self.returned.wait, 60), "the engine call never returned"
+        return self.outcomes[0]

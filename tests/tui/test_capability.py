@@ -7,9 +7,12 @@ from pathlib import Path
 import pytest
 from textual.widgets import Input, OptionList, Static
 
+from skillwright.errors import OperationCancelledError
 from skillwright.tui.screens.capability import CapabilityPane
 from skillwright.tui.screens.open_path import OpenPathScreen
 from tests.tui.conftest import (
+    Gate,
+    Watch,
     app_for,
     choose,
     notifications,
@@ -106,3 +109,47 @@ async def test_a_file_with_several_capabilities_is_read_with_the_iri_given(
         assert app.loaded.capability is not None
         assert app.loaded.capability.capability.name == "rotate"
         assert app.session.capability_iri == "rotate"
+
+
+async def test_esc_stops_the_read_at_the_engines_next_step(
+    workspace: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.capability import reader
+
+    parsing = Gate(monkeypatch, reader, "parse_graph")
+    read = Watch(monkeypatch, reader, "load_capability")
+    app = app_for(workspace)
+    async with running(app, (100, 30)) as pilot:
+        try:
+            await choose(pilot, app.query_one("#capability-list", OptionList), "rotate.ttl")
+            await parsing.reached()
+            await pilot.press("escape")
+        finally:
+            parsing.open()
+        assert isinstance(await read.first(), OperationCancelledError)
+        await pilot.pause()
+        assert app.loaded.capability is None
+        assert str(app.query_one("#capability-status", Static).render()) == "cancelled"
+        assert not app.query_one("#capability-loading").display
+
+
+async def test_choosing_another_file_stops_the_read_in_progress(
+    workspace: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.capability import reader
+
+    parsing = Gate(monkeypatch, reader, "parse_graph")
+    read = Watch(monkeypatch, reader, "load_capability")
+    app = app_for(workspace)
+    async with running(app, (100, 30)) as pilot:
+        options = app.query_one("#capability-list", OptionList)
+        try:
+            await choose(pilot, options, "rotate.ttl")
+            await parsing.reached()
+            await choose(pilot, options, "move-forward.ttl")
+        finally:
+            parsing.open()
+        await wait_until(pilot, lambda: app.loaded.capability is not None)
+        assert app.loaded.capability is not None
+        assert app.loaded.capability.capability.name == "moveForward"
+        assert isinstance(await read.first(), OperationCancelledError)

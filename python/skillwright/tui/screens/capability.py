@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterable
 from pathlib import Path
 from typing import ClassVar
@@ -14,9 +15,10 @@ from textual.binding import Binding, BindingType
 from textual.containers import Horizontal, Vertical, VerticalScroll
 from textual.widgets import Button, Input, Label, LoadingIndicator, OptionList, Static
 from textual.widgets.option_list import Option
-from textual.worker import Worker, get_current_worker
+from textual.worker import get_current_worker
 
-from skillwright.errors import SkillwrightError
+from skillwright.errors import OperationCancelledError, SkillwrightError
+from skillwright.tui.jobs import EngineJob
 from skillwright.tui.messages import CapabilityLoaded, JobFailed
 from skillwright.tui.screens.base import Pane
 from skillwright.tui.screens.open_path import OpenPathScreen
@@ -36,7 +38,7 @@ class CapabilityPane(Pane):
 
     def __init__(self) -> None:
         super().__init__(id="capability-pane")
-        self._worker: Worker[None] | None = None
+        self._job = EngineJob()
         self.summary: RenderableType = ""
         """The engine's summary of the loaded capability, as shown."""
 
@@ -122,16 +124,19 @@ class CapabilityPane(Pane):
         self.sw.update_session(capability=self.sw.workspace.relative(path))
         self.query_one("#capability-loading").display = True
         self.query_one("#capability-status", Static).update(f"reading {path} …")
-        self._worker = self._read(path, self.sw.session.capability_iri)
+        iri = self.sw.session.capability_iri
+        self._job.start(lambda cancel: self._read(path, iri, cancel))
 
     @work(thread=True, exclusive=True, group="capability", exit_on_error=False)
-    def _read(self, path: Path, iri: str | None) -> None:
+    def _read(self, path: Path, iri: str | None, cancel: threading.Event) -> None:
         # rdflib and pydantic load here, in the worker, on first use.
         from skillwright.capability.reader import load_capability
         from skillwright.capability.render import render_capability
 
         try:
-            load = load_capability(path, capability_iri=iri)
+            load = load_capability(path, capability_iri=iri, cancel=cancel)
+        except OperationCancelledError:
+            return  # the pane already says so, or a newer read replaced this one
         except SkillwrightError as error:
             self.fail(str(error))
             return
@@ -141,8 +146,7 @@ class CapabilityPane(Pane):
             self.post_message(CapabilityLoaded(path, load, render_capability(load)))
 
     def cancel_job(self) -> bool:
-        if self._worker is not None and self._worker.is_running:
-            self._worker.cancel()
+        if self._job.stop():
             self.query_one("#capability-loading").display = False
             self.query_one("#capability-status", Static).update("cancelled")
             return True
