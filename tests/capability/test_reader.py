@@ -10,6 +10,7 @@ import pytest
 from skillwright.capability import Capability, load_capability
 from skillwright.errors import (
     CapabilityError,
+    CapabilitySelectionError,
     InputFileError,
     InputFileNotFoundError,
     OperationCancelledError,
@@ -382,3 +383,24 @@ def test_the_vocabulary_stops_between_ontology_files(
     with pytest.raises(OperationCancelledError, match="reading the ontologies cancelled"):
         vocabulary.load_vocabulary([tmp_path / "a.ttl", tmp_path / "b.ttl"], cancel=cancel)
     assert read == [tmp_path / "a.ttl"]
+
+
+def test_a_file_with_several_capabilities_offers_them_to_choose_from(tmp_path: Path) -> None:
+    path = write(tmp_path, TWO_CAPABILITIES)
+    with pytest.raises(CapabilitySelectionError) as info:
+        load_capability(path)
+    expected = [
+        ("http://example.org/robot/drive", "drive", "Drive"),
+        ("http://example.org/robot/grip", "grip", "Grip"),
+    ]
+    assert [(c.iri, c.name, c.label) for c in info.value.choices] == expected
+    with pytest.raises(CapabilitySelectionError, match="is not one of") as again:
+        load_capability(path, capability_iri="weld")
+    assert again.value.choices == info.value.choices
+    load = load_capability(path, capability_iri="grip")
+    assert load.choices == info.value.choices
+
+
+def test_a_file_with_one_capability_offers_just_that_one(tmp_path: Path) -> None:
+    load = load_capability(SHIPPED_CAPABILITIES / "rotate.ttl")
+    assert [(c.name, c.label) for c in load.choices] == [("rotate", load.capability.label)]
