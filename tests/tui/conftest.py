@@ -20,6 +20,7 @@ from textual.pilot import Pilot
 from textual.widgets import OptionList
 
 from skillwright.tui.app import SkillwrightApp, make_app
+from skillwright.tui.screens.base import Pane
 from skillwright.tui.session import SessionState, save_session
 from skillwright.tui.workspace import Workspace
 from tests.conftest import SHIPPED_CAPABILITIES
@@ -30,6 +31,8 @@ from tests.llm.conftest import isolated_config, tiny_gguf
 SVGImageExtension.file_extension = "svg"
 
 __all__ = [
+    "MODEL_RUN",
+    "STEP",
     "Gate",
     "Watch",
     "choose",
@@ -41,15 +44,36 @@ __all__ = [
 ]
 
 
+STEP = 120.0
+"""Deadline of one step of the app (a worker reading a file, keys handled): it takes a
+second or two on an idle machine, and ten times that on a 2-core machine busy with builds
+and other test runs. Only a failing test waits this long."""
+
+MODEL_RUN = 600.0
+"""Deadline of a run of the tiny model: its byte-level vocabulary makes a generation prompt
+about 12,000 tokens, evaluated in 15 s on an idle machine and in minutes on a busy one."""
+
+
 @pytest.fixture
 def anyio_backend() -> str:
     """Pilot tests run on asyncio (Textual's loop); anyio's plugin runs ``async def`` tests."""
     return "asyncio"
 
 
+@pytest.fixture(scope="session")
+def _run_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return tmp_path_factory.mktemp("tui-cache")
+
+
 @pytest.fixture(autouse=True)
-def _config(isolated_config: Path) -> Path:
-    """Every TUI test gets its own configuration, data and cache folders."""
+def _config(isolated_config: Path, _run_cache: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """Every TUI test gets its own configuration and data folders.
+
+    The cache folder is shared by the run's TUI tests, as a user's runs share theirs: the
+    tiny model's 12,000-token prompt prefix is then evaluated once per run instead of once
+    per generating test (half a minute each on a busy machine).
+    """
+    monkeypatch.setenv("XDG_CACHE_HOME", str(_run_cache))
     return isolated_config
 
 
@@ -117,11 +141,17 @@ async def running(app: App[None], size: tuple[int, int] = (120, 40)) -> AsyncIte
     """
     async with app.run_test(size=size) as pilot:
         await pilot.pause()
-        yield pilot
+        try:
+            yield pilot
+        finally:
+            # A test that fails mid-job must not leave an engine call running: the event
+            # loop's shutdown would wait for its thread (a whole generation) before going on.
+            for pane in app.query(Pane):
+                pane.cancel_job()
 
 
 async def wait_until(
-    pilot: Pilot[object], condition: Callable[[], object], timeout: float = 30.0
+    pilot: Pilot[object], condition: Callable[[], object], timeout: float = STEP
 ) -> None:
     """Lets the app run until ``condition()`` is true; fails the test after ``timeout``."""
     deadline = time.monotonic() + timeout
@@ -184,14 +214,14 @@ class Gate:
 
         def held(*args: Any, **kwargs: Any) -> Any:
             self.entered.set()
-            self.opened.wait(60)
+            self.opened.wait(STEP)
             return real(*args, **kwargs)
 
         monkeypatch.setattr(module, name, held)
 
     async def reached(self) -> None:
         """Waits (without blocking the app) until a worker is inside the step."""
-        assert await asyncio.to_thread(self.entered.wait, 60), "the engine never got there"
+        assert await asyncio.to_thread(self.entered.wait, STEP), "the engine never got there"
 
     def open(self) -> None:
         """Lets the step finish."""
@@ -221,5 +251,5 @@ class Watch:
 
     async def first(self) -> object:
         """The first call's result or exception, once it has returned."""
-        assert await asyncio.to_thread(self.returned.wait, 60), "the engine call never returned"
+        assert await asyncio.to_thread(self.returned.wait, STEP), "the engine call never returned"
         return self.outcomes[0]
