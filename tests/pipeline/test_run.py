@@ -16,9 +16,10 @@ from skillwright.errors import (
     ModelFileMissingError,
     OperationCancelledError,
 )
-from skillwright.generation.examples import few_shot_examples
 from skillwright.pipeline import GenerationRecord, GenerationRequest, retrieve, run_generation
 from skillwright.pipeline.events import (
+    AttemptFinished,
+    AttemptStarted,
     Event,
     GenerationStats,
     Notice,
@@ -28,8 +29,9 @@ from skillwright.pipeline.events import (
     TokenChunk,
 )
 from tests.conftest import SHIPPED_CAPABILITIES
+from tests.fixtures.scripted import MethodScript
 from tests.llm.conftest import write_models_toml
-from tests.pipeline.conftest import RECORDING, ScriptedModel, stems, use_model
+from tests.pipeline.conftest import RECORDING, SET_VELOCITY, stems, use_model
 
 
 def request(out: Path, stem: str = "set-velocity", **changes: object) -> GenerationRequest:
@@ -43,10 +45,6 @@ def request(out: Path, stem: str = "set-velocity", **changes: object) -> Generat
     }
     values.update(changes)
     return GenerationRequest(**values)  # type: ignore[arg-type]
-
-
-def example_code(stem: str) -> str:
-    return next(e.code for e in few_shot_examples() if e.code_path.stem == stem)
 
 
 def test_the_skeleton_run_writes_the_skill_and_a_complete_record(tmp_path: Path) -> None:
@@ -124,11 +122,10 @@ def test_a_model_asked_for_by_name_must_be_installed(tmp_path: Path) -> None:
     assert not (tmp_path / "out").exists()
 
 
-def test_a_models_complete_skill_is_merged_checked_and_passes(
+def test_the_model_writes_each_state_and_the_skill_passes_the_checks(
     tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    answer = f"Here you are.\n```python\n{example_code('set_velocity')}```\n"
-    model = ScriptedModel(answer)
+    model = MethodScript(dict(SET_VELOCITY), model_id="tiny")
     use_model(monkeypatch, model)
     events: list[Event] = []
     outcome = run_generation(
@@ -137,22 +134,25 @@ def test_a_models_complete_skill_is_merged_checked_and_passes(
     assert outcome.mode == "llm"
     assert outcome.report.passed, outcome.report.findings
     assert model.closed
-    assert "".join(e.text for e in events if isinstance(e, TokenChunk)) == answer
+    assert model.asked == ["starting", "execute", "completing", "stopping", "resetting"]
+    assert [e.target for e in events if isinstance(e, AttemptStarted)] == model.asked
+    assert sum(isinstance(e, AttemptFinished) for e in events) == 5
+    assert "".join(e.text for e in events if isinstance(e, TokenChunk)).count("```") == 0
     assert [type(e) for e in events if isinstance(e, PrefixCacheStatus | GenerationStats)] == [
         PrefixCacheStatus,
         GenerationStats,
     ]
     files = sorted(p.name for p in outcome.out_dir.iterdir())
-    assert files == ["prompt.txt", "record.json", "response.txt", "skill.py"]
-    assert (outcome.out_dir / "response.txt").read_text(encoding="utf-8") == answer
-    prompt_text = (outcome.out_dir / "prompt.txt").read_text(encoding="utf-8")
-    assert prompt_text.startswith("===== system (cached prefix) =====")
+    assert files == ["conversation.txt", "record.json", "skill.py"]
+    conversation = (outcome.out_dir / "conversation.txt").read_text(encoding="utf-8")
+    assert conversation.startswith("===== system (cached prefix) =====")
+    assert "===== task card =====\nSkill SetVelocitySkill" in conversation
+    assert "===== assistant (attempt 1) =====" in conversation
 
     record = outcome.record
+    assert record.schema_version == 2
     assert record.model is not None
     assert record.model.id == "tiny"
-    assert record.model.merged
-    assert record.model.extraction == "fenced"
     assert record.model.states_written == [
         "starting",
         "execute",
@@ -160,33 +160,51 @@ def test_a_models_complete_skill_is_merged_checked_and_passes(
         "stopping",
         "resetting",
     ]
-    assert record.model.finish_reason == "stop"
-    assert record.model.sampling["max_tokens"] == 32
-    assert set(record.timings) >= {"model", "prompt", "generation", "checks"}
+    assert [a.target for a in record.model.attempts] == model.asked
+    assert all(a.chosen and a.errors == 0 for a in record.model.attempts)
+    assert record.model.max_tokens == 400
+    assert record.model.attempts_allowed == 3
+    assert record.model.card is not None
+    assert record.model.card.startswith("Skill SetVelocity")
+    assert set(record.timings) >= {"model", "generation", "checks"}
     code = outcome.skill_path.read_text(encoding="utf-8")
-    assert "Behaviour: written by the local model tiny" in code
+    assert "Behaviour: written by the local model tiny, one method at a time" in code
     assert json.loads(outcome.record_path.read_text(encoding="utf-8"))["mode"] == "llm"
 
 
-def test_an_answer_that_does_not_parse_leaves_the_skeleton_and_keeps_the_answer(
+def test_attempts_and_their_findings_are_recorded(
     tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    use_model(monkeypatch, ScriptedModel("```python\nclass Broken(:\n    pass\n```"))
-    outcome = run_generation(request(tmp_path / "out", models_file=models_file))
-    assert outcome.mode == "llm"
-    assert (outcome.out_dir / "answer.py").read_text(
-        encoding="utf-8"
-    ) == "class Broken(:\n    pass\n"
-    assert "raise NotImplementedError" in outcome.skill_path.read_text(encoding="utf-8")
-    assert any("does not parse (answer.py line 1" in n for n in outcome.record.notes)
+    wrong = """        self.logger.info("done")\n```"""
+    answers = {**SET_VELOCITY, "completing": [wrong, *SET_VELOCITY["completing"]]}
+    use_model(monkeypatch, MethodScript(answers, model_id="tiny"))
+    outcome = run_generation(request(tmp_path / "out", models_file=models_file, attempts=2))
+    assert outcome.report.passed
     assert outcome.record.model is not None
-    assert not outcome.record.model.merged
+    tries = [a for a in outcome.record.model.attempts if a.target == "completing"]
+    assert [(a.number, a.chosen) for a in tries] == [(1, False), (2, True)]
+    assert tries[0].errors == 1
+    assert "self.logger" in tries[1].problems[0]
+
+
+def test_a_state_the_model_never_writes_keeps_its_placeholder_and_is_noted(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    broken = """        if self.timer is not None\n            self.timer.cancel()\n```"""
+    use_model(monkeypatch, MethodScript({**SET_VELOCITY, "stopping": [broken]}, model_id="tiny"))
+    outcome = run_generation(request(tmp_path / "out", models_file=models_file, attempts=2))
+    assert outcome.mode == "llm"
+    assert not outcome.report.passed
+    assert 'raise NotImplementedError("stopping' in outcome.skill_path.read_text(encoding="utf-8")
+    assert outcome.record.model is not None
+    assert outcome.record.model.states_missing == ["stopping"]
+    assert any("no usable answer for stopping" in n for n in outcome.record.notes)
 
 
 def test_cancelling_during_generation_writes_nothing(
     tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    model = ScriptedModel(example_code("set_velocity"))
+    model = MethodScript(dict(SET_VELOCITY), model_id="tiny")
     use_model(monkeypatch, model)
     cancel = threading.Event()
 
@@ -231,11 +249,16 @@ def test_the_tiny_gguf_runs_through_every_stage_with_a_real_llama_cpp(
     tmp_path: Path, tiny_gguf: Path
 ) -> None:
     # The tiny model's tokenizer is nearly one token per character: the prompt needs room.
-    models_file = write_models_toml(tmp_path / "models.toml", tiny_gguf, context=16384)
+    models_file = write_models_toml(tmp_path / "models.toml", tiny_gguf, context=32768)
     events: list[Event] = []
     outcome = run_generation(
         request(
-            tmp_path / "out", stem="get-position", models_file=models_file, k=0, pinned=("/tf",)
+            tmp_path / "out",
+            stem="get-position",
+            models_file=models_file,
+            k=0,
+            pinned=("/tf",),
+            attempts=1,
         ),
         on_event=events.append,
     )
@@ -246,18 +269,18 @@ def test_the_tiny_gguf_runs_through_every_stage_with_a_real_llama_cpp(
     assert record.model.sha256 == hashlib.sha256(tiny_gguf.read_bytes()).hexdigest()
     assert record.model.prompt_tokens is not None
     assert record.model.prompt_tokens > 1000
-    assert record.model.completion_tokens == 32
-    assert record.model.finish_reason == "length"
-    assert record.model.prefix_cache in {"stored", "evaluated"}
+    # Random weights write no method: every answer fails one way or another, and is recorded.
+    assert [a.target for a in record.model.attempts][:3] == ["starting", "execute", "completing"]
+    assert all(a.finish in {"length", "unparsable", "repetition"} for a in record.model.attempts)
+    assert record.model.attempts[0].prefix_cache in {"stored", "evaluated"}
+    assert record.model.attempts[1].prefix_cache == "memory"
     assert any(isinstance(e, TokenChunk) for e in events)
-    assert any(isinstance(e, Notice) and "max_tokens" in e.message for e in events)
-    assert (outcome.out_dir / "response.txt").exists()
+    assert (outcome.out_dir / "conversation.txt").exists()
     assert stems(events, StageStarted) == [
         "inputs",
         "retrieval",
         "skeleton",
         "model",
-        "prompt",
         "generation",
         "checks",
         "outputs",

@@ -96,7 +96,7 @@ generation = "tiny"
 [[llm]]
 id = "tiny"
 file = "{model_file.as_posix()}"
-context_length = 16384
+context_length = 32768
 batch_size = 512
 threads = 1
 
@@ -126,9 +126,11 @@ def preset_session(workspace: Path, **values: object) -> SessionState:
 
 
 def app_for(workspace: Path, models_file: Path | None = None) -> SkillwrightApp:
-    """The app as the CLI builds it, saving the session quickly for the tests."""
+    """The app as the CLI builds it, saving the session quickly for the tests; without
+    animations, so what a snapshot shows does not depend on when it is taken."""
     app = make_app(workspace, models_file=models_file)
     app.save_delay = 0.05
+    app.animation_level = "none"
     return app
 
 
@@ -144,8 +146,8 @@ async def running(app: App[None], size: tuple[int, int] = (120, 40)) -> AsyncIte
         try:
             yield pilot
         finally:
-            # A test that fails mid-job must not leave an engine call running: the event
-            # loop's shutdown would wait for its thread (a whole generation) before going on.
+            # A test that fails mid-run leaves without the app's quit path: stop its jobs, or
+            # their threads would hold the test run until they finish on their own.
             for pane in app.query(Pane):
                 pane.cancel_job()
 

@@ -42,6 +42,7 @@ INPUTS = {
     "pinned": ("/tf",),
     "dense": False,
     "active_tab": "generation",
+    "attempts": 1,
 }
 
 
@@ -133,16 +134,20 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
         assert record.mode == "llm"
         assert record.model is not None
         assert record.model.id == "tiny"
-        assert pane.streamed == (result / "response.txt").read_text(encoding="utf-8")
+        assert pane.streamed == "".join(a.response for a in record.model.attempts)
         assert pane.streamed
+        assert (result / "conversation.txt").is_file()
         assert all(state == "done" for state, _ in pane.stages.values())
+        # One line per answer, in the order asked, with how it ended.
+        attempts = str(app.query_one("#generation-attempts", Static).render()).splitlines()
+        assert [line.split()[1] for line in attempts][:3] == ["starting", "execute", "completing"]
+        assert all(line.startswith("✗") and "#1" in line for line in attempts)
         stats = str(app.query_one("#generation-stats", Static).render())
         assert f"prefix cache: {record.model.prefix_cache}" in stats
         assert "tokens/s" in stats
         assert f"wrote {record.model.completion_tokens} tokens" in stats
         text = screen_text(app)
         assert "✓ generation" in text
-        assert any("max_tokens" in n for n in notifications(app))
 
 
 async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(

@@ -61,6 +61,7 @@ def _settled(
         app.clear_notifications()
         for widget in [*app.query(Input), *app.query(TextArea)]:
             widget.cursor_blink = False
+        await pilot.wait_for_scheduled_animations()
         await pilot.pause()
 
     return run_before

@@ -8,11 +8,10 @@ from pathlib import Path
 from click.testing import CliRunner
 
 from skillwright.cli import main
-from skillwright.generation.examples import EXAMPLES_DIR
 from tests.conftest import SHIPPED_CAPABILITIES
 
 RECORDING = SHIPPED_CAPABILITIES / "recordings" / "mr1"
-GOOD = EXAMPLES_DIR / "skills" / "navigate_to_point.py"
+GOOD = SHIPPED_CAPABILITIES / "skills" / "navigate_to_point.py"
 
 
 def args(skill: Path, *extra: str) -> list[str]:

@@ -290,3 +290,42 @@ def test_skeleton_is_well_formed_but_fails_for_its_placeholders(
     report = run(skeleton.code, move_forward)
     assert {f.check for f in report.findings} == {"placeholders"}
     assert len(report.findings) == len(spec.states)
+
+
+def test_numbers_the_specification_gives_and_zero_are_not_stand_ins_for_inputs(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # The spec says: slow down to 0.1 m/s for the last 0.1 m.
+    source = GOOD.replace(
+        "        while self._travelled() < self.in_distance:",
+        "        travelled_distance = 0.0\n"
+        "        while self._travelled() < self.in_distance:\n"
+        "            if self.in_distance - self._travelled() < 0.1:\n"
+        "                command.linear.x = 0.1",
+    )
+    assert not messages(run(source, move_forward), "constants")
+    hard_coded = source.replace("travelled_distance = 0.0", "travelled_distance = 2.5")
+    assert messages(run(hard_coded, move_forward), "constants")
+
+
+def test_a_message_field_given_a_number_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "        command = Twist()\n        command.linear.x = speed",
+        "        command = Twist(linear=speed + 0.0)",
+    )
+    assert "command = Twist(linear=" in source
+    report = run(source.replace("linear=speed + 0.0", "linear=0.5"), move_forward)
+    (text,) = [m for m in messages(report, "grounding") if "is a message" in m]
+    assert "geometry_msgs/msg/Twist's field 'linear' is a message (fields x, y, z)" in text
+
+
+def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillSpec]) -> None:
+    source = GOOD.replace(
+        "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
+        "        self.in_linear_velocity = min(abs(self.in_linear_velocity), 0.8)\n"
+        "        speed = self.in_linear_velocity",
+    )
+    (text,) = messages(run(source, move_forward), "inputs")
+    assert "self.in_linear_velocity holds the capability input inLinearVelocity" in text

@@ -50,3 +50,51 @@ class Skeleton(BaseModel):
         description="States whose behaviour the skeleton leaves to be written."
     )
     notes: list[str] = Field(default_factory=list, description="Decisions the user should know.")
+    helpers: list[str] = Field(
+        default_factory=list, description="Helper methods the skeleton offers the behaviour."
+    )
+    prologues: dict[str, str] = Field(
+        default_factory=dict,
+        description="Per state, the skeleton's code at the start of its body (creating handles).",
+    )
+    epilogues: dict[str, str] = Field(
+        default_factory=dict,
+        description="Per state, the skeleton's code at the end of its body (releasing handles).",
+    )
+
+
+AttemptFinish = Literal["stop", "length", "repetition", "unparsable", "cancelled"]
+"""How an attempt ended: a complete method, the token limit, a loop the guard stopped, an
+answer that is not one method of Python, or the user's cancel."""
+
+
+class Attempt(BaseModel):
+    """One answer of the model for one method: a state, or a helper a state calls."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    target: str = Field(description="The method asked for.")
+    kind: Literal["state", "helper"] = Field(description="A PackML state or a helper method.")
+    number: int = Field(description="1 for the first answer, then one more per repair.")
+    temperature: float = Field(description="Sampling temperature (0: greedy).")
+    seed: int = Field(description="Sampling seed.")
+    finish: AttemptFinish = Field(description="How the answer ended.")
+    note: str | None = Field(default=None, description="Why it failed, when it did.")
+    code: str | None = Field(
+        default=None, description="The method (class-member indentation), when it parsed."
+    )
+    response: str = Field(description="What the model wrote after the prefilled start.")
+    prompt_tokens: int | None = Field(default=None, description="Tokens of the whole prompt.")
+    completion_tokens: int | None = Field(default=None, description="Tokens the model wrote.")
+    seconds: float = Field(description="Wall time of the answer, prompt evaluation included.")
+    prefix_cache: str | None = Field(
+        default=None, description="How the prompt's fixed prefix was obtained for this answer."
+    )
+    problems: list[str] = Field(
+        default_factory=list, description="What it was asked to fix (repair attempts)."
+    )
+    errors: int | None = Field(
+        default=None, description="Errors the checks found in this method (null: not checked)."
+    )
+    warnings: int | None = Field(default=None, description="Warnings found in this method.")
+    chosen: bool = Field(default=False, description="Whether the final skill holds it.")

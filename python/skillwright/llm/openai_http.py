@@ -43,9 +43,14 @@ class OpenAIGenerator:
 
     def _request(self, prompt: Prompt, options: GenerationOptions, max_tokens: int) -> Any:
         sampling = self.entry.sampling
+        messages = [{"role": m.role, "content": m.content} for m in prompt.messages]
+        if prompt.answer_prefix:
+            # A trailing assistant turn is continued by OpenAI-compatible servers that support
+            # prefilling (llama.cpp's server does); the answer then starts after it.
+            messages.append({"role": "assistant", "content": prompt.answer_prefix})
         body: dict[str, Any] = {
             "model": self.entry.model or self.entry.id,
-            "messages": [{"role": m.role, "content": m.content} for m in prompt.messages],
+            "messages": messages,
             "max_tokens": max_tokens,
             "temperature": sampling.temperature
             if options.temperature is None

@@ -13,7 +13,7 @@ from skillwright.cli_options import capability_options, interfaces_option, spec_
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from skillwright.pipeline.events import Event
+    from skillwright.pipeline.events import AttemptFinished, Event
     from skillwright.pipeline.run import Outcome
 
 __all__ = ["generate"]
@@ -29,6 +29,8 @@ class _Progress:
 
     def __call__(self, event: Event) -> None:
         from skillwright.pipeline.events import (
+            AttemptFinished,
+            AttemptStarted,
             GenerationStats,
             Notice,
             PrefixCacheStatus,
@@ -49,9 +51,20 @@ class _Progress:
             self.console.print(f"[{style}]{event.level}[/]: {event.message}", highlight=False)
         elif isinstance(event, PrefixCacheStatus):
             self.console.print(f"  prefix cache: {event.status}", style="dim")
+        elif isinstance(event, AttemptStarted):
+            self.chunks = 0
+            what = "repairing" if event.number > 1 else "writing"
+            self.console.print(
+                f"  {what} {event.target} (answer {event.number}) ...",
+                end="\r" if self.live else "\n",
+                style="dim",
+                highlight=False,
+            )
+        elif isinstance(event, AttemptFinished):
+            self.console.print(_attempt_line(event), highlight=False, markup=False)
         elif isinstance(event, TokenChunk):
             self.chunks += 1
-            if self.live and self.chunks % 16 == 0:
+            if self.live and self.chunks % 8 == 0:
                 self.console.print(f"  {self.chunks} tokens ...", end="\r", style="dim")
         elif isinstance(event, GenerationStats):
             rate = f", {event.tokens_per_second:.1f} tokens/s" if event.tokens_per_second else ""
@@ -61,6 +74,16 @@ class _Progress:
                 style="dim",
                 highlight=False,
             )
+
+
+def _attempt_line(event: AttemptFinished) -> str:
+    attempt = event.attempt
+    verdict = "ok" if attempt.finish == "stop" else attempt.finish
+    note = f" — {attempt.note}" if attempt.note else ""
+    return (
+        f"  {attempt.target} answer {attempt.number}: {verdict}, "
+        f"{attempt.completion_tokens or 0} tokens in {attempt.seconds:.1f} s{note}"
+    )
 
 
 def _summary(outcome: Outcome) -> None:
@@ -109,6 +132,13 @@ def _summary(outcome: Outcome) -> None:
 @click.option("--all", "include_all", is_flag=True, help="Let retrieval pick infrastructure too.")
 @click.option("--no-dense", is_flag=True, help="Lexical retrieval only (no embedding model).")
 @click.option(
+    "--attempts",
+    default=3,
+    show_default=True,
+    type=click.IntRange(1, 10),
+    help="Answers the model may give per method: the first, then repairs from the findings.",
+)
+@click.option(
     "-o",
     "--output",
     "out_dir",
@@ -134,14 +164,16 @@ def generate(
     drop: tuple[str, ...],
     include_all: bool,
     no_dense: bool,
+    attempts: int,
     out_dir: Path | None,
     models_file: Path | None,
     as_json: bool,
 ) -> None:
     """Write a skill for a capability and a specification from the robot's interfaces.
 
-    Stages: inputs, retrieval, skeleton, model, prompt, generation, checks, outputs
-    (progress on stderr). Without an installed model the skeleton is written and said so.
+    Stages: inputs, retrieval, skeleton, model, generation (the model writes each state,
+    then repairs what the checks find), checks, outputs (progress on stderr). Without an
+    installed model the skeleton is written and said so.
     Exit status 0 when the checks pass, 1 when they find problems, 2 for bad input.
     """
     from skillwright.console import err_console, print_model_json
@@ -168,6 +200,7 @@ def generate(
         dropped=drop,
         models_file=models_file,
         dense=not no_dense,
+        attempts=attempts,
     )
     outcome = run_generation(request, on_event=_Progress(err_console()))
     if as_json:

@@ -9,8 +9,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
+from skillwright.generation.author import AttemptFinished, AttemptStarted
+
 __all__ = [
     "STAGES",
+    "AttemptFinished",
+    "AttemptStarted",
     "Event",
     "GenerationStats",
     "Notice",
@@ -20,8 +24,8 @@ __all__ = [
     "TokenChunk",
 ]
 
-STAGES = ("inputs", "retrieval", "skeleton", "model", "prompt", "generation", "checks", "outputs")
-"""The stages of one generation, in order (``model`` to ``generation`` only with a model)."""
+STAGES = ("inputs", "retrieval", "skeleton", "model", "generation", "checks", "outputs")
+"""The stages of one generation, in order (``model`` and ``generation`` only with a model)."""
 
 
 @dataclass(frozen=True)
@@ -74,5 +78,14 @@ class GenerationStats:
     seconds: float
 
 
-Event = StageStarted | StageFinished | Notice | PrefixCacheStatus | TokenChunk | GenerationStats
+Event = (
+    StageStarted
+    | StageFinished
+    | Notice
+    | PrefixCacheStatus
+    | TokenChunk
+    | GenerationStats
+    | AttemptStarted
+    | AttemptFinished
+)
 """Any event of the engine."""

@@ -15,6 +15,7 @@ from typing import Any, Final, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from skillwright.errors import FileFormatError, InputFileError, InputFileNotFoundError
+from skillwright.generation.model import Attempt
 from skillwright.validation.model import Finding
 
 __all__ = [
@@ -30,7 +31,8 @@ __all__ = [
     "SkeletonRecord",
 ]
 
-RECORD_SCHEMA_VERSION: Final = 1
+RECORD_SCHEMA_VERSION: Final = 2
+"""2: the model writes method by method (``model.attempts``); 1: one whole-file answer."""
 
 
 class _Model(BaseModel):
@@ -106,20 +108,33 @@ class ModelRecord(_Model):
     context_length: int
     sampling: dict[str, Any] = Field(description="Sampling settings used.")
     prompt_version: int
-    prompt_tokens: int | None = None
-    completion_tokens: int | None = None
-    tokens_per_second: float | None = None
+    prompt_tokens: int | None = Field(
+        default=None, description="Tokens of the longest prompt (the last answer's context)."
+    )
+    completion_tokens: int | None = Field(default=None, description="Tokens written in all.")
+    tokens_per_second: float | None = Field(
+        default=None, description="Written tokens per second of generation, over all answers."
+    )
     finish_reason: str | None = None
     prefix_cache: str = Field(description="How the cached prefix was obtained.")
-    definition_style: str = Field(description="How interface definitions were shown.")
-    examples: int = Field(description="Few-shot examples in the prompt.")
-    shortened: list[str] = Field(default_factory=list, description="What was shortened to fit.")
-    extraction: str = Field(description="How the code was found in the answer.")
-    merged: bool = Field(description="Whether the answer was merged into the skeleton.")
+    max_tokens: int | None = Field(default=None, description="Token budget of one answer.")
+    attempts_allowed: int | None = Field(
+        default=None, description="Answers per method at most (first + repairs)."
+    )
+    card: str | None = Field(default=None, description="The task card the model was given.")
+    attempts: list[Attempt] = Field(
+        default_factory=list, description="Every answer, in the order asked, with its verdict."
+    )
     states_written: list[str] = Field(default_factory=list)
     states_missing: list[str] = Field(default_factory=list)
-    added: list[str] = Field(default_factory=list, description="Helpers etc. taken.")
-    left_out: list[str] = Field(default_factory=list, description="What was not taken, why.")
+    added: list[str] = Field(default_factory=list, description="Imports and attributes added.")
+    # Records of schema 1 (one whole-file answer) also have these:
+    definition_style: str | None = None
+    examples: int | None = None
+    shortened: list[str] = Field(default_factory=list)
+    extraction: str | None = None
+    merged: bool | None = None
+    left_out: list[str] = Field(default_factory=list)
 
 
 class ChecksRecord(_Model):
@@ -134,7 +149,7 @@ class ChecksRecord(_Model):
 class GenerationRecord(_Model):
     """Everything about one generation."""
 
-    schema_version: Literal[1] = RECORD_SCHEMA_VERSION
+    schema_version: Literal[1, 2] = RECORD_SCHEMA_VERSION
     skillwright_version: str
     created: str = Field(description="ISO 8601 time the generation finished.")
     mode: Literal["llm", "skeleton"]

@@ -1,10 +1,11 @@
 """The main job: capability + specification + interfaces -> a checked skill in a folder.
 
 Stages (each timed, each announced through ``on_event``): read the inputs, retrieve the
-interfaces the capability needs, write the skeleton, load the model, fit the prompt,
-generate and merge the behaviour into the skeleton, run the static checks, write the
-output folder. Without a model (``skeleton=True``, or the default model's file is not
-installed) the skeleton is the result, and the record and a notice say so plainly.
+interfaces the capability needs, write the skeleton, load the model, have it write the
+behaviour method by method and repair what the checks find
+(:mod:`skillwright.generation.author`), run the static checks, write the output folder.
+Without a model (``skeleton=True``, or the default model's file is not installed) the
+skeleton is the result, and the record and a notice say so plainly.
 
 Nothing is written until everything else succeeded; a cancel (``cancel`` set) raises
 :class:`~skillwright.errors.GenerationCancelledError` and writes nothing.
@@ -12,13 +13,12 @@ Nothing is written until everything else succeeded; a cancel (``cancel`` set) ra
 
 from __future__ import annotations
 
-import ast
 import difflib
 import hashlib
 import json
 import threading
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
@@ -59,7 +59,7 @@ if TYPE_CHECKING:
     from skillwright.llm.config import Registry
     from skillwright.retrieval.retrieve import Embedder, Hit
     from skillwright.spec.model import SkillSpec
-    from skillwright.validation.model import CheckReport
+    from skillwright.validation.model import CheckReport, Finding
 
 __all__ = ["GenerationRequest", "Outcome", "RetrievalResult", "retrieve", "run_generation"]
 
@@ -87,6 +87,8 @@ class GenerationRequest:
     models_file: Path | None = None
     dense: bool = True
     """Use the embedding model in retrieval (else lexical scores only)."""
+    attempts: int = 3
+    """Answers the model may give per method: the first, then repairs from the findings."""
 
 
 @dataclass
@@ -304,12 +306,11 @@ def _inventory_digest(inventory: Inventory) -> str:
 @dataclass
 class _ModelResult:
     code: str
-    response: str
-    prompt_text: str
+    transcript: str
     record: ModelRecord
-    answer: str | None = None
-    """The model's code when it could not be merged (written as ``answer.py``)."""
-    note: str | None = None
+    skeleton: Skeleton
+    """The skeleton the skill is built on: only the interfaces and helpers it uses."""
+    notes: list[str] = field(default_factory=list)
 
 
 def _load_model(
@@ -334,77 +335,114 @@ def _load_model(
         return None, registry
 
 
+def _static_validator(
+    load: CapabilityLoad, spec: SkillSpec, inventory: Inventory, path: Path
+) -> Callable[[str, Skeleton], list[Finding]]:
+    """The static checks of a candidate skill, against the interfaces its skeleton kept."""
+    from skillwright.validation.catalog import catalog_from_inventory
+    from skillwright.validation.static import check_skill
+
+    catalog = catalog_from_inventory(inventory)
+
+    def validate(code: str, skeleton: Skeleton) -> list[Finding]:
+        return check_skill(
+            code,
+            capability=load.capability,
+            spec=spec,
+            catalog=catalog,
+            retrieved=[i.name for i in skeleton.interfaces],
+            path=str(path),
+        ).findings
+
+    return validate
+
+
 def _generate(
     generator: TextGenerator,
     registry: Registry,
     request: GenerationRequest,
     load: CapabilityLoad,
     spec: SkillSpec,
+    inventory: Inventory,
     chosen: Sequence[tuple[Interface, InterfaceRef]],
-    skeleton: Skeleton,
     stages: _Stages,
 ) -> _ModelResult:
-    from skillwright.generation.examples import few_shot_examples
-    from skillwright.generation.extract import extract_code
-    from skillwright.generation.merge import merge_into_skeleton
-    from skillwright.generation.prompt import PROMPT_VERSION, fit_prompt
-    from skillwright.llm.base import GenerationOptions
+    from skillwright.generation.author import (
+        AttemptFinished,
+        AttemptStarted,
+        AuthorSettings,
+        author_skill,
+    )
+    from skillwright.generation.card import CardInterface
+    from skillwright.generation.conversation import PROMPT_VERSION
+    from skillwright.generation.skeleton import build_skeleton
 
     entry = registry.generation_model(request.model)
-    answer_tokens = entry.sampling.max_tokens
-    with stages.stage("prompt", "fitting the prompt to the model's context") as summary:
-        build = fit_prompt(
+    settings = AuthorSettings(attempts=request.attempts, max_tokens=entry.sampling.max_tokens)
+    written = 0
+    seconds_writing = 0.0
+    first_cache: list[str] = []
+
+    def forward(event: object) -> None:
+        nonlocal written, seconds_writing
+        if isinstance(event, str):
+            stages.emit(TokenChunk(event))
+        elif isinstance(event, AttemptStarted):
+            stages.emit(event)
+        elif isinstance(event, AttemptFinished):
+            attempt = event.attempt
+            written += attempt.completion_tokens or 0
+            seconds_writing += attempt.seconds
+            if not first_cache and attempt.prefix_cache:
+                first_cache.append(attempt.prefix_cache)
+                stages.emit(PrefixCacheStatus(attempt.prefix_cache))
+            stages.emit(event)
+
+    def skeleton_for(refs: Sequence[InterfaceRef], helpers: Collection[str] | None) -> Skeleton:
+        return build_skeleton(
             load.capability,
             spec,
-            [(interface, ref.role) for interface, ref in chosen],
-            skeleton,
-            few_shot_examples(),
-            count_tokens=generator.count_tokens,
-            context_length=generator.context_length,
-            answer_tokens=answer_tokens,
-            model_id=generator.model_id,
+            refs,
+            source_note=f"Inputs: {request.capability.name}, {request.spec.name}.",
+            helpers=helpers,
         )
-        summary.append(f"{build.tokens} tokens, {build.examples} examples")
-        if build.shortened:
-            summary.append("shortened: " + ", ".join(build.shortened))
-    with stages.stage("generation", f"{generator.model_id} writes the behaviour") as summary:
+
+    with stages.stage(
+        "generation", f"{generator.model_id} writes {len(spec.states)} states, one at a time"
+    ) as summary:
         started = time.perf_counter()
-        stream = generator.stream(
-            build.prompt, GenerationOptions(max_tokens=answer_tokens), cancel=stages.cancel
+        authored = author_skill(
+            generator,
+            skeleton_for,
+            load.capability,
+            spec,
+            [CardInterface(interface, ref) for interface, ref in chosen],
+            _static_validator(load, spec, inventory, request.out_dir / "skill.py"),
+            settings=settings,
+            on_event=forward,
+            cancel=stages.cancel,
         )
-        parts: list[str] = []
-        for chunk in stream:
-            if not parts:
-                stages.emit(PrefixCacheStatus(stream.prefix_cache))
-            parts.append(chunk)
-            stages.emit(TokenChunk(chunk))
-        stages.check_cancel()
         seconds = time.perf_counter() - started
-        tokens = stream.completion_tokens or stream.completion_chunks
-        rate = None
-        if stream.first_chunk_at is not None and stream.finished_at is not None and tokens > 1:
-            span = stream.finished_at - stream.first_chunk_at
-            rate = (tokens - 1) / span if span > 0 else None
-        stages.emit(GenerationStats(stream.prompt_tokens, tokens, rate, seconds))
-        summary.append(f"{tokens} tokens" + (f", {rate:.1f} tokens/s" if rate else ""))
-        if stream.finish_reason == "length":
-            stages.emit(
-                Notice(
-                    "warning",
-                    f"the answer hit max_tokens ({answer_tokens}); it may be cut short — raise "
-                    f"`max_tokens` of {generator.model_id!r} in models.toml",
+        rate = written / seconds_writing if seconds_writing > 0 else None
+        prompt_tokens = max((a.prompt_tokens or 0 for a in authored.attempts), default=0)
+        stages.emit(GenerationStats(prompt_tokens or None, written, rate, seconds))
+        repairs = sum(a.number > 1 for a in authored.attempts)
+        summary.append(
+            f"{len(authored.attempts)} answers ({repairs} repairs), {written} tokens"
+            + (f", {rate:.1f} tokens/s" if rate else "")
+        )
+        for attempt in authored.attempts:
+            if attempt.finish == "length":
+                stages.emit(
+                    Notice(
+                        "warning",
+                        f"the answer for {attempt.target} (attempt {attempt.number}) hit the "
+                        f"limit of {settings.max_tokens} tokens; raise `max_tokens` of "
+                        f"{generator.model_id!r} in models.toml if methods need more",
+                    )
                 )
-            )
-    response = "".join(parts)
-    extracted = extract_code(response)
-    merged = merge_into_skeleton(
-        skeleton.code,
-        skeleton.class_name,
-        list(spec.states),
-        extracted.code,
-        author=f"the local model {generator.model_id}",
-    )
     model_file = getattr(generator, "model_file", None)
+    final = authored.attempts[-1] if authored.attempts else None
     record = ModelRecord(
         id=generator.model_id,
         backend=entry.backend,
@@ -413,47 +451,21 @@ def _generate(
         context_length=generator.context_length,
         sampling=entry.sampling.model_dump(),
         prompt_version=PROMPT_VERSION,
-        prompt_tokens=stream.prompt_tokens,
-        completion_tokens=tokens,
+        prompt_tokens=prompt_tokens or None,
+        completion_tokens=written,
         tokens_per_second=None if rate is None else round(rate, 2),
-        finish_reason=stream.finish_reason,
-        prefix_cache=stream.prefix_cache,
-        definition_style=build.definition_style,
-        examples=build.examples,
-        shortened=list(build.shortened),
-        extraction=extracted.method,
-        merged=merged is not None,
-        states_written=list(merged.written) if merged else [],
-        states_missing=list(merged.missing) if merged else [],
-        added=list(merged.added) if merged else [],
-        left_out=list(merged.left_out) if merged else [],
+        finish_reason=None if final is None else final.finish,
+        prefix_cache=first_cache[0] if first_cache else "off",
+        max_tokens=settings.max_tokens,
+        attempts_allowed=settings.attempts,
+        card=authored.card,
+        attempts=authored.attempts,
+        states_written=list(authored.assembly.written),
+        states_missing=list(authored.assembly.missing),
+        added=list(authored.assembly.added),
     )
-    if merged is not None:
-        return _ModelResult(merged.code, response, build.text(), record)
     return _ModelResult(
-        skeleton.code,
-        response,
-        build.text(),
-        record,
-        answer=extracted.code or None,
-        note=_unmerged_note(extracted.code, extracted.method),
-    )
-
-
-def _unmerged_note(code: str, method: str) -> str:
-    """Why the model's answer could not be merged, for the record and the user."""
-    if method == "empty":
-        return "the model's answer held no Python code (see response.txt); skill.py is the skeleton"
-    try:
-        ast.parse(code)
-    except SyntaxError as error:
-        return (
-            f"the model's code does not parse (answer.py line {error.lineno}: {error.msg}); "
-            "skill.py is the skeleton, answer.py the model's code to fix by hand"
-        )
-    return (
-        "the model's code has no skill class with the specified states (see answer.py); "
-        "skill.py is the skeleton"
+        authored.code, authored.transcript, record, authored.skeleton, authored.notes
     )
 
 
@@ -524,8 +536,8 @@ def _model_stages(
     stages: _Stages,
     load: CapabilityLoad,
     spec: SkillSpec,
+    inventory: Inventory,
     chosen: Sequence[tuple[Interface, InterfaceRef]],
-    skeleton: Skeleton,
 ) -> _ModelResult | None:
     """Loads the model and has it write the behaviour; ``None`` when there is no model."""
     if request.skeleton:
@@ -539,7 +551,7 @@ def _model_stages(
     try:
         if generator is not None and registry is not None:
             model_result = _generate(
-                generator, registry, request, load, spec, chosen, skeleton, stages
+                generator, registry, request, load, spec, inventory, chosen, stages
             )
     finally:
         if generator is not None:
@@ -558,16 +570,14 @@ def _result_files(
             "NotImplementedError until you write them"
         )
         return {"skill.py": skeleton.code}
-    files = {
-        "skill.py": model_result.code,
-        "prompt.txt": model_result.prompt_text,
-        "response.txt": model_result.response,
-    }
-    if model_result.answer is not None:
-        files["answer.py"] = model_result.answer
-    if model_result.note is not None:
-        notes.append(model_result.note)
-    return files
+    notes += model_result.notes
+    if model_result.record.states_missing:
+        notes.append(
+            "the model wrote no usable answer for "
+            + ", ".join(model_result.record.states_missing)
+            + "; those states still raise NotImplementedError (see conversation.txt)"
+        )
+    return {"skill.py": model_result.code, "conversation.txt": model_result.transcript}
 
 
 def run_generation(
@@ -623,9 +633,10 @@ def run_generation(
         )
         s.append(f"{skeleton.class_name}, {len(skeleton.unimplemented)} states to write")
 
-    model_result = _model_stages(request, stages, load, spec, chosen, skeleton)
+    model_result = _model_stages(request, stages, load, spec, inventory, chosen)
     files = _result_files(skeleton, model_result, notes)
     code = files["skill.py"]
+    kept = skeleton if model_result is None else model_result.skeleton
 
     with stages.stage("checks", "static checks") as s:
         report = check_skill(
@@ -633,7 +644,7 @@ def run_generation(
             capability=load.capability,
             spec=spec,
             catalog=catalog_from_inventory(inventory),
-            retrieved=[h.name for h in chosen_hits],
+            retrieved=[i.name for i in kept.interfaces],
             path=str(request.out_dir / "skill.py"),
         )
         errors = sum(f.severity == "error" for f in report.findings)

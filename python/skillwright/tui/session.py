@@ -81,6 +81,8 @@ class SessionState:
     k: int = 4
     dense: bool = True
     """Use the embedding model in retrieval (else lexical only)."""
+    attempts: int = 3
+    """Answers the model may give per method: the first, then repairs."""
 
     def to_json(self) -> str:
         """The document written to ``session.json``."""
@@ -135,6 +137,7 @@ def _check_types(state: SessionState) -> None:
         "skeleton": bool,
         "k": int,
         "dense": bool,
+        "attempts": int,
     }
     for name, kind in expected.items():
         if not isinstance(getattr(state, name), kind):

@@ -20,7 +20,8 @@ __all__ = ["check", "print_findings"]
 
 
 def print_findings(console: Console, path: object, findings: Sequence[Finding]) -> None:
-    """Prints findings compiler-style: ``path:line:col: severity [check] message``."""
+    """Prints findings compiler-style: ``path:line:col: severity [check] message``, one line
+    each whatever the terminal's width (editors and CI logs parse these lines)."""
     from rich.markup import escape
 
     for finding in findings:
@@ -29,6 +30,7 @@ def print_findings(console: Console, path: object, findings: Sequence[Finding]) 
             f"{escape(str(path))}:{finding.line}:{finding.column}: [{style}]{finding.severity}[/] "
             f"{escape(f'[{finding.check}]')} {escape(finding.message)}",
             highlight=False,
+            soft_wrap=True,
         )
 
 
@@ -95,7 +97,9 @@ def check(
         verdict = "passed" if report.passed else "failed"
         grounding = "" if catalog is not None else " (interfaces not checked: no --interfaces)"
         console.print(
-            f"{report.path}: {verdict}, {errors} error(s), {warnings} warning(s){grounding}"
+            f"{report.path}: {verdict}, {errors} error(s), {warnings} warning(s){grounding}",
+            soft_wrap=True,
+            highlight=False,
         )
     if not report.passed:
         sys.exit(1)

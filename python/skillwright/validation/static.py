@@ -15,11 +15,13 @@ import io
 import re
 import tokenize
 from collections.abc import Iterable, Sequence
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.spec.model import PACKML_STATES, SkillSpec
 from skillwright.validation.model import Catalog, CheckReport, FieldTree, Finding
+from skillwright.validation.names import check_names
 
 __all__ = ["check_skill"]
 
@@ -329,7 +331,16 @@ def _assignments(tree: ast.AST) -> Iterable[tuple[ast.AST, ast.expr, ast.expr, b
                 yield node, names[0], numbers[0], in_init
 
 
-def _check_input_constants(ctx: _Context, tree: ast.Module, capability: Capability) -> None:
+def _spec_numbers(spec: SkillSpec) -> set[float]:
+    """Numbers the specification states itself (``slow down for the last 0.1 m``)."""
+    texts = [spec.description or "", *spec.states.values()]
+    return {float(m) for text in texts for m in re.findall(r"(?<![\w.])\d+(?:\.\d+)?", text)}
+
+
+def _check_input_constants(
+    ctx: _Context, tree: ast.Module, capability: Capability, spec: SkillSpec
+) -> None:
+    sanctioned = _spec_numbers(spec) | {0.0}
     inputs = [
         (component.name, _tokens(component.name))
         for parameter in capability.inputs
@@ -361,6 +372,8 @@ def _check_input_constants(ctx: _Context, tree: ast.Module, capability: Capabili
             continue  # a parameter's storage initialised before it is set, or an output
         words = _tokens(name)
         number = _number(value)
+        if abs(number) in sanctioned:
+            continue  # zero, or a number the specification itself gives
         if any(tokens and tokens <= words and number == limit for tokens, limit in limits):
             continue  # the resource's own limit, taken from the capability model
         input_name = matching(name)
@@ -556,17 +569,96 @@ def _check_fields(
     bindings = _message_bindings(cls, uses, catalog, imports)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         _FieldVisitor(ctx, catalog, bindings.get(method.name, {})).visit(method)
-    for node in ast.walk(cls):
-        if isinstance(node, ast.Call):
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        numbers = _numeric_names(method)
+        for node in ast.walk(method):
+            if not isinstance(node, ast.Call):
+                continue
             func = ast.unparse(node.func)
             head, _, tail = func.partition(".")
-            if head in imports and (not tail or tail in _NESTED_TYPES):
-                key = imports[head] + (f".{tail}" if tail else "")
-                tree = catalog.fields.get(key)
-                if tree is not None:
-                    for keyword in node.keywords:
-                        if keyword.arg is not None:
-                            _walk_fields(ctx, keyword, tree, [keyword.arg], key)
+            if head not in imports or (tail and tail not in _NESTED_TYPES):
+                continue
+            key = imports[head] + (f".{tail}" if tail else "")
+            tree = catalog.fields.get(key)
+            if tree is None:
+                continue
+            for keyword in node.keywords:
+                if keyword.arg is None:
+                    continue
+                _walk_fields(ctx, keyword, tree, [keyword.arg], key)
+                nested = tree.get(keyword.arg)
+                if isinstance(nested, dict) and nested and _is_scalar(keyword.value, numbers):
+                    ctx.add(
+                        "grounding",
+                        "error",
+                        keyword,
+                        f"{key}'s field {keyword.arg!r} is a message (fields "
+                        f"{', '.join(sorted(nested))}), not a number: make the message first and "
+                        f"set its fields, e.g. msg.{keyword.arg}.{sorted(nested)[0]} = ...",
+                    )
+
+
+_NUMERIC_CALLS = {"min", "max", "abs", "float", "int", "round", "sum", "len"}
+
+
+def _numeric_names(function: ast.FunctionDef) -> set[str]:
+    """Local names the function assigns numbers to (``speed = min(a, b)``), in order."""
+    names: set[str] = set()
+    for node in ast.walk(function):
+        if isinstance(node, ast.Assign) and len(node.targets) == 1:
+            target = node.targets[0]
+            if isinstance(target, ast.Name) and _is_scalar(node.value, names):
+                names.add(target.id)
+    return names
+
+
+def _is_scalar(node: ast.expr, numbers: AbstractSet[str] = frozenset()) -> bool:
+    """A number or string: a literal, arithmetic, a numeric builtin or math function, or a
+    local name known to hold one (``numbers``); what cannot be a message."""
+    if isinstance(node, ast.Constant):
+        return node.value is not None
+    if isinstance(node, ast.Name):
+        return node.id in numbers
+    if isinstance(node, ast.UnaryOp):
+        return _is_scalar(node.operand, numbers)
+    if isinstance(node, ast.BinOp):
+        return _is_scalar(node.left, numbers) or _is_scalar(node.right, numbers)
+    if isinstance(node, ast.Call):
+        func = node.func
+        if isinstance(func, ast.Name):
+            return func.id in _NUMERIC_CALLS
+        return isinstance(func, ast.Attribute) and ast.unparse(func.value) == "math"
+    return False
+
+
+def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability) -> None:
+    """Inputs are set by the client; a state that overwrites one changes the request."""
+    attributes = {
+        re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", c.name).lower(): c.name
+        for parameter in capability.inputs
+        for c in parameter.components
+    }
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef) or method.name == "__init__":
+            continue
+        for node in ast.walk(method):
+            if not isinstance(node, ast.Assign | ast.AugAssign | ast.AnnAssign):
+                continue
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            for target in targets:
+                if (
+                    isinstance(target, ast.Attribute)
+                    and ast.unparse(target.value) == "self"
+                    and target.attr in attributes
+                ):
+                    ctx.add(
+                        "inputs",
+                        "error",
+                        node,
+                        f"self.{target.attr} holds the capability input "
+                        f"{attributes[target.attr]}, which the client sets; do not overwrite "
+                        f"it, keep a derived value in a local variable",
+                    )
 
 
 def check_skill(
@@ -600,10 +692,11 @@ def check_skill(
 
     imports = _imports(tree)
     uses = _uses(tree, imports, ctx)
-    _check_input_constants(ctx, tree, capability)
+    _check_input_constants(ctx, tree, capability, spec)
     found = _skill_class(tree)
     if found is None:
         ctx.add("annotations", "error", None, "no class decorated with @skill(...)")
+        ctx.findings += check_names(source, tree, None, imports)
     else:
         cls, decorator = found
         _check_skill_decorator(ctx, cls, decorator, capability, spec)
@@ -611,6 +704,8 @@ def check_skill(
         _check_parameters(ctx, cls, capability.outputs, "skill_output", "output")
         methods = _check_states(ctx, cls, spec)
         _check_placeholders(ctx, tree, source, methods)
+        _check_input_writes(ctx, cls, capability)
+        ctx.findings += check_names(source, tree, cls, imports)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
     if catalog is not None:

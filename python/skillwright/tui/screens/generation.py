@@ -1,9 +1,10 @@
 """The Generation tab: run :func:`skillwright.pipeline.run_generation` and watch it work.
 
-Each stage's start and end, the prefix cache, throughput and every streamed token arrive
-as pipeline events, posted from the worker thread. Esc sets the pipeline's cancel event;
-the pipeline then stops and writes nothing. The result folder and record are the
-pipeline's, exactly as in headless mode.
+Each stage's start and end, every answer the model starts and how it ended (the model
+writes one method at a time and repairs what the checks find), the prefix cache,
+throughput and every streamed token arrive as pipeline events, posted from the worker
+thread. Esc sets the pipeline's cancel event; the pipeline then stops and writes nothing.
+The result folder and record are the pipeline's, exactly as in headless mode.
 """
 
 from __future__ import annotations
@@ -54,6 +55,8 @@ class GenerationPane(Pane):
         self.outcome: Any = None
         """The last pipeline ``Outcome``."""
         self._stats: list[str] = []
+        self.attempts: list[str] = []
+        """One line per answer of the model: method, answer number, how it ended."""
         self.streamed = ""
         """Everything the model wrote in the current run."""
 
@@ -65,6 +68,7 @@ class GenerationPane(Pane):
         with Horizontal(id="generation-body"):
             with VerticalScroll(id="generation-side"):
                 yield Static(_IDLE, id="generation-stages", markup=False)
+                yield Static("", id="generation-attempts", markup=False)
                 yield Static("", id="generation-stats", markup=False)
             with Vertical(id="generation-main"):
                 yield CodeView(id="generation-code")
@@ -161,6 +165,7 @@ class GenerationPane(Pane):
             "dropped": tuple(n for n in session.dropped if n in known),
             "models_file": self.sw.models_file,
             "dense": session.dense,
+            "attempts": session.attempts,
         }
         self._reset()
         self._cancel = threading.Event()
@@ -201,6 +206,7 @@ class GenerationPane(Pane):
     def _reset(self) -> None:
         self.stages = {}
         self._stats = []
+        self.attempts = []
         self.findings = []
         self.outcome = None
         self.streamed = ""
@@ -223,6 +229,25 @@ class GenerationPane(Pane):
             self.streamed += event.text
             self.query_one(CodeView).append(event.text)
             return
+        if isinstance(event, events.AttemptStarted):
+            what = "repairing" if event.number > 1 else "writing"
+            self.attempts.append(f"… {event.target} #{event.number} {what}")
+            gap = "\n" if self.streamed else ""
+            self.query_one(CodeView).append(
+                f"{gap}# {what} {event.target} (answer {event.number})\n"
+            )
+        elif isinstance(event, events.AttemptFinished):
+            attempt = event.attempt
+            mark = "✓" if attempt.finish == "stop" else "✗"
+            verdict = "ok" if attempt.finish == "stop" else attempt.finish
+            line = (
+                f"{mark} {attempt.target} #{attempt.number} {verdict}, "
+                f"{attempt.completion_tokens or 0} tok {attempt.seconds:.0f} s"
+            )
+            if self.attempts and self.attempts[-1].startswith("…"):
+                self.attempts[-1] = line
+            else:
+                self.attempts.append(line)
         if isinstance(event, events.StageStarted):
             if not self.stages:
                 self.stages = dict.fromkeys(events.STAGES, ("pending", ""))
@@ -256,6 +281,7 @@ class GenerationPane(Pane):
             f"{_ICONS[state]} {stage:<10} {text}" for stage, (state, text) in self.stages.items()
         ]
         self.query_one("#generation-stages", Static).update("\n".join(lines) or _IDLE)
+        self.query_one("#generation-attempts", Static).update("\n".join(self.attempts))
         self.query_one("#generation-stats", Static).update("\n".join(self._stats))
 
     def on_generation_finished(self, message: GenerationFinished) -> None:

@@ -1,0 +1,512 @@
+"""A model writes a skill one method at a time, and repairs what the checks find.
+
+1. The skeleton (structure, annotations, handles, helpers) comes first; the model gets a
+   task card and writes each specified state in turn (:mod:`~skillwright.generation.conversation`),
+   each answer prefilled with the method's start and ended at the method's end, under a
+   per-method token budget and a :class:`~skillwright.generation.guard.RepetitionGuard`.
+2. Helper methods the states call but nobody wrote are asked for next.
+3. The methods go into the skeleton, rebuilt with only the interfaces and helpers the
+   behaviour uses (:mod:`~skillwright.generation.assemble`), and the result is validated (the
+   static checks, and whatever later stages the caller adds: run, simulation).
+4. Every method with an error — a finding on its lines, or an answer that failed outright —
+   is asked for again with its problems, within ``attempts`` per method: the second answer
+   greedy, later ones sampled with a fixed seed. The best answer per method by its findings
+   wins; every attempt is kept for the record.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+import threading
+import time
+from collections.abc import Callable, Collection, Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+from skillwright.capability.model import Capability
+from skillwright.errors import GenerationCancelledError
+from skillwright.generation.assemble import (
+    Assembly,
+    assemble,
+    message_classes,
+    method_spans,
+    parse_method,
+    usage,
+)
+from skillwright.generation.card import CardInterface, task_card
+from skillwright.generation.conversation import (
+    STOP,
+    Conversation,
+    Turn,
+    helper_ask,
+    repair_ask,
+    state_ask,
+)
+from skillwright.generation.guard import RepetitionGuard
+from skillwright.generation.model import Attempt, AttemptFinish, InterfaceRef, Skeleton
+from skillwright.llm.base import GenerationOptions, TextGenerator
+from skillwright.spec.model import SkillSpec
+from skillwright.validation.model import Finding
+
+__all__ = [
+    "AttemptFinished",
+    "AttemptStarted",
+    "AuthorSettings",
+    "Authored",
+    "SkeletonBuilder",
+    "Validator",
+    "author_skill",
+]
+
+Validator = Callable[[str, Skeleton], list[Finding]]
+"""Findings for a whole skill file built on a skeleton (the static checks, a run, a
+simulation)."""
+SkeletonBuilder = Callable[[Sequence[InterfaceRef], Collection[str] | None], Skeleton]
+"""Builds the skeleton for these interfaces and helpers (``None``: every helper offered)."""
+
+_MAX_HELPERS = 4
+_MAX_PROBLEMS = 6
+
+
+@dataclass(frozen=True)
+class AuthorSettings:
+    """How hard to try."""
+
+    attempts: int = 3
+    """Answers per method at most: the first, then repairs."""
+    max_tokens: int = 768
+    """Tokens per answer at most (a method, not a file)."""
+    repair_temperature: float = 0.6
+    """Temperature of the sampled repairs (the third attempt on)."""
+    seed: int = 42
+    """Base seed of sampled repairs (plus the attempt number)."""
+
+
+@dataclass(frozen=True)
+class AttemptStarted:
+    """The model starts an answer."""
+
+    target: str
+    kind: str
+    number: int
+
+
+@dataclass(frozen=True)
+class AttemptFinished:
+    """An answer ended (before the checks judged it)."""
+
+    attempt: Attempt
+
+
+@dataclass
+class Authored:
+    """The written skill and how it was made."""
+
+    code: str
+    findings: list[Finding]
+    attempts: list[Attempt]
+    assembly: Assembly
+    skeleton: Skeleton
+    """The skeleton the final file is built on (only the interfaces and helpers used)."""
+    card: str
+    transcript: str
+    """Every request and answer, in order (for ``prompt.txt``)."""
+    notes: list[str] = field(default_factory=list)
+
+
+@dataclass
+class _Target:
+    name: str
+    kind: Literal["state", "helper"]
+    ask: str
+    prefill: str
+    turn_index: int
+    caller: str | None = None
+    attempts: list[Attempt] = field(default_factory=list)
+    repairs: list[Turn] = field(default_factory=list)
+
+
+def _state_prefill(state: str, skeleton: Skeleton) -> str:
+    head = f"    @{state}\n    def {state}(self) -> None:\n"
+    prologue = skeleton.prologues.get(state)
+    return head + (prologue + "\n" if prologue else "")
+
+
+class _Author:
+    def __init__(
+        self,
+        generator: TextGenerator,
+        settings: AuthorSettings,
+        on_event: Callable[[object], None] | None,
+        cancel: threading.Event | None,
+    ) -> None:
+        self.generator = generator
+        self.settings = settings
+        self.on_event = on_event
+        self.cancel = cancel
+        self.log: list[str] = []
+
+    def emit(self, event: object) -> None:
+        if self.on_event is not None:
+            self.on_event(event)
+
+    def check_cancel(self) -> None:
+        if self.cancel is not None and self.cancel.is_set():
+            raise GenerationCancelledError("generation cancelled; nothing was written")
+
+    def answer(
+        self,
+        conversation: Conversation,
+        target: _Target,
+        ask: str,
+        extra: Sequence[Turn],
+        *,
+        upto: int,
+    ) -> Attempt:
+        """Asks the model for one method after the first ``upto`` turns and ``extra``, and
+        judges what comes back."""
+        self.check_cancel()
+        number = len(target.attempts) + 1
+        temperature = 0.0 if number <= 2 else self.settings.repair_temperature
+        seed = self.settings.seed + number
+        self.emit(AttemptStarted(target.name, target.kind, number))
+        prompt = conversation.prompt(ask, target.prefill, upto=upto, extra=extra)
+        options = GenerationOptions(
+            max_tokens=self.settings.max_tokens, temperature=temperature, seed=seed, stop=STOP
+        )
+        started = time.perf_counter()
+        stream = self.generator.stream(prompt, options, cancel=self.cancel)
+        guard = RepetitionGuard()
+        parts: list[str] = []
+        looped = False
+        for chunk in stream:
+            parts.append(chunk)
+            self.emit(chunk)
+            if guard.feed(chunk):
+                looped = True
+                stream.close()
+                break
+        self.check_cancel()
+        response = "".join(parts)
+        finish, note, code = self._judge(target, response, stream.finish_reason, guard, looped)
+        attempt = Attempt(
+            target=target.name,
+            kind=target.kind,
+            number=number,
+            temperature=temperature,
+            seed=seed,
+            finish=finish,
+            note=note,
+            code=code,
+            response=response,
+            prompt_tokens=stream.prompt_tokens,
+            completion_tokens=stream.completion_tokens or stream.completion_chunks,
+            seconds=round(time.perf_counter() - started, 3),
+            prefix_cache=stream.prefix_cache,
+        )
+        target.attempts.append(attempt)
+        self.log.append(
+            f"===== user =====\n{ask}\n\n===== assistant (attempt {number}) =====\n"
+            f"```python\n{target.prefill}{response}"
+        )
+        self.emit(AttemptFinished(attempt))
+        return attempt
+
+    def _judge(
+        self,
+        target: _Target,
+        response: str,
+        reason: str | None,
+        guard: RepetitionGuard,
+        looped: bool,
+    ) -> tuple[AttemptFinish, str | None, str | None]:
+        if looped:
+            return "repetition", f"the answer repeated {guard.reason} and was stopped", None
+        if reason == "length":
+            return (
+                "length",
+                f"the answer was cut off at {self.settings.max_tokens} tokens; write a shorter "
+                "method",
+                None,
+            )
+        text = target.prefill + response
+        method = parse_method(text)
+        if method is None:
+            return "unparsable", _syntax_note(text, target.name), None
+        if method.name != target.name:
+            return "unparsable", f"the answer defines {method.name}, not {target.name}", None
+        return "stop", None, text.rstrip() + "\n"
+
+
+def _syntax_note(text: str, name: str) -> str:
+    import textwrap
+
+    try:
+        ast.parse(textwrap.dedent(text))
+    except SyntaxError as error:
+        lines = textwrap.dedent(text).splitlines()
+        where = (
+            lines[error.lineno - 1].strip() if error.lineno and error.lineno <= len(lines) else ""
+        )
+        return f"the answer is not valid Python ({error.msg} at `{where}`)"
+    return f"the answer holds more than the one method {name}"
+
+
+_CALL = re.compile(r"self\.(_?[A-Za-z]\w*)\(")
+
+
+def _missing_helpers(
+    methods: dict[str, str], known: set[str], attributes: set[str]
+) -> list[tuple[str, str, str]]:
+    """(helper, caller, call source) for ``self.name(...)`` calls of methods nobody wrote."""
+    found: dict[str, tuple[str, str, str]] = {}
+    for caller, text in methods.items():
+        method = parse_method(text)
+        if method is None:
+            continue
+        for node in ast.walk(method):
+            if (
+                isinstance(node, ast.Call)
+                and isinstance(node.func, ast.Attribute)
+                and isinstance(node.func.value, ast.Name)
+                and node.func.value.id == "self"
+            ):
+                name = node.func.attr
+                if name in known or name in attributes or name in found or name == "node":
+                    continue
+                found[name] = (name, caller, ast.unparse(node))
+    return list(found.values())[:_MAX_HELPERS]
+
+
+def _assigned_attributes(methods: dict[str, str]) -> set[str]:
+    names: set[str] = set()
+    for text in methods.values():
+        method = parse_method(text)
+        if method is None:
+            continue
+        for node in ast.walk(method):
+            if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store):
+                names.add(node.attr)
+    return names
+
+
+def _class_methods(skeleton: Skeleton) -> set[str]:
+    tree = ast.parse(skeleton.code)
+    return {
+        n.name
+        for cls in tree.body
+        if isinstance(cls, ast.ClassDef)
+        for n in cls.body
+        if isinstance(n, ast.FunctionDef)
+    }
+
+
+def _problems(
+    attempt: Attempt, findings: Sequence[Finding], code_lines: Sequence[str]
+) -> list[str]:
+    """What to tell the model about its last answer."""
+    if attempt.note is not None:
+        return [attempt.note]
+    out = []
+    for finding in findings:
+        if finding.severity != "error":
+            continue
+        source = code_lines[finding.line - 1].strip() if 0 < finding.line <= len(code_lines) else ""
+        out.append(f"`{source}`: {finding.message}" if source else finding.message)
+    return out[:_MAX_PROBLEMS]
+
+
+def _score(attempt: Attempt) -> tuple[int, int, int]:
+    """Lower is better: unusable answers last, then errors, then warnings."""
+    if attempt.code is None or attempt.errors is None:
+        return (1, 10**6, 10**6)
+    return (0, attempt.errors, attempt.warnings or 0)
+
+
+_Pick = Callable[[_Target], Attempt | None]
+
+
+def _latest(target: _Target) -> Attempt | None:
+    return target.attempts[-1] if target.attempts else None
+
+
+def _best(target: _Target) -> Attempt | None:
+    judged = [a for a in target.attempts if a.code is not None and a.errors is not None]
+    return min(judged, key=_score) if judged else None
+
+
+@dataclass
+class _Judgement:
+    skeleton: Skeleton
+    assembly: Assembly
+    findings: list[Finding]
+
+    def mine(self, name: str) -> list[Finding] | None:
+        """The findings on method ``name``'s lines, or ``None`` if the file has no such method."""
+        spans = method_spans(self.assembly.code, self.skeleton.class_name)
+        if name not in spans:
+            return None
+        first, last = spans[name]
+        return [f for f in self.findings if first <= f.line <= last]
+
+
+class _Skill:
+    """One skill being written: its conversation, its methods and their answers."""
+
+    def __init__(
+        self,
+        author: _Author,
+        build_skeleton: SkeletonBuilder,
+        capability: Capability,
+        interfaces: Sequence[CardInterface],
+        validate: Validator,
+    ) -> None:
+        self.author = author
+        self.build_skeleton = build_skeleton
+        self.validate = validate
+        self.full = build_skeleton([item.ref for item in interfaces], None)
+        self.conversation = Conversation(task_card(capability, self.full, interfaces))
+        self.targets: dict[str, _Target] = {}
+        self.classes = message_classes(item.interface for item in interfaces)
+        self.model_name = f"the local model {author.generator.model_id}"
+
+    def first_answer(self, target: _Target) -> None:
+        self.targets[target.name] = target
+        attempt = self.author.answer(
+            self.conversation, target, target.ask, (), upto=target.turn_index
+        )
+        self.conversation.turns.append(
+            Turn(target.ask, attempt.code or target.prefill + attempt.response)
+        )
+
+    def write_states(self, spec: SkillSpec) -> None:
+        for state, text in spec.states.items():
+            prefill = _state_prefill(state, self.full)
+            turn = len(self.conversation.turns)
+            self.first_answer(_Target(state, "state", state_ask(state, text), prefill, turn))
+
+    def write_helpers(self) -> None:
+        """Asks for helpers the methods call but nobody wrote (helpers may need helpers)."""
+        for _ in range(2):
+            written = {t.name: code for t in self.targets.values() if (code := t.attempts[-1].code)}
+            known = _class_methods(self.full) | set(self.targets)
+            missing = _missing_helpers(written, known, _assigned_attributes(written))
+            if not missing:
+                return
+            for name, caller, call in missing:
+                ask = helper_ask(name, caller, call)
+                turn = len(self.conversation.turns)
+                target = _Target(name, "helper", ask, f"    def {name}(self", turn, caller)
+                self.first_answer(target)
+
+    def judge(self, pick: _Pick) -> _Judgement:
+        """Assembles the picked answers, validates the file and scores each answer."""
+        states: dict[str, str] = {}
+        helpers: dict[str, str] = {}
+        for target in self.targets.values():
+            attempt = pick(target)
+            if attempt is not None and attempt.code is not None:
+                (states if target.kind == "state" else helpers)[target.name] = attempt.code
+        used = usage(self.full, {**states, **helpers})
+        skeleton = self.build_skeleton(used.interfaces, used.helpers)
+        assembly = assemble(
+            skeleton,
+            states,
+            helpers,
+            prefilled=[self.full.prologues.get("starting", "")],
+            author=self.model_name,
+            classes=self.classes,
+        )
+        judgement = _Judgement(skeleton, assembly, self.validate(assembly.code, skeleton))
+        for target in self.targets.values():
+            attempt = pick(target)
+            mine = judgement.mine(target.name)
+            if attempt is None or attempt.code is None or mine is None:
+                continue
+            attempt.errors = sum(f.severity == "error" for f in mine)
+            attempt.warnings = len(mine) - attempt.errors
+        return judgement
+
+    def failing(self, judgement: _Judgement) -> list[tuple[_Target, list[str]]]:
+        """Methods whose latest answer failed or has errors, with what to tell the model."""
+        lines = judgement.assembly.code.splitlines()
+        out = []
+        for target in self.targets.values():
+            last = target.attempts[-1]
+            mine = judgement.mine(target.name)
+            if last.code is None:
+                out.append((target, _problems(last, [], lines)))
+            elif last.errors and mine is not None:
+                out.append((target, _problems(last, mine, lines)))
+        return out
+
+    def repair(self, target: _Target, problems: list[str]) -> None:
+        # A repair branches off right after the method's first answer, followed by the earlier
+        # repairs of the same method, so the model sees its own attempts and what was wrong.
+        ask = repair_ask(target.name, problems)
+        attempt = self.author.answer(
+            self.conversation, target, ask, target.repairs, upto=target.turn_index + 1
+        )
+        attempt.problems = problems
+        target.repairs.append(Turn(ask, attempt.code or target.prefill + attempt.response))
+
+
+def author_skill(
+    generator: TextGenerator,
+    build_skeleton: SkeletonBuilder,
+    capability: Capability,
+    spec: SkillSpec,
+    interfaces: Sequence[CardInterface],
+    validate: Validator,
+    *,
+    settings: AuthorSettings | None = None,
+    on_event: Callable[[object], None] | None = None,
+    cancel: threading.Event | None = None,
+) -> Authored:
+    """Has ``generator`` write the behaviour of the skill (see the module docstring)."""
+    settings = settings or AuthorSettings()
+    author = _Author(generator, settings, on_event, cancel)
+    skill = _Skill(author, build_skeleton, capability, interfaces, validate)
+    skill.write_states(spec)
+    skill.write_helpers()
+    judgement = skill.judge(_latest)
+    for _round in range(settings.attempts - 1):
+        failing = skill.failing(judgement)
+        if not failing:
+            break
+        for target, problems in failing:
+            skill.repair(target, problems)
+        judgement = skill.judge(_latest)
+    # The final file takes each method's best answer (fewest errors, then warnings).
+    judgement = skill.judge(lambda t: _best(t) or _latest(t))
+    for target in skill.targets.values():
+        choice = _best(target)
+        for attempt in target.attempts:
+            attempt.chosen = attempt is choice
+    return Authored(
+        code=judgement.assembly.code,
+        findings=judgement.findings,
+        attempts=[a for t in skill.targets.values() for a in t.attempts],
+        assembly=judgement.assembly,
+        skeleton=judgement.skeleton,
+        card=skill.conversation.card,
+        transcript=_transcript(skill.conversation, author.log),
+        notes=_notes(skill.full, judgement.skeleton),
+    )
+
+
+def _notes(full: Skeleton, final: Skeleton) -> list[str]:
+    kept = {i.name for i in final.interfaces}
+    unused = [i.name for i in full.interfaces if i.name not in kept]
+    if not unused:
+        return []
+    return [
+        f"retrieved but not used by the behaviour, so left out of the skill: {', '.join(unused)}"
+    ]
+
+
+def _transcript(conversation: Conversation, log: Sequence[str]) -> str:
+    prefix = conversation.prompt("", "").messages[: conversation.prompt("", "").prefix_messages]
+    head = [f"===== {m.role} (cached prefix) =====\n{m.content}" for m in prefix]
+    return "\n\n".join([*head, f"===== task card =====\n{conversation.card}", *log]) + "\n"

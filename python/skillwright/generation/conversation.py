@@ -1,0 +1,135 @@
+"""The conversation in which a model writes a skill, one method per turn.
+
+Layout (chat turns): the state guide as the system turn, then the few-shot examples (each a
+task card and a run of requests and answers) — together the fixed prefix that is evaluated
+once per model and restored from the prefix cache — then the skill's own card with the
+first request, and one further request per state, helper or repair. Every answer is
+prefilled with the method's decorator and signature (and the skeleton's first lines of the
+state), so the model only continues a method body and stops when the method ends.
+
+A conversation only grows at its end while the states are written, so the model's context
+keeps everything before the new request: each turn costs the model its request and its
+answer, not the card again. A repair branches off after the answer it repairs.
+"""
+
+from __future__ import annotations
+
+import textwrap
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+
+import yaml
+
+from skillwright.llm.base import ChatMessage, Prompt
+
+__all__ = [
+    "EXAMPLES_PATH",
+    "GUIDE_PATH",
+    "PROMPT_VERSION",
+    "STOP",
+    "Conversation",
+    "Turn",
+    "fence",
+    "helper_ask",
+    "prefix_messages",
+    "repair_ask",
+    "state_ask",
+]
+
+PROMPT_VERSION = 2
+"""Bumped when the conversation's layout changes (recorded with every generation); 1 was the
+whole-file prompt."""
+
+GUIDE_PATH = Path(__file__).with_name("state_guide.md")
+"""The system turn: how to write one method of a skill."""
+EXAMPLES_PATH = Path(__file__).with_name("examples") / "states.yaml"
+"""The few-shot examples (an invented robot, capabilities nobody evaluates)."""
+
+STOP = ("\n```", "\n    @", "\n    def ", "\nclass ", "\n@", "\ndef ")
+"""Text that ends a method: the closing fence, or the next class member or top-level code."""
+
+MEMBER_INDENT = "    "
+
+
+def fence(method: str) -> str:
+    """A method (class-member indentation) as the fenced answer the examples show."""
+    return f"```python\n{method.rstrip()}\n```"
+
+
+@dataclass(frozen=True)
+class Turn:
+    """A request and the answer given to it."""
+
+    ask: str
+    answer: str
+    """The method as written (class-member indentation), without the fence."""
+
+
+@cache
+def prefix_messages() -> tuple[ChatMessage, ...]:
+    """The fixed prefix: the guide and the few-shot examples as chat turns."""
+    guide = GUIDE_PATH.read_text(encoding="utf-8").strip()
+    document = yaml.safe_load(EXAMPLES_PATH.read_text(encoding="utf-8"))
+    messages = [ChatMessage("system", guide)]
+    for example in document["examples"]:
+        for index, turn in enumerate(example["turns"]):
+            ask = turn["ask"].strip()
+            if index == 0:
+                ask = f"{example['card'].strip()}\n\n{ask}"
+            answer = textwrap.indent(turn["answer"].rstrip(), MEMBER_INDENT)
+            messages += [ChatMessage("user", ask), ChatMessage("assistant", fence(answer))]
+    return tuple(messages)
+
+
+def state_ask(state: str, text: str) -> str:
+    """The request for a state: its name and what the specification says it does."""
+    return f"Write `{state}`: {' '.join(text.split())}"
+
+
+def helper_ask(name: str, caller: str, call: str) -> str:
+    """The request for a helper method the behaviour calls but nobody has written."""
+    return f"Write the helper `{name}` that `{caller}` calls as `{call}`."
+
+
+def repair_ask(target: str, problems: Sequence[str]) -> str:
+    """The request to write a method again, with what the checks found."""
+    listed = "\n".join(f"- {problem}" for problem in problems)
+    return (
+        f"The checks found problems in `{target}`:\n{listed}\n"
+        f"Write `{target}` again with these fixed."
+    )
+
+
+@dataclass
+class Conversation:
+    """One skill's turns after the fixed prefix; the first request carries the card."""
+
+    card: str
+    turns: list[Turn] = field(default_factory=list)
+
+    def prompt(
+        self,
+        ask: str,
+        answer_prefix: str,
+        *,
+        upto: int | None = None,
+        extra: Sequence[Turn] = (),
+    ) -> Prompt:
+        """The prompt for a new request after the first ``upto`` turns (default: all) and the
+        ``extra`` turns (earlier repairs of the same method), with the answer prefilled by
+        ``answer_prefix`` (the fence is added here)."""
+        history = [*(self.turns if upto is None else self.turns[:upto]), *extra]
+        prefix = prefix_messages()
+        messages = list(prefix)
+        for index, turn in enumerate([*history, Turn(ask, "")]):
+            text = f"{self.card}\n\n{turn.ask}" if index == 0 else turn.ask
+            messages.append(ChatMessage("user", text))
+            if index < len(history):
+                messages.append(ChatMessage("assistant", fence(turn.answer)))
+        return Prompt(
+            tuple(messages),
+            prefix_messages=len(prefix),
+            answer_prefix=f"```python\n{answer_prefix}",
+        )

@@ -1,0 +1,1 @@
+"""Stand-in of ``pyskillup.decorator_check``."""

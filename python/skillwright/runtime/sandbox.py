@@ -1,0 +1,213 @@
+"""Starting the sandboxed child process and making sure nothing of it survives.
+
+The child is ``python -I -S -B boot.py``: isolated mode (no user site, no ``PYTHON*``
+variables, no current folder on ``sys.path``), no site-packages, no bytecode written. It
+runs in a new session (its own process group), with a scrubbed environment, in a
+private temporary folder that is also its ``HOME`` and ``TMPDIR``, and holds one end of
+a socketpair. ``boot.py`` then adds namespaces, rlimits and the audit hook before the
+skill's code runs (see there).
+
+:meth:`SandboxProcess.close` kills the process group (and, with a PID namespace, every
+process the skill could have started), reaps the child with its resource use, and
+removes the temporary folder.
+"""
+
+from __future__ import annotations
+
+import compileall
+import contextlib
+import importlib.util
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import sysconfig
+import tempfile
+import time
+import uuid
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+from typing import Final
+
+from skillwright.runtime.scenario import Limits
+
+__all__ = ["CHILD_ROOT", "MARKER_VARIABLE", "SandboxProcess", "start_child"]
+
+CHILD_ROOT: Final = Path(__file__).resolve().with_name("child")
+"""The child's ``sys.path`` root: its own package and the stand-ins."""
+
+MARKER_VARIABLE: Final = "SKILLWRIGHT_SANDBOX"
+"""Environment variable every sandboxed process carries, with the run's id as its value
+(tests find stray processes by it)."""
+
+_ALLOWED_PACKAGES: Final = ("numpy",)
+_CLOCK_TICKS: Final = os.sysconf("SC_CLK_TCK")
+"""Third-party packages a skill may import besides ROS 2's, where the host has them."""
+
+
+@cache
+def _prepare_child_code() -> None:
+    """Compiles the child's modules once, so the child (which writes no bytecode) starts
+    fast; an install folder that cannot be written just makes the child compile in memory."""
+    with contextlib.suppress(OSError):
+        compileall.compile_dir(str(CHILD_ROOT), quiet=2, workers=1)
+
+
+@cache
+def allowed_packages() -> tuple[tuple[str, str], ...]:
+    """``(name, folder holding it)`` of the allowed packages installed here."""
+    found = []
+    for name in _ALLOWED_PACKAGES:
+        spec = importlib.util.find_spec(name)
+        if spec is not None and spec.submodule_search_locations:
+            package = Path(next(iter(spec.submodule_search_locations)))
+            found.append((name, str(package.parent)))
+    return tuple(found)
+
+
+def read_roots() -> list[str]:
+    """Folders the child may read: the standard library, its own code, allowed packages."""
+    paths = sysconfig.get_paths()
+    roots = {paths["stdlib"], paths["platstdlib"], str(CHILD_ROOT)}
+    for name, folder in allowed_packages():
+        roots.add(str(Path(folder) / name))
+        roots.update(str(p) for p in Path(folder).glob(f"{name}.libs"))
+        roots.update(str(p) for p in Path(folder).glob(f"{name}-*.dist-info"))
+    roots.update({"/dev/null", "/dev/urandom"})
+    return sorted(roots)
+
+
+@dataclass
+class SandboxProcess:
+    """A running child and what is needed to talk to it and to end it."""
+
+    process: subprocess.Popen[bytes]
+    sock: socket.socket
+    temp: Path
+    marker: str
+    started: float = field(default_factory=time.monotonic)
+    rusage: dict[str, float] = field(default_factory=dict)
+    exit_status: int | None = None
+
+    @property
+    def pid(self) -> int:
+        """Process id of the child the host started."""
+        return self.process.pid
+
+    def cpu_seconds(self) -> float | None:
+        """CPU time the child and its first process (in a PID namespace) have used so far,
+        or ``None`` where ``/proc`` does not say."""
+        total = 0.0
+        pids = [self.process.pid]
+        try:
+            children = Path(f"/proc/{self.process.pid}/task/{self.process.pid}/children")
+            pids += [int(p) for p in children.read_text().split()]
+            for pid in pids:
+                fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+                # utime and stime are fields 14 and 15 of stat, 12 and 13 after the name.
+                total += (int(fields[11]) + int(fields[12])) / _CLOCK_TICKS
+        except (OSError, ValueError, IndexError):
+            return None
+        return total
+
+    def interrupt(self) -> None:
+        """Asks the child to stop the state that runs (it reports where it was)."""
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(self.process.pid, signal.SIGUSR1)
+
+    def output_tail(self, limit: int = 4000) -> str:
+        """The end of what the child wrote to its own stdout/stderr (crash messages)."""
+        path = self.temp / "child-output.txt"
+        try:
+            with path.open("rb") as stream:
+                stream.seek(0, os.SEEK_END)
+                size = stream.tell()
+                stream.seek(max(0, size - limit))
+                return stream.read().decode("utf-8", "replace")
+        except OSError:
+            return ""
+
+    def close(self) -> None:
+        """Kills every process of the child's group, reaps the child, removes its folder."""
+        with contextlib.suppress(OSError):
+            self.sock.close()
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(self.process.pid, signal.SIGKILL)
+        if self.process.returncode is None:
+            try:
+                _, status, usage = os.wait4(self.process.pid, 0)
+            except ChildProcessError:
+                status, usage = 0, None
+            self.process.returncode = os.waitstatus_to_exitcode(status)
+            if usage is not None:
+                self.rusage = {
+                    "cpu_seconds": round(usage.ru_utime + usage.ru_stime, 3),
+                    "max_rss_mb": round(usage.ru_maxrss / 1024, 1),
+                }
+        self.exit_status = self.process.returncode
+        shutil.rmtree(self.temp, ignore_errors=True)
+
+
+def _environment(temp: Path, marker: str) -> dict[str, str]:
+    return {
+        "PATH": "/usr/bin:/bin",
+        "HOME": str(temp),
+        "TMPDIR": str(temp),
+        "LANG": "C.UTF-8",
+        "LC_ALL": "C.UTF-8",
+        "TZ": "UTC",
+        "OPENBLAS_NUM_THREADS": "1",
+        "OMP_NUM_THREADS": "1",
+        "MKL_NUM_THREADS": "1",
+        MARKER_VARIABLE: marker,
+    }
+
+
+def start_child(skill_source: str, skill_name: str = "skill.py") -> SandboxProcess:
+    """Starts a child holding a private copy of the skill (``<temp>/<skill_name>``)."""
+    _prepare_child_code()
+    temp = Path(tempfile.mkdtemp(prefix="skillwright-run-")).resolve()
+    marker = uuid.uuid4().hex
+    host_end, child_end = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
+    try:
+        (temp / skill_name).write_text(skill_source, encoding="utf-8")
+        with (temp / "child-output.txt").open("wb") as output:
+            process = subprocess.Popen(
+                [
+                    sys.executable,
+                    "-I",
+                    "-S",
+                    "-B",
+                    str(CHILD_ROOT / "_skillwright_child" / "boot.py"),
+                    str(child_end.fileno()),
+                    str(temp),
+                ],
+                stdin=subprocess.DEVNULL,
+                stdout=output,
+                stderr=subprocess.STDOUT,
+                pass_fds=(child_end.fileno(),),
+                cwd=temp,
+                env=_environment(temp, marker),
+                start_new_session=True,
+            )
+    except BaseException:
+        host_end.close()
+        shutil.rmtree(temp, ignore_errors=True)
+        raise
+    finally:
+        child_end.close()
+    return SandboxProcess(process=process, sock=host_end, temp=temp, marker=marker)
+
+
+def limits_config(limits: Limits) -> dict[str, int]:
+    """The limits as the child's ``boot.py`` applies them."""
+    return {
+        "address_space": limits.memory_mb * 1024 * 1024,
+        "cpu_seconds": limits.cpu_seconds,
+        "open_files": limits.open_files,
+        "processes": limits.processes,
+        "file_size": limits.file_size_mb * 1024 * 1024,
+    }

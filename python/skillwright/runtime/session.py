@@ -1,0 +1,555 @@
+"""One episode: a sandboxed child runs the skill while the host serves the graph.
+
+The host reads the child's frames, answers its requests, advances the graph when the
+child waits, enforces the deadlines (virtual per state, wall per episode, "busy" for a
+state that runs without ever waiting) and turns what it sees into trace entries and
+findings. It never trusts the child: unknown operations, wrong field types and
+oversized frames end the episode with a ``run.protocol`` finding.
+"""
+
+from __future__ import annotations
+
+import re
+import select
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from skillwright.errors import GenerationCancelledError
+from skillwright.runtime.graph import GraphHost
+from skillwright.runtime.protocol import ProtocolError, Wire
+from skillwright.runtime.recorder import Recorder
+from skillwright.runtime.report import EpisodeTrace, RunProgress, StateRun
+from skillwright.runtime.sandbox import (
+    SandboxProcess,
+    allowed_packages,
+    limits_config,
+    read_roots,
+    start_child,
+)
+
+if TYPE_CHECKING:
+    from skillwright.interfaces.inventory import Inventory
+    from skillwright.runtime.api import ActionGoal, WorldPlugin
+    from skillwright.runtime.scenario import RunScenario
+    from skillwright.runtime.skillinfo import SkillInfo
+    from skillwright.runtime.typesys import TypeRegistry
+
+__all__ = ["Episode", "EpisodePlan", "EpisodeResult"]
+
+_POLL_SECONDS = 0.05
+_GRACE_SECONDS = 5.0
+"""Wall seconds a child gets to report where it was after an interrupt, before the kill
+(generous: on a loaded machine the child may wait that long for a core)."""
+_STALL_SECONDS = 30.0
+"""A state that uses no CPU and sends nothing for this long (wall; at least ten busy
+deadlines) is blocked in a wait the simulation cannot see (a lock, ``input()``)."""
+_IMPORT_NAME = re.compile(
+    r"cannot import name '(?P<name>\w+)' from '(?P<package>\w+)\.(?P<namespace>\w+)'"
+)
+_NO_MODULE = re.compile(r"No module named '(?P<module>[\w.]+)'")
+_LOAD_DEADLINE = 30.0
+"""Virtual seconds the module import and ``__init__`` may wait."""
+
+
+@dataclass(frozen=True)
+class EpisodePlan:
+    """Which episode to run."""
+
+    name: str
+    stop_after: float | None = None
+    """Virtual seconds into execute at which a Stop command arrives."""
+    stop_at_complete: bool = False
+    """Send Stop at Complete when execute ends before ``stop_after``."""
+
+
+@dataclass
+class EpisodeResult:
+    """An episode's trace, findings, and the graph state the later checks read."""
+
+    trace: EpisodeTrace
+    recorder: Recorder
+    graph: GraphHost
+    reads: set[str] = field(default_factory=set)
+    writes: set[str] = field(default_factory=set)
+    threads: list[dict[str, Any]] = field(default_factory=list)
+    publish_marks: dict[str, int] = field(default_factory=dict)
+    """State -> how many messages the skill had published when it ended (or was absent)."""
+    goals_after: dict[str, list[tuple[ActionGoal, int]]] = field(default_factory=dict)
+    """State -> goals active and not being cancelled when it ended, with their lines."""
+
+
+class Episode:
+    """Runs one episode of a skill; see :meth:`run`."""
+
+    def __init__(
+        self,
+        *,
+        source: str,
+        skill_name: str,
+        info: SkillInfo,
+        inputs: list[dict[str, Any]],
+        inventory: Inventory,
+        registry: TypeRegistry,
+        scenario: RunScenario,
+        recording: list[Path] | None,
+        world_factory: Callable[[], WorldPlugin | None],
+        epoch_ns: int,
+        on_progress: Callable[[RunProgress], None] | None,
+        cancel: threading.Event | None,
+    ) -> None:
+        self._source = source
+        self._skill_name = skill_name
+        self._info = info
+        self._inputs = inputs
+        self._inventory = inventory
+        self._registry = registry
+        self._scenario = scenario
+        self._recording = recording
+        self._world_factory = world_factory
+        self._epoch_ns = epoch_ns
+        self._on_progress = on_progress
+        self._cancel = cancel
+
+    def _progress(
+        self, plan: EpisodePlan, event: str, state: str | None = None, detail: str | None = None
+    ) -> None:
+        if self._on_progress is not None:
+            self._on_progress(
+                RunProgress(plan.name, event, state, self._recorder.now, detail)  # type: ignore[arg-type]
+            )
+
+    def run(self, plan: EpisodePlan) -> EpisodeResult:
+        """Runs the episode to its end; raises ``GenerationCancelledError`` when cancelled."""
+        self._plan = plan
+        self._recorder = Recorder()
+        self._graph = GraphHost(
+            self._inventory,
+            self._registry,
+            self._recorder,
+            self._scenario,
+            recording=self._recording,
+            epoch_ns=self._epoch_ns,
+        )
+        trace = EpisodeTrace(name=plan.name, ended="done")  # type: ignore[arg-type]
+        result = EpisodeResult(trace=trace, recorder=self._recorder, graph=self._graph)
+        self._result = result
+        self._states: list[StateRun] = []
+        self._state_wall = 0.0
+        self._state_start = 0.0
+        self._execute_start: float | None = None
+        self._stop_sent = False
+        self._settling = False
+        self._done = False
+        self._startup: float | None = None
+        self._progress(plan, "episode-start")
+        started = time.monotonic()
+        world = self._world_factory()
+        child: SandboxProcess | None = None
+        try:
+            if world is not None:
+                self._graph.attach_world(world)
+            child = start_child(self._source, self._skill_name)
+            self._child = child
+            self._loop(child)
+        finally:
+            self._graph.close()
+            if child is not None:
+                child.close()
+                trace.resources = child.rusage
+            trace.wall_seconds = round(time.monotonic() - started, 3)
+            trace.startup_seconds = round(self._startup or 0.0, 3)
+            trace.states = self._states
+            trace.events = self._recorder.entries
+            trace.dropped_events = self._recorder.dropped
+            trace.virtual_seconds = round(self._graph.now, 6)
+        if child is not None and not self._done and trace.ended == "done":
+            self._child_died(child)
+        self._progress(plan, "episode-end", detail=trace.ended)
+        return result
+
+    # --- the frame loop --------------------------------------------------------------
+
+    def _loop(self, child: SandboxProcess) -> None:
+        wire = Wire(child.sock)
+        deadlines = self._scenario.deadlines
+        run_deadline = child.started + deadlines.run
+        last = sampled = time.monotonic()
+        last_cpu = child.cpu_seconds()
+        interrupted_at: float | None = None
+        self._interrupt_reason = "busy"
+        self._stall_seconds = max(_STALL_SECONDS, 10 * deadlines.busy)
+        while not self._done:
+            if self._cancel is not None and self._cancel.is_set():
+                raise GenerationCancelledError("the run was cancelled; nothing was kept")
+            now = time.monotonic()
+            if now > run_deadline:
+                self._kill("run", f"the episode took longer than {deadlines.run:g} s of wall time")
+                return
+            if interrupted_at is not None and now - interrupted_at > _GRACE_SECONDS:
+                self._kill("busy", self._busy_message(None))
+                return
+            if interrupted_at is None and now - last > deadlines.busy:
+                # CPU time, not wall time, decides: on a busy machine a waiting child can go
+                # seconds without a turn on a core.
+                cpu = child.cpu_seconds()
+                spun = cpu is None or last_cpu is None or cpu - last_cpu > deadlines.busy
+                stalled = now - last > self._stall_seconds
+                if spun or stalled:
+                    self._interrupt_reason = "busy" if spun else "blocked"
+                    child.interrupt()
+                    interrupted_at = now
+                    continue
+            if not wire.pending():
+                ready, _, _ = select.select([child.sock], [], [], _POLL_SECONDS)
+                if not ready:
+                    continue
+            try:
+                frame = wire.receive()
+            except (EOFError, ConnectionError):
+                return
+            except ProtocolError as error:
+                self._protocol(str(error))
+                return
+            if frame is None:
+                continue
+            try:
+                reply = self._handle(frame)
+            except (KeyError, TypeError, ValueError) as error:
+                self._protocol(f"a {frame.get('op')!r} frame is malformed: {error}")
+                return
+            if reply is not None:
+                try:
+                    wire.send(reply)
+                except OSError:
+                    return
+            if frame["op"] == "stack":
+                interrupted_at = None
+            last = time.monotonic()
+            # Reading /proc on every frame would cost more than the exchange itself; a
+            # sample at most a quarter second old is as good for a deadline of seconds.
+            if last - sampled > 0.25:
+                sampled, last_cpu = last, child.cpu_seconds()
+
+    def _kill(self, reason: str, message: str) -> None:
+        self._result.trace.ended = "killed"
+        state = self._recorder.state or "load"
+        check = "run.timeout" if reason == "run" else f"run.{self._interrupt_reason}"
+        self._recorder.finding(check, f"{state}: {message}")
+        self._end_state("killed", reason)
+
+    def _protocol(self, message: str) -> None:
+        self._result.trace.ended = "protocol"
+        self._recorder.finding(
+            "run.protocol",
+            f"the sandboxed process broke the runtime's protocol ({message}); the skill may "
+            "have written to the runtime's socket or replaced its modules",
+        )
+        self._end_state("killed", "protocol")
+
+    def _child_died(self, child: SandboxProcess) -> None:
+        trace = self._result.trace
+        trace.ended = "crashed"
+        status = child.exit_status
+        state = self._recorder.state or "load"
+        if status is not None and status < 0:
+            how = f"was killed by signal {-status}"
+            if -status in (9, 24):
+                how += " (the CPU-time limit, or the memory limit hit outside Python)"
+        else:
+            how = f"exited with status {status}"
+        tail = child.output_tail().strip()
+        detail = f"; its last output: {tail[-300:]}" if tail else ""
+        self._recorder.finding(
+            "run.exit",
+            f"the skill's process {how} during {state}, last seen at line {self._recorder.line} "
+            f"(os._exit, a crash, or a limit){detail}",
+        )
+        self._end_state("killed", "crashed")
+
+    def _busy_message(self, frames: list[Any] | None) -> str:
+        where = ""
+        if frames:
+            inner = frames[-1]
+            where = f" at line {inner[0]} in {inner[1]}()"
+        if self._interrupt_reason == "blocked":
+            return (
+                f"it waited {self._stall_seconds:g} s of wall time{where} in a way the "
+                "simulation cannot see (a lock, input(), a raw socket or file), so virtual "
+                "time stood still; "
+                "wait with time.sleep, rclpy.spin_once or a future instead"
+            )
+        return (
+            f"it ran for {self._scenario.deadlines.busy:g} s of CPU time without waiting{where}: "
+            "a loop that never sleeps, spins or waits on a future keeps callbacks from running "
+            "and burns a core on the robot; wait with time.sleep or rclpy.spin_once inside it"
+        )
+
+    def _end_state(self, outcome: str, detail: str | None) -> None:
+        if self._states and self._states[-1].ended is None:
+            current = self._states[-1]
+            current.outcome = outcome
+            current.detail = detail
+            current.ended = round(self._graph.now, 6)
+            current.wall_seconds = round(time.monotonic() - self._state_wall, 3)
+
+    # --- frames ---------------------------------------------------------------------
+
+    def _config(self) -> dict[str, Any]:
+        limits = limits_config(self._scenario.limits)
+        return {
+            "skill": str(self._child.temp / self._skill_name),
+            "class": self._info.class_name,
+            "inputs": self._inputs,
+            "outputs": [{"name": v.name, "attr": v.attr} for v in self._info.outputs],
+            "epoch_ns": self._epoch_ns,
+            "limits": limits,
+            "read_roots": read_roots(),
+            "packages": dict(allowed_packages()),
+            "settle": self._scenario.settle,
+            "stop_at_complete": self._plan.stop_at_complete,
+        }
+
+    def _handle(self, frame: dict[str, Any]) -> dict[str, Any] | None:
+        # The trace shows the skill's own time for what it did; the graph may be up to a
+        # lookahead ahead of it.
+        t = frame.get("t")
+        if isinstance(t, (int, float)) and not isinstance(t, bool):
+            self._recorder.now = min(max(float(t), 0.0), self._graph.now)
+        try:
+            return self._dispatch(frame)
+        finally:
+            self._recorder.now = self._graph.now
+
+    def _dispatch(self, frame: dict[str, Any]) -> dict[str, Any] | None:
+        op = frame["op"]
+        graph = self._graph
+        recorder = self._recorder
+        line = frame.get("line")
+        if isinstance(line, int) and line > 0:
+            recorder.line = line
+        if op == "hello":
+            self._result.trace.isolation = {
+                k: v
+                for k, v in dict(frame.get("isolation") or {}).items()
+                if isinstance(v, (str, bool))
+            }
+            return {"config": self._config()}
+        if op == "package":
+            return {"ok": self._registry.has_package(str(frame["name"]))}
+        if op == "type":
+            return self._registry.describe(str(frame["name"]))
+        if op == "exists":
+            return {"ok": graph.exists(str(frame["kind"]), str(frame["name"]))}
+        if op == "count":
+            return {"count": graph.count(str(frame["what"]), str(frame["name"]))}
+        if op == "graph":
+            return {"names": graph.names_and_types(str(frame["kind"]))}
+        if op == "advance":
+            return self._advance(frame)
+        self._notice(op, frame)
+        return None
+
+    def _notice(self, op: str, frame: dict[str, Any]) -> None:
+        graph = self._graph
+        recorder = self._recorder
+        line = int(frame.get("line") or 0)
+        if op == "endpoint":
+            graph.child_endpoint(frame)
+        elif op == "destroy":
+            graph.child_destroy(int(frame["id"]))
+        elif op == "publish":
+            graph.child_publish(frame["id"], frame["msg"], line, recorder.state)
+        elif op == "call":
+            graph.child_call(frame["id"], frame["seq"], frame["request"], line)
+        elif op == "goal":
+            graph.child_goal(
+                frame["id"], frame["goal"], frame["request"], bool(frame.get("feedback")), line
+            )
+        elif op == "cancel":
+            graph.child_cancel(frame["id"], frame["goal"], line)
+        elif op == "log":
+            recorder.record(
+                "log",
+                level=str(frame["level"]),
+                name=str(frame["name"]),
+                text=str(frame["text"]),
+                line=line,
+            )
+        elif op == "output":
+            recorder.record(
+                "output", stream=str(frame["stream"]), text=str(frame["text"]), line=line
+            )
+        elif op == "node":
+            recorder.record("node", name=str(frame["name"]), line=line)
+        elif op == "phase":
+            self._phase(str(frame["name"]))
+        elif op == "state":
+            self._state(frame)
+        elif op == "error":
+            self._error(frame)
+        elif op == "stack":
+            frames = [f for f in frame.get("frames", []) if isinstance(f, list) and len(f) == 2]
+            where = int(frames[-1][0]) if frames else recorder.line
+            state = recorder.state or "load"
+            if frame.get("reason") == "cpu":
+                check, message = "run.cpu", "it used up the CPU-time limit of the sandbox"
+            else:
+                check = f"run.{self._interrupt_reason}"
+                message = self._busy_message(frames)
+            recorder.finding(check, f"{state}: {message}", line=where)
+        elif op == "outputs":
+            values = frame.get("values")
+            if isinstance(values, dict):
+                self._result.trace.outputs = {str(k): v for k, v in values.items()}
+                recorder.record("outputs", values=self._result.trace.outputs)
+        elif op == "watch":
+            self._result.reads = {str(x) for x in frame.get("read", [])}
+            self._result.writes = {str(x) for x in frame.get("written", [])}
+            self._result.threads = [t for t in frame.get("threads", []) if isinstance(t, dict)]
+        elif op == "done":
+            self._done = True
+        else:
+            raise ValueError(f"unknown operation {op!r}")
+
+    def _phase(self, name: str) -> None:
+        self._recorder.record("phase", name=name)
+        self._state_start = self._graph.now
+        self._settling = name == "settle"
+
+    def _state(self, frame: dict[str, Any]) -> None:
+        name = str(frame["name"])
+        phase = str(frame["phase"])
+        recorder = self._recorder
+        now = round(self._graph.now, 6)
+        if phase == "begin":
+            if self._startup is None:
+                self._startup = time.monotonic() - self._child.started
+            recorder.state = name
+            self._state_start = self._graph.now
+            self._state_wall = time.monotonic()
+            if name == "execute":
+                self._execute_start = self._graph.now
+            self._states.append(StateRun(name=name, outcome="running", started=now))
+            recorder.record("state", name=name, phase="begin")
+            self._progress(self._plan, "state-start", name)
+        elif phase == "absent":
+            self._states.append(StateRun(name=name, outcome="absent", started=now, ended=now))
+            recorder.record("state", name=name, phase="absent")
+            self._mark(name)
+        else:
+            outcome = str(frame.get("outcome"))
+            detail = frame.get("detail")
+            self._end_state(outcome, str(detail) if detail is not None else None)
+            self._mark(name)
+            recorder.record("state", name=name, phase="end", outcome=outcome, detail=detail)
+            self._progress(self._plan, "state-end", name, outcome)
+            recorder.state = None
+            self._state_start = self._graph.now
+
+    def _mark(self, name: str) -> None:
+        self._result.publish_marks[name] = self._graph.publish_count
+        self._result.goals_after[name] = [
+            (goal, line) for goal, line in self._graph.active_goals() if not goal.cancel_requested
+        ]
+
+    def _error(self, frame: dict[str, Any]) -> None:
+        phase = str(frame["phase"])
+        kind = str(frame["kind"])
+        type_name = str(frame["type"])
+        message = str(frame["message"])
+        line = int(frame.get("line") or 0)
+        self._recorder.record("error", phase=phase, type=type_name, message=message, line=line)
+        checks = {
+            "syntax": "run.syntax",
+            "import": "run.import",
+            "field": "run.field",
+            "sandbox": "run.sandbox",
+            "memory": "run.memory",
+            "exit": "run.exit",
+            "structure": "run.structure",
+        }
+        check = checks.get(kind, "run.exception")
+        if kind == "exit":
+            text = (
+                f"{phase} called sys.exit ({message or 'no code'}): a skill must not end the "
+                "process; raise an exception to abort"
+            )
+        elif kind == "memory":
+            limit = self._scenario.limits.memory_mb
+            text = (
+                f"{phase} ran out of memory (the sandbox allows {limit} MB): {type_name} {message}"
+            )
+        elif kind == "sandbox":
+            text = f"{phase}: {message}"
+        elif kind == "import":
+            text = f"{phase}: {self._import_problem(message)}"
+        else:
+            text = (
+                f"{phase} raised {type_name}: {message}"
+                if message
+                else f"{phase} raised {type_name}"
+            )
+        self._recorder.finding(check, text, line=line)
+
+    def _import_problem(self, message: str) -> str:
+        """What an ImportError means here: a type or package the robot does not have, or a
+        library the sandbox does not offer."""
+        wanted = _IMPORT_NAME.match(message)
+        if wanted is not None and wanted["namespace"] in {"msg", "srv", "action"}:
+            type_name = f"{wanted['package']}/{wanted['namespace']}/{wanted['name']}"
+            answer = self._registry.describe(type_name)
+            if not answer.get("ok"):
+                return str(answer["error"])
+        missing = _NO_MODULE.match(message)
+        if missing is not None:
+            package = missing["module"].split(".")[0]
+            return (
+                f"{message}: the robot has no ROS 2 package {package}, and a skill may use only "
+                "rclpy, tf2_ros, pySkillUp, the robot's message packages, the Python standard "
+                "library and numpy"
+            )
+        return message
+
+    def _advance(self, frame: dict[str, Any]) -> dict[str, Any]:
+        until = frame.get("until")
+        if until is not None and not isinstance(until, (int, float)):
+            raise TypeError("'until' must be a number or null")
+        state = self._recorder.state
+        if state is not None:
+            deadline = self._scenario.deadlines.state
+        elif self._settling:
+            deadline = self._scenario.settle
+        else:
+            deadline = _LOAD_DEADLINE
+        cap = self._state_start + deadline
+        stop_cap = None
+        if (
+            state == "execute"
+            and self._plan.stop_after is not None
+            and self._execute_start is not None
+        ):
+            stop_cap = self._execute_start + self._plan.stop_after
+            cap = min(cap, stop_cap)
+        deliveries = self._graph.advance(float(until) if until is not None else None, cap)
+        reply: dict[str, Any] = {"now": self._graph.now, "deliveries": deliveries}
+        if not deliveries and self._graph.now >= cap and (until is None or until > cap):
+            if stop_cap is not None and cap >= stop_cap:
+                reply["stop"] = "stop"
+                if not self._stop_sent:
+                    self._stop_sent = True
+                    self._recorder.record("stop", line=self._recorder.line)
+            elif state is not None:
+                reply["stop"] = "deadline"
+                reason = str(frame.get("reason") or "waiting")
+                self._recorder.finding(
+                    "run.timeout",
+                    f"{state} did not return within {self._scenario.deadlines.state:g} s of "
+                    f"virtual time; it was waiting at line {self._recorder.line} ({reason})",
+                )
+            else:
+                reply["stop"] = "deadline"
+        return reply

@@ -1,0 +1,154 @@
+"""What the host reads from a skill's source before running it (never by executing it).
+
+The ``@skill`` class, its ``@skill_parameter`` and ``@skill_output`` getters with the
+attribute each returns (the driver sets inputs there and watches outputs there), the
+getter's return annotation (to give inputs their type), and the state methods present.
+"""
+
+from __future__ import annotations
+
+import ast
+from dataclasses import dataclass, field
+
+__all__ = ["SkillInfo", "SkillSourceError", "Variable", "read_skill"]
+
+_STATES = frozenset(
+    {
+        "starting",
+        "execute",
+        "completing",
+        "holding",
+        "unholding",
+        "suspending",
+        "unsuspending",
+        "stopping",
+        "aborting",
+        "clearing",
+        "resetting",
+    }
+)
+
+
+class SkillSourceError(ValueError):
+    """The source has no skill to run; ``line`` says where the problem is (0: anywhere)."""
+
+    def __init__(self, message: str, line: int = 0, check: str = "run.structure") -> None:
+        super().__init__(message)
+        self.line = line
+        self.check = check
+
+
+@dataclass(frozen=True)
+class Variable:
+    """A skill input or output as its getter declares it."""
+
+    name: str
+    getter: str
+    attr: str | None
+    """The ``self.<attr>`` the getter returns; ``None`` when it returns something else."""
+    annotation: str | None
+    required: bool
+    line: int
+
+
+@dataclass
+class SkillInfo:
+    """The runnable shape of a skill."""
+
+    class_name: str
+    class_line: int
+    parameters: list[Variable] = field(default_factory=list)
+    outputs: list[Variable] = field(default_factory=list)
+    states: dict[str, int] = field(default_factory=dict)
+    """State name -> line of its method."""
+
+
+def _decorator_name(node: ast.expr) -> str:
+    target = node.func if isinstance(node, ast.Call) else node
+    if isinstance(target, ast.Name):
+        return target.id
+    if isinstance(target, ast.Attribute):
+        return target.attr
+    return ""
+
+
+def _keyword(call: ast.Call, name: str) -> ast.expr | None:
+    return next((k.value for k in call.keywords if k.arg == name), None)
+
+
+def _returned_attribute(function: ast.FunctionDef) -> str | None:
+    """``x`` when every ``return`` of the getter gives ``self.x`` (possibly converted)."""
+    found: set[str] = set()
+    returns = [n for n in ast.walk(function) if isinstance(n, ast.Return)]
+    if not returns:
+        return None
+    for node in returns:
+        if node.value is None:
+            return None
+        attributes = {
+            n.attr
+            for n in ast.walk(node.value)
+            if isinstance(n, ast.Attribute)
+            and isinstance(n.value, ast.Name)
+            and n.value.id == "self"
+        }
+        if len(attributes) != 1:
+            return None
+        found |= attributes
+    return found.pop() if len(found) == 1 else None
+
+
+def _variable(function: ast.FunctionDef, call: ast.Call) -> Variable:
+    name_node = _keyword(call, "name")
+    name = (
+        name_node.value
+        if isinstance(name_node, ast.Constant) and isinstance(name_node.value, str)
+        else function.name
+    )
+    required_node = _keyword(call, "is_required")
+    required = not (isinstance(required_node, ast.Constant) and required_node.value is False)
+    return Variable(
+        name=name,
+        getter=function.name,
+        attr=_returned_attribute(function),
+        annotation=ast.unparse(function.returns) if function.returns is not None else None,
+        required=required,
+        line=function.lineno,
+    )
+
+
+def read_skill(source: str, filename: str = "skill.py") -> SkillInfo:
+    """The skill class of ``source``; :class:`SkillSourceError` when there is none."""
+    try:
+        tree = ast.parse(source, filename)
+    except SyntaxError as error:
+        raise SkillSourceError(
+            f"the file does not parse: {error.msg}", error.lineno or 0, "run.syntax"
+        ) from None
+    for node in tree.body:
+        if not isinstance(node, ast.ClassDef):
+            continue
+        if not any(_decorator_name(d) == "skill" for d in node.decorator_list):
+            continue
+        info = SkillInfo(class_name=node.name, class_line=node.lineno)
+        for item in node.body:
+            if not isinstance(item, ast.FunctionDef):
+                continue
+            for decorator in item.decorator_list:
+                name = _decorator_name(decorator)
+                if name in _STATES and not isinstance(decorator, ast.Call):
+                    info.states[name] = item.lineno
+                elif name == "skill_parameter" and isinstance(decorator, ast.Call):
+                    info.parameters.append(_variable(item, decorator))
+                elif name == "skill_output" and isinstance(decorator, ast.Call):
+                    info.outputs.append(_variable(item, decorator))
+        if "execute" not in info.states:
+            raise SkillSourceError(
+                f"class {node.name} has no @execute method, so there is nothing to run",
+                node.lineno,
+            )
+        return info
+    raise SkillSourceError(
+        "no class decorated with @skill(...) at the top level of the file, so there is no "
+        "skill to run"
+    )

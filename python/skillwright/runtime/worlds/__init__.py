@@ -1,0 +1,1 @@
+"""World plug-ins that ship with skillwright (see :mod:`skillwright.runtime` for the API)."""

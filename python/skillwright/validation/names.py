@@ -1,0 +1,386 @@
+"""Names a skill uses that nothing defines: the commonest mistakes of a small model.
+
+Three kinds, each found without running the code:
+
+- a name that is neither imported, defined, a builtin nor one of pySkillUp's decorators
+  (``Vector3`` used without its import, ``rospy``);
+- an attribute of the skill read but set nowhere (``self.logger``, ``self.odom_sub``);
+- a method called on the node or on a handle the code made that rclpy does not have
+  (``subscription.wait_for_message``, ``self.node.get_time``).
+
+The rclpy names below are the public API of rclpy's ``Node``, ``Publisher``,
+``Subscription``, ``Client``, ``Timer``, ``Rate``, ``ActionClient`` and the logger, as far as
+skills use them.
+"""
+
+from __future__ import annotations
+
+import ast
+import builtins
+import difflib
+import symtable
+from collections.abc import Iterator
+
+from skillwright.validation.model import Finding
+
+__all__ = ["RCLPY_API", "check_names"]
+
+PYSKILLUP_NAMES = frozenset(
+    {
+        "skill",
+        "skill_parameter",
+        "skill_output",
+        "starting",
+        "execute",
+        "completing",
+        "holding",
+        "unholding",
+        "suspending",
+        "unsuspending",
+        "stopping",
+        "aborting",
+        "clearing",
+        "resetting",
+    }
+)
+"""What ``from pyskillup.decorators.decorators import *`` provides."""
+
+_LOGGER = frozenset(
+    {"debug", "info", "warning", "warn", "error", "fatal", "get_child", "set_level"}
+)
+
+RCLPY_API: dict[str, frozenset[str]] = {
+    "node": frozenset(
+        {
+            "get_logger",
+            "get_clock",
+            "get_name",
+            "get_namespace",
+            "get_fully_qualified_name",
+            "create_publisher",
+            "create_subscription",
+            "create_client",
+            "create_service",
+            "create_timer",
+            "create_rate",
+            "create_guard_condition",
+            "destroy_publisher",
+            "destroy_subscription",
+            "destroy_client",
+            "destroy_service",
+            "destroy_timer",
+            "destroy_rate",
+            "destroy_node",
+            "declare_parameter",
+            "declare_parameters",
+            "get_parameter",
+            "get_parameters",
+            "get_parameter_or",
+            "has_parameter",
+            "set_parameters",
+            "undeclare_parameter",
+            "add_on_set_parameters_callback",
+            "get_topic_names_and_types",
+            "get_service_names_and_types",
+            "get_node_names",
+            "count_publishers",
+            "count_subscribers",
+            "get_publishers_info_by_topic",
+            "get_subscriptions_info_by_topic",
+            "executor",
+            "context",
+            "handle",
+            "publishers",
+            "subscriptions",
+            "clients",
+            "timers",
+        }
+    ),
+    "publisher": frozenset(
+        {
+            "publish",
+            "destroy",
+            "get_subscription_count",
+            "topic_name",
+            "topic",
+            "qos_profile",
+            "handle",
+            "assert_liveliness",
+            "wait_for_all_acked",
+        }
+    ),
+    "subscription": frozenset(
+        {"destroy", "topic_name", "topic", "qos_profile", "handle", "msg_type", "callback"}
+    ),
+    "client": frozenset(
+        {
+            "call",
+            "call_async",
+            "wait_for_service",
+            "service_is_ready",
+            "remove_pending_request",
+            "destroy",
+            "srv_name",
+            "srv_type",
+            "handle",
+        }
+    ),
+    "action_client": frozenset(
+        {
+            "send_goal",
+            "send_goal_async",
+            "wait_for_server",
+            "server_is_ready",
+            "destroy",
+            "action_type",
+        }
+    ),
+    "timer": frozenset(
+        {
+            "cancel",
+            "reset",
+            "is_canceled",
+            "is_ready",
+            "destroy",
+            "timer_period_ns",
+            "time_since_last_call",
+            "time_until_next_call",
+            "handle",
+            "callback",
+        }
+    ),
+    "rate": frozenset({"sleep", "destroy"}),
+    "logger": _LOGGER,
+}
+"""Attributes of rclpy's objects a skill may use, by the kind of object."""
+
+_MAKERS = {
+    "create_publisher": "publisher",
+    "create_subscription": "subscription",
+    "create_client": "client",
+    "create_timer": "timer",
+    "create_rate": "rate",
+    "ActionClient": "action_client",
+    "get_logger": "logger",
+}
+_KIND_WORDS = {
+    "node": "the node (rclpy Node)",
+    "publisher": "a Publisher",
+    "subscription": "a Subscription",
+    "client": "a service Client",
+    "action_client": "an ActionClient",
+    "timer": "a Timer",
+    "rate": "a Rate",
+    "logger": "the logger",
+}
+_BASE_ATTRIBUTES = frozenset({"node"})
+"""What pySkillUp's ``ROS2Skill`` gives a skill."""
+
+
+def _finding(node: ast.AST, message: str) -> Finding:
+    return Finding(
+        check="names",
+        severity="error",
+        line=getattr(node, "lineno", 0),
+        column=getattr(node, "col_offset", -1) + 1,
+        message=message,
+    )
+
+
+def _module_names(source: str, tree: ast.Module) -> set[str]:
+    table = symtable.symtable(source, "skill.py", "exec")
+    names = {s.get_name() for s in table.get_symbols() if s.is_assigned() or s.is_imported()}
+    return names | set(dir(builtins)) | PYSKILLUP_NAMES | {"__name__", "__file__"}
+
+
+def _global_uses(table: symtable.SymbolTable) -> Iterator[tuple[str, symtable.SymbolTable]]:
+    for child in table.get_children():
+        if str(child.get_type()) == "function":
+            for symbol in child.get_symbols():
+                if symbol.is_referenced() and symbol.is_global() and not symbol.is_local():
+                    yield symbol.get_name(), child
+        yield from _global_uses(child)
+
+
+def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
+    known = _module_names(source, tree)
+    table = symtable.symtable(source, "skill.py", "exec")
+    wanted = {name for name, _ in _global_uses(table) if name not in known}
+    class_level = {
+        s.get_name()
+        for child in table.get_children()
+        for s in child.get_symbols()
+        if s.is_referenced() and not s.is_assigned() and s.get_name() not in known
+    }
+    wanted |= class_level - {c.get_name() for c in table.get_children()}
+    findings = []
+    seen: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name) and node.id in wanted and node.id not in seen:
+            seen.add(node.id)
+            findings.append(
+                _finding(
+                    node,
+                    f"{node.id} is not defined: import it (message classes come from the "
+                    "interfaces' packages, e.g. geometry_msgs.msg) or use what the skeleton "
+                    "defines",
+                )
+            )
+    return findings
+
+
+def _self_attribute(node: ast.AST) -> str | None:
+    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+        return node.attr if node.value.id == "self" else None
+    return None
+
+
+def _class_facts(cls: ast.ClassDef) -> tuple[set[str], dict[str, str]]:
+    """Attributes the class defines or sets, and the rclpy kind of handles it makes."""
+    defined = set(_BASE_ATTRIBUTES)
+    kinds: dict[str, str] = {"node": "node"}
+    for member in cls.body:
+        if isinstance(member, ast.FunctionDef | ast.AsyncFunctionDef):
+            defined.add(member.name)
+        elif isinstance(member, ast.Assign):
+            defined |= {t.id for t in member.targets if isinstance(t, ast.Name)}
+        elif isinstance(member, ast.AnnAssign) and isinstance(member.target, ast.Name):
+            defined.add(member.target.id)
+    for node in ast.walk(cls):
+        if isinstance(node, ast.Assign | ast.AnnAssign | ast.AugAssign):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            for target in targets:
+                for part in ast.walk(target):
+                    name = _self_attribute(part)
+                    if name is not None:
+                        defined.add(name)
+            value = node.value
+            if isinstance(value, ast.Call) and len(targets) == 1:
+                name = _self_attribute(targets[0])
+                maker = (
+                    value.func.attr
+                    if isinstance(value.func, ast.Attribute)
+                    else (value.func.id if isinstance(value.func, ast.Name) else "")
+                )
+                if name is not None and maker in _MAKERS:
+                    kinds[name] = _MAKERS[maker]
+        elif isinstance(node, ast.For | ast.With):
+            for part in ast.walk(node.target if isinstance(node, ast.For) else node):
+                if isinstance(part, ast.Attribute) and isinstance(part.ctx, ast.Store):
+                    name = _self_attribute(part)
+                    if name is not None:
+                        defined.add(name)
+    return defined, kinds
+
+
+def _hint(name: str, defined: set[str]) -> str:
+    if name in {"logger", "get_logger", "log"}:
+        return "; log with self.node.get_logger()"
+    if name in {"get_clock", "create_publisher", "create_subscription", "create_timer"}:
+        return f"; it belongs to the node: self.node.{name}(...)"
+    close = difflib.get_close_matches(name, sorted(defined), n=1, cutoff=0.75)
+    return f"; did you mean self.{close[0]}?" if close else ""
+
+
+def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
+    defined, _ = _class_facts(cls)
+    findings = []
+    seen: set[str] = set()
+    for node in ast.walk(cls):
+        name = _self_attribute(node)
+        if (
+            name is not None
+            and isinstance(node, ast.Attribute)
+            and isinstance(node.ctx, ast.Load)
+            and name not in defined
+            and name not in seen
+        ):
+            seen.add(name)
+            findings.append(
+                _finding(node, f"self.{name} is never set in this class{_hint(name, defined)}")
+            )
+    return findings
+
+
+def _receiver_kind(node: ast.expr, kinds: dict[str, str]) -> str | None:
+    """The rclpy kind of the object ``node`` evaluates to, where the code makes it plain."""
+    name = _self_attribute(node)
+    if name is not None:
+        return kinds.get(name)
+    if (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and node.func.attr == "get_logger"
+    ):
+        return "logger"
+    return None
+
+
+_KIND_HINTS = {
+    "subscription": "; a Subscription only hands each message to its callback, which keeps the "
+    "latest one in an attribute: wait until that attribute is set (time.sleep in a loop, or "
+    "the skeleton's self._wait_until)",
+    "node": "; the time is self.node.get_clock().now(), handles come from create_publisher, "
+    "create_subscription, create_client and ActionClient",
+    "action_client": "; send a goal with send_goal_async(goal), which gives a future of the goal "
+    "handle",
+    "client": "; call the service with call_async(request), which gives a future of the response",
+}
+
+
+def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
+    _, kinds = _class_facts(cls)
+    findings = []
+    for node in ast.walk(cls):
+        if not isinstance(node, ast.Attribute) or not isinstance(node.ctx, ast.Load):
+            continue
+        kind = _receiver_kind(node.value, kinds)
+        if kind is None or node.attr in RCLPY_API[kind]:
+            continue
+        close = difflib.get_close_matches(node.attr, sorted(RCLPY_API[kind]), n=1, cutoff=0.6)
+        hint = f"; did you mean {close[0]}?" if close else _KIND_HINTS.get(kind, "")
+        findings.append(
+            _finding(
+                node,
+                f"{ast.unparse(node.value)} is {_KIND_WORDS[kind]}, which has no "
+                f"{node.attr!r} in rclpy{hint}",
+            )
+        )
+    return findings
+
+
+_NESTED = frozenset({"Request", "Response", "Goal", "Result", "Feedback", "Event", "Impl"})
+
+
+def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[Finding]:
+    """``Odometry.Pose``: message classes have constants and, for services and actions, the
+    request/goal classes, but no classes for their fields."""
+    findings = []
+    for node in ast.walk(tree):
+        if (
+            isinstance(node, ast.Attribute)
+            and isinstance(node.value, ast.Name)
+            and node.value.id in imports
+            and node.attr[:1].isupper()
+            and not node.attr.isupper()
+            and node.attr not in _NESTED
+        ):
+            findings.append(
+                _finding(
+                    node,
+                    f"{node.value.id}.{node.attr} does not exist: message classes have no "
+                    "classes for their fields; use the field's own type, or no annotation",
+                )
+            )
+    return findings
+
+
+def check_names(
+    source: str, tree: ast.Module, cls: ast.ClassDef | None, imports: dict[str, str]
+) -> list[Finding]:
+    """Findings (check ``names``) for names, attributes and rclpy calls nothing defines;
+    ``imports`` maps the message classes the file imports to their types."""
+    findings = _undefined_names(source, tree) + _missing_nested_classes(tree, imports)
+    if cls is not None:
+        findings += _unset_attributes(cls) + _unknown_api(cls)
+    return findings

@@ -1,0 +1,256 @@
+"""The model writes a skill method by method and repairs what the checks find."""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Collection, Sequence
+from functools import cache
+
+import pytest
+
+from skillwright.capability.reader import load_capability
+from skillwright.errors import GenerationCancelledError
+from skillwright.generation.author import Authored, AuthorSettings, author_skill
+from skillwright.generation.card import CardInterface
+from skillwright.generation.model import InterfaceRef, Skeleton
+from skillwright.generation.skeleton import build_skeleton, topic_role
+from skillwright.interfaces.inventory import Inventory
+from skillwright.interfaces.load import load_inventory
+from skillwright.spec.loader import load_spec
+from skillwright.spec.model import SkillSpec
+from skillwright.validation.catalog import catalog_from_inventory
+from skillwright.validation.model import Finding
+from skillwright.validation.static import check_skill
+from tests.conftest import SHIPPED_CAPABILITIES
+from tests.fixtures.scripted import MethodScript
+
+STARTING = """        if self.in_distance < 0.0:
+            raise ValueError(f"the distance must not be negative, not {self.in_distance} m")
+        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")
+```"""
+EXECUTE = """        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)
+        start = self.odom_msg.pose.pose.position
+        command = Twist()
+        travelled = 0.0
+        while travelled < self.in_distance:
+            command.linear.x = speed if self.in_distance - travelled > 0.1 else 0.1
+            self.cmd_vel_publisher.publish(command)
+            time.sleep(0.05)
+            here = self.odom_msg.pose.pose.position
+            travelled = math.hypot(here.x - start.x, here.y - start.y)
+        self._stop_base()
+        self.out_distance = travelled
+        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x
+```"""
+COMPLETING = """        self.node.get_logger().info(
+            f"asked {self.in_distance:.2f} m, drove {self.out_distance:.2f} m"
+        )
+```"""
+STOPPING = """        self._stop_base()
+```"""
+RESETTING = """        self._stop_base()
+        self.out_distance = 0.0
+        self.out_linear_velocity = 0.0
+```"""
+GOOD = {
+    "starting": [STARTING],
+    "execute": [EXECUTE],
+    "completing": [COMPLETING],
+    "stopping": [STOPPING],
+    "resetting": [RESETTING],
+}
+
+
+@cache
+def _inventory() -> Inventory:
+    return load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1")
+
+
+class _Case:
+    """The shipped move-forward capability and spec with /cmd_vel, /odom and /backup."""
+
+    def __init__(self) -> None:
+        self.load = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl")
+        self.spec: SkillSpec = load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
+        self.inventory = _inventory()
+        self.items = []
+        for name in ("/cmd_vel", "/odom", "/backup"):
+            interface = self.inventory.interface(name)
+            role = (
+                topic_role(interface.name, interface.type_name)
+                if interface.kind == "topic"
+                else "call"
+            )
+            ref = InterfaceRef(
+                name=name, kind=interface.kind, type_name=interface.type_name, role=role
+            )
+            self.items.append(CardInterface(interface, ref))
+        self.catalog = catalog_from_inventory(self.inventory)
+
+    def skeleton(self, refs: Sequence[InterfaceRef], helpers: Collection[str] | None) -> Skeleton:
+        return build_skeleton(self.load.capability, self.spec, refs, helpers=helpers)
+
+    def validate(self, code: str, skeleton: Skeleton) -> list[Finding]:
+        return check_skill(
+            code,
+            capability=self.load.capability,
+            spec=self.spec,
+            catalog=self.catalog,
+            retrieved=[i.name for i in skeleton.interfaces],
+        ).findings
+
+    def write(
+        self,
+        model: MethodScript,
+        *,
+        attempts: int = 3,
+        cancel: threading.Event | None = None,
+    ) -> Authored:
+        return author_skill(
+            model,
+            self.skeleton,
+            self.load.capability,
+            self.spec,
+            self.items,
+            self.validate,
+            settings=AuthorSettings(attempts=attempts, max_tokens=400),
+            cancel=cancel,
+        )
+
+
+@pytest.fixture
+def case() -> _Case:
+    return _Case()
+
+
+def test_each_state_is_asked_once_when_its_first_answer_passes(case: _Case) -> None:
+    model = MethodScript(dict(GOOD))
+    authored = case.write(model)
+    assert model.asked == ["starting", "execute", "completing", "stopping", "resetting"]
+    assert not [f for f in authored.findings if f.severity == "error"], authored.findings
+    assert [a.number for a in authored.attempts] == [1, 1, 1, 1, 1]
+    assert all(a.chosen and a.finish == "stop" for a in authored.attempts)
+    assert "import math" in authored.code
+    assert "raise NotImplementedError" not in authored.code
+
+
+def test_interfaces_the_behaviour_never_uses_are_left_out_and_noted(case: _Case) -> None:
+    authored = case.write(MethodScript(dict(GOOD)))
+    assert "backup" not in authored.code.lower()
+    assert [i.name for i in authored.skeleton.interfaces] == ["/cmd_vel", "/odom"]
+    assert any("/backup" in note for note in authored.notes)
+
+
+def test_every_answer_is_prefilled_with_its_method_and_the_handles_of_starting(
+    case: _Case,
+) -> None:
+    model = MethodScript(dict(GOOD))
+    case.write(model)
+    first = model.prompts[0].answer_prefix
+    assert first.startswith("```python\n    @starting\n    def starting(self) -> None:\n")
+    assert 'create_publisher(Twist, "/cmd_vel", 10)' in first
+    assert model.prompts[1].answer_prefix.endswith("    def execute(self) -> None:\n")
+    assert all("\n```" in options.stop for options in model.options)
+
+
+def test_the_conversation_keeps_the_card_once_and_the_earlier_answers(case: _Case) -> None:
+    model = MethodScript(dict(GOOD))
+    authored = case.write(model)
+    prompt = model.prompts[2]  # completing
+    own = prompt.messages[prompt.prefix_messages :]
+    assert [m.role for m in own] == ["user", "assistant", "user", "assistant", "user"]
+    assert own[0].content.startswith(authored.card)
+    assert sum(authored.card in m.content for m in own) == 1
+    assert "_wait_until(lambda: self.odom_msg is not None" in own[1].content
+    assert own[-1].content.startswith("Write `completing`: Log the requested")
+
+
+def test_a_state_with_errors_is_asked_again_with_its_findings(case: _Case) -> None:
+    wrong = """        self.logger.info(f"drove {self.out_distance} m")\n```"""
+    model = MethodScript({**GOOD, "completing": [wrong, COMPLETING]})
+    authored = case.write(model)
+    assert model.asked[-1] == "completing"
+    repair = model.prompts[-1].messages[-1].content
+    assert repair.startswith("The checks found problems in `completing`:")
+    assert "self.logger" in repair
+    assert "log with self.node.get_logger()" in repair
+    tries = [a for a in authored.attempts if a.target == "completing"]
+    assert [(a.number, a.chosen) for a in tries] == [(1, False), (2, True)]
+    assert tries[0].errors
+    assert tries[1].errors == 0
+    assert tries[1].problems
+    assert "self.logger" in tries[1].problems[0]
+    assert "self.logger" not in authored.code
+
+
+def test_a_repair_branches_off_after_the_first_answer_of_its_method(case: _Case) -> None:
+    wrong = """        self.logger.info("done")\n```"""
+    model = MethodScript({**GOOD, "completing": [wrong, COMPLETING]})
+    case.write(model)
+    repair = model.prompts[-1]
+    own = repair.messages[repair.prefix_messages :]
+    # starting, execute, completing asked and answered, then the repair request.
+    assert [m.role for m in own] == ["user", "assistant"] * 3 + ["user"]
+    assert 'self.logger.info("done")' in own[-2].content
+
+
+def test_answers_are_bounded_and_later_repairs_sample_with_a_seed(case: _Case) -> None:
+    wrong = """        self.logger.info("done")\n```"""
+    model = MethodScript({**GOOD, "completing": [wrong]})
+    authored = case.write(model, attempts=3)
+    tries = [a for a in authored.attempts if a.target == "completing"]
+    assert [a.number for a in tries] == [1, 2, 3]
+    assert [(a.temperature, a.seed) for a in tries] == [(0.0, 43), (0.0, 44), (0.6, 45)]
+    assert model.asked.count("completing") == 3
+    assert sum(a.chosen for a in tries) == 1
+
+
+def test_a_looping_answer_is_cut_off_and_counts_as_failed(case: _Case) -> None:
+    loop = "        self.cmd_vel_publisher.publish(Twist())\n" * 40 + "```"
+    model = MethodScript({**GOOD, "stopping": [loop, STOPPING]})
+    authored = case.write(model)
+    first = next(a for a in authored.attempts if a.target == "stopping" and a.number == 1)
+    assert first.finish == "repetition"
+    assert first.code is None
+    assert first.response.count("\n") < 10  # stopped early, not after 40 lines
+    second = next(a for a in authored.attempts if a.target == "stopping" and a.number == 2)
+    assert second.chosen
+    assert "repeated" in (second.problems[0] if second.problems else "")
+
+
+def test_an_answer_that_is_not_python_is_asked_again(case: _Case) -> None:
+    broken = """        if self.in_distance < 0.0\n            raise ValueError("negative")\n```"""
+    model = MethodScript({**GOOD, "starting": [broken, STARTING]})
+    authored = case.write(model)
+    first = authored.attempts[0]
+    assert first.finish == "unparsable"
+    assert first.note is not None
+    assert "not valid Python" in first.note
+    assert [a.chosen for a in authored.attempts if a.target == "starting"] == [False, True]
+
+
+def test_a_helper_the_states_call_is_asked_for_and_kept(case: _Case) -> None:
+    uses_helper = EXECUTE.replace(
+        "travelled = math.hypot(here.x - start.x, here.y - start.y)",
+        "travelled = self._distance(start, here)",
+    )
+    helper = """, a, b) -> float:
+        return math.hypot(b.x - a.x, b.y - a.y)
+```"""
+    model = MethodScript({**GOOD, "execute": [uses_helper], "_distance": [helper]})
+    authored = case.write(model)
+    assert model.asked[5] == "_distance"
+    assert model.prompts[5].answer_prefix.endswith("    def _distance(self")
+    assert "Write the helper `_distance` that `execute` calls" in (
+        model.prompts[5].messages[-1].content
+    )
+    assert "    def _distance(self, a, b) -> float:" in authored.code
+    assert not [f for f in authored.findings if f.severity == "error"], authored.findings
+
+
+def test_cancelling_stops_between_answers(case: _Case) -> None:
+    cancel = threading.Event()
+    model = MethodScript(dict(GOOD), cancel_after=2)
+    with pytest.raises(GenerationCancelledError):
+        case.write(model, cancel=cancel)
+    assert len(model.prompts) == 2

@@ -1,0 +1,34 @@
+"""Adversarial skill: a thread that never ends."""
+
+import os
+import socket
+import sys
+import threading
+import time
+
+import rclpy
+
+from pyskillup.decorators.decorators import *
+from pyskillup.decorator_check.decorator_check import ROS2Skill
+from pyskillup.decorators.skill_interface import SkillInterface
+
+
+@skill(
+    skill_interface=SkillInterface.REST,
+    skill_iri="urn:skillwright:test:adversary",
+    module_iri="urn:skillwright:test:robot",
+    capability_iri="urn:skillwright:test:capability",
+    description="a thread that never ends.",
+)
+class Adversary(ROS2Skill):
+    def __init__(self) -> None:
+        super().__init__("adversary")
+        self.count = 0
+
+    def _forever(self) -> None:
+        while True:
+            time.sleep(0.5)
+
+    @execute
+    def execute(self) -> None:
+        threading.Thread(target=self._forever, daemon=True).start()  # finding: run.thread

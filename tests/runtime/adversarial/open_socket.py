@@ -1,0 +1,31 @@
+"""Adversarial skill: opening a network connection."""
+
+import os
+import socket
+import sys
+import threading
+import time
+
+import rclpy
+
+from pyskillup.decorators.decorators import *
+from pyskillup.decorator_check.decorator_check import ROS2Skill
+from pyskillup.decorators.skill_interface import SkillInterface
+
+
+@skill(
+    skill_interface=SkillInterface.REST,
+    skill_iri="urn:skillwright:test:adversary",
+    module_iri="urn:skillwright:test:robot",
+    capability_iri="urn:skillwright:test:capability",
+    description="opening a network connection.",
+)
+class Adversary(ROS2Skill):
+    def __init__(self) -> None:
+        super().__init__("adversary")
+        self.count = 0
+
+    @execute
+    def execute(self) -> None:
+        connection = socket.socket(socket.AF_INET, socket.SOCK_STREAM)  # finding: run.sandbox
+        connection.connect(("93.184.216.34", 80))

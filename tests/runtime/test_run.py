@@ -1,0 +1,178 @@
+"""run_skill: the shipped MR-1 skills run clean; inputs, scenarios, progress and cancel."""
+
+from __future__ import annotations
+
+import math
+import threading
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from skillwright.errors import GenerationCancelledError, InvalidArgumentError
+from skillwright.interfaces.inventory import Inventory
+from skillwright.runtime import session
+from skillwright.runtime.report import RunProgress
+from skillwright.runtime.run import run_skill
+from skillwright.runtime.sandbox import SandboxProcess, start_child
+from skillwright.runtime.scenario import ActionScript, load_scenario
+from tests.runtime.conftest import SKILLS, quick, skill_path
+
+SHIPPED = sorted(p for p in SKILLS.glob("*.py"))
+
+
+def test_the_nine_mr1_capabilities_have_a_skill_and_a_scenario() -> None:
+    specs = sorted(
+        p.name.removesuffix(".spec.yaml").replace("-", "_")
+        for p in SKILLS.parent.glob("*.spec.yaml")
+    )
+    assert [p.stem for p in SHIPPED] == specs
+    assert all(p.with_suffix(".scenario.yaml").is_file() for p in SHIPPED)
+
+
+@pytest.mark.parametrize("skill", SHIPPED, ids=lambda p: p.stem)
+def test_shipped_skill_runs_clean(skill: Path, mr1_inventory: Inventory) -> None:
+    scenario = load_scenario(skill.with_suffix(".scenario.yaml"))
+
+    report = run_skill(skill, mr1_inventory, scenario=scenario)
+
+    assert report.findings == []
+    normal = report.trace.episodes[0]
+    ran = [(s.name, s.outcome) for s in normal.states if s.outcome != "absent"]
+    assert ran == [(name, "done") for name in ("starting", "execute", "completing", "resetting")]
+    for episode in report.trace.episodes[1:]:
+        assert episode.name == "stop"
+        assert ("execute", "interrupted", "stop") in [
+            (s.name, s.outcome, s.detail) for s in episode.states
+        ]
+
+
+def _outputs(name: str, inventory: Inventory) -> dict[str, float]:
+    skill = skill_path(name)
+    scenario = load_scenario(skill.with_suffix(".scenario.yaml")).model_copy(
+        update={"stop_run": "never"}
+    )
+    report = run_skill(skill, inventory, scenario=scenario)
+    assert report.passed, report.findings
+    return report.trace.episodes[0].outputs
+
+
+def test_move_forward_covers_the_distance_within_the_capability_tolerance(
+    mr1_inventory: Inventory,
+) -> None:
+    outputs = _outputs("move_forward", mr1_inventory)
+    assert abs(outputs["outDistance"] - 0.5) <= 0.02
+    assert outputs["outLinearVelocity"] == pytest.approx(0.0, abs=0.01)
+
+
+def test_rotate_reaches_the_heading_a_quarter_turn_away(mr1_inventory: Inventory) -> None:
+    outputs = _outputs("rotate", mr1_inventory)
+    assert outputs["outHeading"] == pytest.approx(math.pi / 2, abs=0.02)
+
+
+def test_move_to_point_reports_where_the_arm_went(mr1_inventory: Inventory) -> None:
+    outputs = _outputs("move_to_point", mr1_inventory)
+    assert (
+        outputs["outPositionX"],
+        outputs["outPositionY"],
+        outputs["outPositionZ"],
+    ) == pytest.approx((0.5, 0.1, 0.4), abs=0.01)
+
+
+def test_run_reports_progress_of_every_state(mr1_inventory: Inventory) -> None:
+    seen: list[RunProgress] = []
+
+    run_skill(skill_path("get_position"), mr1_inventory, scenario=quick(), on_progress=seen.append)
+
+    events = [(p.event, p.state) for p in seen]
+    assert events[0] == ("episode-start", None)
+    assert ("state-end", "execute") in events
+    assert events[-1] == ("episode-end", None)
+
+
+def test_a_rejected_goal_meets_a_scenario_that_expects_an_abort(mr1_inventory: Inventory) -> None:
+    scenario = quick(
+        inputs={"inPositionX": 1.0, "inPositionY": 0.0},
+        actions={"/navigate_to_pose": ActionScript(accept=False)},
+        expect="abort",
+    )
+
+    report = run_skill(skill_path("navigate_to_point"), mr1_inventory, scenario=scenario)
+
+    assert report.findings == []
+    outcomes = {s.name: s.outcome for s in report.trace.episodes[0].states}
+    assert outcomes["execute"] == "raised"
+    assert any(
+        e["kind"] == "goal_response" and e["accepted"] is False
+        for e in report.trace.episodes[0].events
+    )
+
+
+def test_a_skill_that_completes_where_the_scenario_expects_an_abort_is_reported(
+    mr1_inventory: Inventory,
+) -> None:
+    report = run_skill(skill_path("get_position"), mr1_inventory, scenario=quick(expect="abort"))
+
+    assert [f.check for f in report.findings] == ["run.expectation"]
+
+
+def test_missing_inputs_are_an_error_naming_them(mr1_inventory: Inventory) -> None:
+    with pytest.raises(InvalidArgumentError, match="inDistance, inLinearVelocity"):
+        run_skill(skill_path("move_forward"), mr1_inventory, scenario=quick())
+
+
+def test_unknown_inputs_are_an_error_naming_the_skills_inputs(mr1_inventory: Inventory) -> None:
+    with pytest.raises(InvalidArgumentError, match=r"no input 'inSpeed'.*inDistance"):
+        run_skill(
+            skill_path("move_forward"), mr1_inventory, inputs={"inSpeed": 1.0}, scenario=quick()
+        )
+
+
+def test_a_scenario_naming_an_interface_the_robot_lacks_is_an_error(
+    mr1_inventory: Inventory,
+) -> None:
+    scenario = quick(actions={"/navigate": ActionScript()})
+    with pytest.raises(InvalidArgumentError, match="action /navigate"):
+        run_skill(skill_path("get_position"), mr1_inventory, scenario=scenario)
+
+
+def test_a_file_without_a_skill_is_a_finding_not_a_run(
+    mr1_inventory: Inventory, tmp_path: Path
+) -> None:
+    path = tmp_path / "broken.py"
+    path.write_text("def execute(:\n", encoding="utf-8")
+
+    report = run_skill(path, mr1_inventory)
+
+    assert [(f.check, f.line) for f in report.findings] == [("run.syntax", 1)]
+    assert report.trace.episodes == []
+
+
+def test_cancelling_kills_the_run_and_leaves_nothing(
+    mr1_inventory: Inventory, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    cancel = threading.Event()
+    children: list[SandboxProcess] = []
+
+    def start(*args: Any) -> SandboxProcess:
+        children.append(start_child(*args))
+        return children[-1]
+
+    def on_progress(progress: RunProgress) -> None:
+        if progress.event == "state-start" and progress.state == "execute":
+            cancel.set()
+
+    monkeypatch.setattr(session, "start_child", start)
+    with pytest.raises(GenerationCancelledError):
+        run_skill(
+            skill_path("navigate_to_point"),
+            mr1_inventory,
+            inputs={"inPositionX": 2.0, "inPositionY": 1.0},
+            world="kinematic",
+            scenario=quick(),
+            on_progress=on_progress,
+            cancel=cancel,
+        )
+    [child] = children
+    assert child.process.returncode is not None
+    assert not child.temp.exists()

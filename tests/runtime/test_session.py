@@ -1,0 +1,114 @@
+"""What one episode turns into findings: errors at the skill's line, deadlines, silence,
+and a child that breaks the protocol."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from skillwright.interfaces.inventory import Inventory
+from skillwright.runtime.report import RunReport
+from skillwright.runtime.run import run_skill
+from tests.runtime.conftest import quick
+
+HEAD = """import os
+import sys
+import time
+
+from pyskillup.decorators.decorators import *
+from pyskillup.decorator_check.decorator_check import ROS2Skill
+from pyskillup.decorators.skill_interface import SkillInterface
+{imports}
+
+@skill(skill_interface=SkillInterface.REST, skill_iri="urn:s", module_iri="urn:m",
+       capability_iri="urn:c", description="a test skill")
+class Subject(ROS2Skill):
+    def __init__(self) -> None:
+        super().__init__("subject")
+        self.messages = []
+
+    @execute
+    def execute(self) -> None:
+{body}
+"""
+
+
+def run(inventory: Inventory, body: str, imports: str = "") -> tuple[RunReport, str]:
+    source = HEAD.format(imports=imports, body=body)
+    return run_skill(Path("subject.py"), inventory, source=source, scenario=quick()), source
+
+
+def line_of(source: str, text: str) -> int:
+    return next(n for n, line in enumerate(source.splitlines(), start=1) if text in line)
+
+
+@pytest.mark.parametrize(
+    ("imports", "message"),
+    [
+        (
+            "from nav2_msgs.action import DockRobot",
+            "the robot has no type nav2_msgs/action/DockRobot",
+        ),
+        ("import acme_msgs.msg", "the robot has no ROS 2 package acme_msgs"),
+    ],
+)
+def test_importing_what_the_robot_lacks_is_reported_at_the_import(
+    mr1_inventory: Inventory, imports: str, message: str
+) -> None:
+    report, source = run(mr1_inventory, "        pass", imports)
+
+    [finding] = report.findings
+    assert (finding.check, finding.line) == ("run.import", line_of(source, imports))
+    assert message in finding.message
+    assert report.trace.episodes[0].states == []
+
+
+def test_an_exception_in_a_callback_is_reported_at_the_callbacks_line(
+    mr1_inventory: Inventory,
+) -> None:
+    body = (
+        "        from nav_msgs.msg import Odometry\n"
+        "        self.node.create_subscription(Odometry, '/odom', lambda m: 1 / 0, 10)\n"
+        "        time.sleep(0.5)\n"
+    )
+    report, source = run(mr1_inventory, body)
+
+    assert [(f.check, f.line) for f in report.findings] == [
+        ("run.exception", line_of(source, "1 / 0"))
+    ]
+    assert "ZeroDivisionError" in report.findings[0].message
+
+
+def test_a_state_that_waits_forever_times_out_where_it_waits(mr1_inventory: Inventory) -> None:
+    report, source = run(mr1_inventory, "        time.sleep(1000.0)")
+
+    [finding] = report.findings
+    assert (finding.check, finding.line) == ("run.timeout", line_of(source, "time.sleep(1000.0)"))
+    assert "within 10 s of virtual time" in finding.message
+    assert report.trace.episodes[0].virtual_seconds == pytest.approx(10.0, abs=0.5)
+
+
+def test_waiting_for_a_topic_nobody_publishes_names_the_topic(mr1_inventory: Inventory) -> None:
+    body = (
+        "        from geometry_msgs.msg import PoseStamped\n"
+        "        self.node.create_subscription(PoseStamped, '/goal_pose', self.messages.append, 10)\n"
+        "        time.sleep(2.0)\n"
+        "        if not self.messages:\n"
+        "            raise RuntimeError('no goal pose')\n"
+    )
+    report, source = run(mr1_inventory, body)
+
+    checks = {(f.check, f.severity, f.line) for f in report.findings}
+    assert ("run.exception", "error", line_of(source, "raise RuntimeError")) in checks
+    assert ("run.no_data", "warning", line_of(source, "create_subscription")) in checks
+
+
+def test_a_skill_that_writes_garbage_to_the_runtimes_socket_is_a_protocol_finding(
+    mr1_inventory: Inventory,
+) -> None:
+    body = "        os.write(int(sys.argv[1]), b'\\x7f\\xff\\xff\\xff' + b'x' * 64)\n        time.sleep(0.1)"
+    report, _ = run(mr1_inventory, body)
+
+    assert [f.check for f in report.findings] == ["run.protocol"]
+    assert report.trace.episodes[0].ended == "protocol"

@@ -1,0 +1,72 @@
+"""Reading a skill's runnable shape from its source."""
+
+from __future__ import annotations
+
+import pytest
+
+from skillwright.runtime.skillinfo import SkillSourceError, read_skill
+from tests.runtime.conftest import skill_path
+
+TEMPLATE = """
+@skill(capability_iri="x")
+class Demo(ROS2Skill):
+    @skill_parameter(is_required=True, name="inSpeed")
+    def get_in_speed(self) -> float:
+        return float(self.in_speed)
+
+    @skill_parameter(is_required=False, name="inMode")
+    def get_in_mode(self) -> str:
+        return "fast"
+
+    @skill_output(is_required=True, name="outSpeed")
+    def get_out_speed(self) -> float:
+        return self.out_speed
+
+    @execute
+    def execute(self) -> None:
+        self.out_speed = self.in_speed
+"""
+
+
+def test_getters_give_their_attribute_annotation_and_line() -> None:
+    info = read_skill(TEMPLATE)
+
+    assert info.class_name == "Demo"
+    speed, mode = info.parameters
+    assert (speed.name, speed.attr, speed.annotation, speed.required, speed.line) == (
+        "inSpeed",
+        "in_speed",
+        "float",
+        True,
+        5,
+    )
+    assert (mode.attr, mode.required) == (None, False)
+    assert [(o.name, o.attr) for o in info.outputs] == [("outSpeed", "out_speed")]
+    assert info.states == {"execute": 17}
+
+
+def test_a_shipped_skill_has_every_state_its_spec_names() -> None:
+    info = read_skill(skill_path("collision_avoidance").read_text(encoding="utf-8"))
+    assert set(info.states) == {
+        "starting",
+        "execute",
+        "completing",
+        "stopping",
+        "aborting",
+        "resetting",
+    }
+    assert len(info.parameters) == 5
+
+
+@pytest.mark.parametrize(
+    ("source", "check", "line"),
+    [
+        ("def broken(:\n", "run.syntax", 1),
+        ("class Plain:\n    pass\n", "run.structure", 0),
+        ("@skill()\nclass NoExecute(ROS2Skill):\n    pass\n", "run.structure", 2),
+    ],
+)
+def test_sources_without_a_runnable_skill_say_why(source: str, check: str, line: int) -> None:
+    with pytest.raises(SkillSourceError) as raised:
+        read_skill(source)
+    assert (raised.value.check, raised.value.line) == (check, line)

@@ -1,0 +1,102 @@
+"""Types of the simulated graph: the inventory's first, then the standard store."""
+
+from __future__ import annotations
+
+import pytest
+
+from skillwright.interfaces.inventory import Inventory
+from skillwright.runtime.typesys import TypeRegistry, is_zero_motion
+
+
+@pytest.fixture(scope="module")
+def registry(mr1_inventory: Inventory) -> TypeRegistry:
+    return TypeRegistry(mr1_inventory)
+
+
+def test_messages_of_the_inventory_and_their_nested_types_are_known(registry: TypeRegistry) -> None:
+    twist = registry.describe("geometry_msgs/msg/Twist")
+    assert twist["ok"]
+    assert [f[0] for f in twist["fields"]] == ["linear", "angular"]
+    assert registry.describe("geometry_msgs/msg/Vector3")["ok"]
+
+
+def test_services_and_actions_are_described_by_their_parts(registry: TypeRegistry) -> None:
+    assert registry.describe("nav2_msgs/srv/SaveMap")["parts"] == {
+        "Request": "nav2_msgs/srv/SaveMap_Request",
+        "Response": "nav2_msgs/srv/SaveMap_Response",
+    }
+    parts = registry.describe("nav2_msgs/action/NavigateToPose")["parts"]
+    assert set(parts) == {"Goal", "Result", "Feedback"}
+
+
+def test_standard_types_outside_the_inventory_come_from_the_store_with_constants(
+    registry: TypeRegistry,
+) -> None:
+    status = registry.describe("action_msgs/msg/GoalStatus")
+    assert status["ok"]
+    assert ["STATUS_SUCCEEDED", 4] in status["constants"]
+    assert registry.has_package("std_msgs")
+
+
+def test_an_unknown_type_is_refused_with_a_reason(registry: TypeRegistry) -> None:
+    answer = registry.describe("nav2_msgs/action/DockRobot")
+    assert not answer["ok"]
+    assert "the robot has no type nav2_msgs/action/DockRobot" in answer["error"]
+    assert not registry.has_package("acme_msgs")
+
+
+def test_defaults_fill_every_field(registry: TypeRegistry) -> None:
+    odom = registry.default("nav_msgs/msg/Odometry")
+    assert odom["header"] == {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}
+    assert odom["pose"]["covariance"] == [0.0] * 36
+    assert odom["twist"]["twist"]["angular"] == {"x": 0.0, "y": 0.0, "z": 0.0}
+
+
+def test_conform_fills_missing_fields_and_turns_integers_into_floats(
+    registry: TypeRegistry,
+) -> None:
+    twist = registry.conform("geometry_msgs/msg/Twist", {"linear": {"x": 1}})
+    assert twist == {
+        "linear": {"x": 1.0, "y": 0.0, "z": 0.0},
+        "angular": {"x": 0.0, "y": 0.0, "z": 0.0},
+    }
+    assert isinstance(twist["linear"]["x"], float)
+
+
+@pytest.mark.parametrize(
+    ("value", "problem"),
+    [
+        ({"linear": {"w": 1.0}}, "Vector3 has no field 'w'"),
+        ({"linear": {"x": "fast"}}, "expected a number"),
+        ({"linear": [1.0]}, "expected a geometry_msgs/msg/Vector3 message"),
+        ([], "expected a geometry_msgs/msg/Twist message"),
+    ],
+)
+def test_conform_names_the_field_that_does_not_fit(
+    registry: TypeRegistry, value: object, problem: str
+) -> None:
+    with pytest.raises(ValueError, match=problem):
+        registry.conform("geometry_msgs/msg/Twist", value)
+
+
+def test_conform_checks_array_sizes(registry: TypeRegistry) -> None:
+    with pytest.raises(ValueError, match=r"covariance: expected 36 elements, got 2"):
+        registry.conform("geometry_msgs/msg/PoseWithCovariance", {"covariance": [0.0, 1.0]})
+
+
+@pytest.mark.parametrize(
+    ("message", "zero"),
+    [
+        (
+            {"linear": {"x": 0.0, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": 0.0}},
+            True,
+        ),
+        (
+            {"linear": {"x": 0.0, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": 0.2}},
+            False,
+        ),
+        ({"header": {"stamp": {"sec": 5, "nanosec": 1}}, "twist": {"linear": {"x": 0.0}}}, True),
+    ],
+)
+def test_zero_motion_means_every_velocity_is_zero(message: dict[str, object], zero: bool) -> None:
+    assert is_zero_motion(message) is zero

@@ -1,0 +1,103 @@
+"""The kinematic world: the base follows its command, Nav2 and MoveIt goals are served."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import pytest
+
+from skillwright.interfaces.inventory import Inventory
+from skillwright.runtime.api import GoalStatus
+from skillwright.runtime.graph import GraphHost
+from skillwright.runtime.worlds.kinematic import KinematicWorld
+from tests.runtime.test_graph import deliveries_until, endpoint, make_graph
+
+
+def _world(inventory: Inventory, **options: Any) -> GraphHost:
+    graph, _ = make_graph(inventory)
+    graph.attach_world(KinematicWorld(**options))
+    return graph
+
+
+def _last(seen: list[tuple[float, dict[str, Any]]], handle: int) -> dict[str, Any]:
+    return [d["data"] for _, d in seen if d["id"] == handle][-1]
+
+
+def test_the_base_follows_its_command_and_stops_when_commands_stop(
+    mr1_inventory: Inventory,
+) -> None:
+    graph = _world(mr1_inventory, command_timeout=0.5)
+    odom = endpoint(graph, "subscription", "/odom", "nav_msgs/msg/Odometry", reliability="reliable")
+    cmd = endpoint(graph, "publisher", "/cmd_vel", "geometry_msgs/msg/Twist")
+
+    for step in range(20):
+        graph.child_publish(cmd, {"linear": {"x": 0.5}, "angular": {"z": 0.5}}, 1, "execute")
+        deliveries_until(graph, (step + 1) * 0.05)
+    moving = _last(deliveries_until(graph, 1.02), odom)
+    assert moving["twist"]["twist"]["linear"]["x"] == pytest.approx(0.5)
+    assert moving["twist"]["twist"]["angular"]["z"] == pytest.approx(0.5)
+    stopped = _last(deliveries_until(graph, 3.0), odom)
+    assert stopped["twist"]["twist"]["linear"]["x"] == 0.0
+    yaw = 2 * math.atan2(
+        stopped["pose"]["pose"]["orientation"]["z"], stopped["pose"]["pose"]["orientation"]["w"]
+    )
+    assert yaw == pytest.approx(0.5 * 1.0 + 0.5 * 0.5, abs=0.1)
+
+
+def test_navigation_drives_to_the_goal_and_succeeds(mr1_inventory: Inventory) -> None:
+    graph = _world(mr1_inventory, start=(1.0, 0.0, 0.0))
+    nav = endpoint(graph, "action_client", "/navigate_to_pose", "nav2_msgs/action/NavigateToPose")
+    tf = endpoint(graph, "subscription", "/tf", "tf2_msgs/msg/TFMessage", reliability="reliable")
+    goal = {"pose": {"header": {"frame_id": "map"}, "pose": {"position": {"x": 2.0, "y": 1.0}}}}
+
+    graph.child_goal(nav, 1, goal, True, 3)
+    seen = deliveries_until(graph, 15.0)
+
+    outcome = [d for _, d in seen if d["id"] == nav and d.get("kind") == "result"]
+    assert [r["status"] for r in outcome] == [GoalStatus.SUCCEEDED]
+    feedback = [d["data"]["distance_remaining"] for _, d in seen if d.get("kind") == "feedback"]
+    assert feedback[0] > feedback[-1]
+    base = next(t for t in _last(seen, tf)["transforms"] if t["child_frame_id"] == "base_link")
+    position = base["transform"]["translation"]
+    assert math.hypot(position["x"] - 2.0, position["y"] - 1.0) <= 0.06
+
+
+def test_a_goal_outside_the_map_frame_is_rejected(mr1_inventory: Inventory) -> None:
+    graph = _world(mr1_inventory)
+    nav = endpoint(graph, "action_client", "/navigate_to_pose", "nav2_msgs/action/NavigateToPose")
+
+    graph.child_goal(nav, 1, {"pose": {"header": {"frame_id": "odom"}}}, False, 3)
+
+    answers = [d for _, d in deliveries_until(graph, 0.1) if d["id"] == nav]
+    assert answers[0]["accepted"] is False
+
+
+def _arm_goal(x: float, y: float, z: float) -> dict[str, Any]:
+    constraint = {
+        "header": {"frame_id": "arm_base_link"},
+        "link_name": "tool0",
+        "constraint_region": {"primitive_poses": [{"position": {"x": x, "y": y, "z": z}}]},
+    }
+    return {"request": {"goal_constraints": [{"position_constraints": [constraint]}]}}
+
+
+def test_the_arm_moves_its_link_to_the_target_or_fails_beyond_reach(
+    mr1_inventory: Inventory,
+) -> None:
+    graph = _world(mr1_inventory)
+    arm = endpoint(graph, "action_client", "/move_action", "moveit_msgs/action/MoveGroup")
+    tf = endpoint(graph, "subscription", "/tf", "tf2_msgs/msg/TFMessage", reliability="reliable")
+
+    graph.child_goal(arm, 1, _arm_goal(0.5, 0.1, 0.4), False, 3)
+    graph.child_goal(arm, 2, _arm_goal(1.0, 0.5, 0.5), False, 4)
+    seen = deliveries_until(graph, 3.0)
+
+    results = {d["goal"]: d for _, d in seen if d["id"] == arm and d.get("kind") == "result"}
+    assert results[1]["status"] == GoalStatus.SUCCEEDED
+    assert results[1]["data"]["error_code"]["val"] == 1
+    assert results[2]["status"] == GoalStatus.ABORTED
+    assert results[2]["data"]["error_code"]["val"] == -31
+    tool = next(t for t in _last(seen, tf)["transforms"] if t["child_frame_id"] == "tool0")
+    assert tool["header"]["frame_id"] == "arm_base_link"
+    assert tool["transform"]["translation"] == pytest.approx({"x": 0.5, "y": 0.1, "z": 0.4})
