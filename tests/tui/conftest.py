@@ -8,6 +8,7 @@ import io
 import shutil
 import threading
 import time
+import weakref
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from pathlib import Path
@@ -131,6 +132,15 @@ def app_for(workspace: Path, models_file: Path | None = None) -> SkillwrightApp:
     app = make_app(workspace, models_file=models_file)
     app.save_delay = 0.05
     app.animation_level = "none"
+    told: list[str] = []
+    show = app.notify
+
+    def notify(message: str, *args: Any, **kwargs: Any) -> None:
+        told.append(message)
+        show(message, *args, **kwargs)
+
+    app.notify = notify  # type: ignore[method-assign]
+    _told[app] = told
     return app
 
 
@@ -200,9 +210,13 @@ def rich_text(renderable: object, width: int = 120) -> str:
     return console.export_text()
 
 
-def notifications(app: App[object]) -> list[str]:
-    """Messages of the notifications currently shown."""
-    return [n.message for n in app._notifications]
+_told: weakref.WeakKeyDictionary[App[Any], list[str]] = weakref.WeakKeyDictionary()
+
+
+def notifications(app: App[Any]) -> list[str]:
+    """Messages of every notification the app has shown, expired ones included: a toast
+    lasts 5 s, and a busy machine may take longer than that to get the test to look."""
+    return list(_told[app])
 
 
 class Gate:
