@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import io
+import itertools
 import shutil
 import threading
 import time
@@ -245,25 +246,32 @@ class Gate:
 
 
 class Watch:
-    """Records what an engine function called by a worker returned or raised."""
+    """Records what an engine function called by a worker returned or raised, call by call."""
 
     def __init__(self, monkeypatch: pytest.MonkeyPatch, module: object, name: str) -> None:
-        self.outcomes: list[object] = []
+        self.outcomes: dict[int, object] = {}
+        """Each call's result or exception by the order the calls began in."""
         self.returned = threading.Event()
+        """Set once the first call has returned (later calls may return before it)."""
+        calls = itertools.count()
         real = getattr(module, name)
 
         def watched(*args: Any, **kwargs: Any) -> Any:
+            call = next(calls)
             try:
                 result = real(*args, **kwargs)
             except BaseException as error:
-                self.outcomes.append(error)
-                self.returned.set()
+                self._ended(call, error)
                 raise
-            self.outcomes.append(result)
-            self.returned.set()
+            self._ended(call, result)
             return result
 
         monkeypatch.setattr(module, name, watched)
+
+    def _ended(self, call: int, outcome: object) -> None:
+        self.outcomes[call] = outcome
+        if call == 0:
+            self.returned.set()
 
     async def first(self) -> object:
         """The first call's result or exception, once it has returned."""
