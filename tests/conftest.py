@@ -7,6 +7,7 @@ starts itself on this machine marks itself ``@pytest.mark.loopback``.
 
 from __future__ import annotations
 
+import logging
 import socket
 from collections.abc import Iterator
 from pathlib import Path
@@ -79,3 +80,15 @@ def shared_data() -> Path:
     if not data.is_dir():
         pytest.skip(f"reference data not found at {data} (CI has it beside the repository)")
     return data
+
+
+@pytest.fixture(autouse=True)
+def _fresh_skillwright_logger() -> Iterator[None]:
+    """Undoes what a CLI run did to the ``skillwright`` logger (its stderr handler, no
+    propagation): a test after it would otherwise see warnings on stderr that its own code
+    never printed, and caplog would miss them."""
+    logger = logging.getLogger("skillwright")
+    handlers, propagate = list(logger.handlers), logger.propagate
+    yield
+    logger.handlers[:] = handlers
+    logger.propagate = propagate

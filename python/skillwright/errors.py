@@ -12,8 +12,15 @@ The Rust extension raises the classes defined here (see ``rust/python/src/errors
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from skillwright.capability.model import CapabilityChoice
+
 __all__ = [
     "CapabilityError",
+    "CapabilitySelectionError",
     "ConfigError",
     "ContextOverflowError",
     "FileFormatError",
@@ -26,6 +33,7 @@ __all__ = [
     "ModelFileMissingError",
     "ModelFormatError",
     "ModelServerError",
+    "OperationCancelledError",
     "Ros2UnavailableError",
     "SkillwrightError",
     "SpecError",
@@ -57,6 +65,15 @@ class InvalidArgumentError(SkillwrightError, ValueError):
 
 class CapabilityError(SkillwrightError, ValueError):
     """A capability model cannot be read into a capability (syntax, structure, selection)."""
+
+
+class CapabilitySelectionError(CapabilityError):
+    """A file holds several capabilities and none (or no single one) was chosen."""
+
+    def __init__(self, message: str, choices: Sequence[CapabilityChoice]) -> None:
+        super().__init__(message)
+        self.choices = list(choices)
+        """The capabilities of the file, to choose from."""
 
 
 class SpecError(SkillwrightError, ValueError):
@@ -91,10 +108,15 @@ class ModelServerError(ModelError, ConnectionError):
     """A configured model server (OpenAI-compatible HTTP) failed or could not be reached."""
 
 
-class GenerationCancelledError(SkillwrightError):
-    """The user cancelled a generation; nothing was written."""
+class OperationCancelledError(SkillwrightError):
+    """The user cancelled a long operation (reading, ranking, generating); its work stopped
+    at the next step and nothing it would have produced was kept."""
 
     exit_code = 130
+
+
+class GenerationCancelledError(OperationCancelledError):
+    """The user cancelled a generation; nothing was written."""
 
 
 class Ros2UnavailableError(SkillwrightError):

@@ -2,12 +2,19 @@
 
 from __future__ import annotations
 
+import threading
 from pathlib import Path
 
 import pytest
 
 from skillwright.capability import Capability, load_capability
-from skillwright.errors import CapabilityError, InputFileError, InputFileNotFoundError
+from skillwright.errors import (
+    CapabilityError,
+    CapabilitySelectionError,
+    InputFileError,
+    InputFileNotFoundError,
+    OperationCancelledError,
+)
 from tests.conftest import SHIPPED_CAPABILITIES
 
 PREFIXES = """\
@@ -319,3 +326,81 @@ def test_cask_ontology_alongside_a_model_loads(
     assert load.capability.name == "moveForward"
     # the model imports CaSk 2.5.4; the file given is CaSk 3.0.1, so that import stays open
     assert any("cask/2.5.4" in w for w in load.warnings)
+
+
+def test_a_cancelled_read_stops_before_parsing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.capability import reader
+
+    parsed: list[Path] = []
+    monkeypatch.setattr(reader, "parse_graph", parsed.append)
+    cancel = threading.Event()
+    cancel.set()
+    with pytest.raises(OperationCancelledError, match="cancelled"):
+        load_capability(write(tmp_path, TWO_CAPABILITIES), cancel=cancel)
+    assert parsed == []
+
+
+def test_cancel_during_parsing_stops_before_the_ontologies_are_read(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.capability import reader, vocabulary
+
+    monkeypatch.setenv("SKILLWRIGHT_CACHE_DIR", str(tmp_path / "cache"))
+    ontology = tmp_path / "robot-ontology.ttl"
+    ontology.write_text(ONTOLOGY, encoding="utf-8")
+    cancel = threading.Event()
+    real_parse = reader.parse_graph
+
+    def parse_then_cancel(path: Path) -> object:
+        graph = real_parse(path)
+        cancel.set()  # the user presses Esc while the file is being parsed
+        return graph
+
+    read: list[Path] = []
+    monkeypatch.setattr(reader, "parse_graph", parse_then_cancel)
+    monkeypatch.setattr(vocabulary, "_load_one", lambda path: read.append(path) or [])
+    with pytest.raises(OperationCancelledError):
+        load_capability(write(tmp_path, TWO_CAPABILITIES), ontologies=[ontology], cancel=cancel)
+    assert read == []
+
+
+def test_the_vocabulary_stops_between_ontology_files(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.capability import vocabulary
+
+    cancel = threading.Event()
+    read: list[Path] = []
+
+    def load_one(path: Path) -> list[object]:
+        read.append(path)
+        cancel.set()
+        return []
+
+    monkeypatch.setattr(vocabulary, "_load_one", load_one)
+    with pytest.raises(OperationCancelledError, match="reading the ontologies cancelled"):
+        vocabulary.load_vocabulary([tmp_path / "a.ttl", tmp_path / "b.ttl"], cancel=cancel)
+    assert read == [tmp_path / "a.ttl"]
+
+
+def test_a_file_with_several_capabilities_offers_them_to_choose_from(tmp_path: Path) -> None:
+    path = write(tmp_path, TWO_CAPABILITIES)
+    with pytest.raises(CapabilitySelectionError) as info:
+        load_capability(path)
+    expected = [
+        ("http://example.org/robot/drive", "drive", "Drive"),
+        ("http://example.org/robot/grip", "grip", "Grip"),
+    ]
+    assert [(c.iri, c.name, c.label) for c in info.value.choices] == expected
+    with pytest.raises(CapabilitySelectionError, match="is not one of") as again:
+        load_capability(path, capability_iri="weld")
+    assert again.value.choices == info.value.choices
+    load = load_capability(path, capability_iri="grip")
+    assert load.choices == info.value.choices
+
+
+def test_a_file_with_one_capability_offers_just_that_one(tmp_path: Path) -> None:
+    load = load_capability(SHIPPED_CAPABILITIES / "rotate.ttl")
+    assert [(c.name, c.label) for c in load.choices] == [("rotate", load.capability.label)]

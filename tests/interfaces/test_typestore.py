@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import threading
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from skillwright.errors import OperationCancelledError
 from skillwright.interfaces.inventory import Interface, MessageDefinition
 from skillwright.interfaces.sources.report import inventory_from_report
 from skillwright.interfaces.typestore import (
@@ -187,3 +189,26 @@ def test_bag_without_schemas_gets_definitions_from_the_store(tmp_path: Path) -> 
     assert grip.definitions == {}
     assert grip.notes[-1].startswith("definition unknown: acme_msgs/msg/Grip")
     assert "(Humble, Jazzy)" in grip.notes[-1]
+
+
+def test_filling_stops_between_interfaces_once_cancelled() -> None:
+    class CountingStore(TypeStore):
+        """The Jazzy store, cancelling the job after its first answer."""
+
+        def __init__(self, cancel: threading.Event) -> None:
+            super().__init__("jazzy")
+            self.cancel = cancel
+            self.asked: list[str] = []
+
+        def definition(self, type_name: str) -> MessageDefinition | None:
+            self.asked.append(type_name)
+            self.cancel.set()
+            return super().definition(type_name)
+
+    cancel = threading.Event()
+    store = CountingStore(cancel)
+    interfaces = [_topic("geometry_msgs/msg/Twist", "/a"), _topic("std_msgs/msg/String", "/b")]
+    with pytest.raises(OperationCancelledError):
+        fill_missing_definitions(interfaces, store=store, cancel=cancel)
+    assert store.asked == ["geometry_msgs/msg/Twist"]
+    assert interfaces[1].definitions == {}

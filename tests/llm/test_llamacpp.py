@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import logging
+import subprocess
+import sys
 import threading
 from collections.abc import Iterator
 from pathlib import Path
@@ -283,6 +285,30 @@ def test_gguf_that_llama_cpp_cannot_load_is_a_model_error(tmp_path: Path) -> Non
     registry = load_registry(write_models_toml(tmp_path / "models.toml", odd))
     with pytest.raises(ModelError, match=r"model 'tiny': llama.cpp could not load .*odd\.gguf"):
         load_generator(registry, "tiny", cache=tmp_path / "c")
+
+
+def test_a_process_that_loaded_a_model_ends_without_unclosed_file_warnings(
+    tiny_gguf: Path, tmp_path: Path
+) -> None:
+    models = write_models_toml(tmp_path / "models.toml", tiny_gguf)
+    code = (
+        "import sys\n"
+        "from pathlib import Path\n"
+        "from skillwright.llm import load_generator\n"
+        "from skillwright.llm.config import load_registry\n"
+        "registry = load_registry(Path(sys.argv[1]))\n"
+        "load_generator(registry, 'tiny', cache=Path(sys.argv[2])).close()\n"
+    )
+    # -X dev shows every ResourceWarning, as pytest's own exit does.
+    result = subprocess.run(
+        [sys.executable, "-X", "dev", "-c", code, str(models), str(tmp_path / "cache")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert result.returncode == 0, result.stderr
+    assert "ResourceWarning" not in result.stderr
 
 
 def test_llama_cpp_log_lines_reach_python_logging_not_the_terminal(

@@ -14,6 +14,7 @@ from skillwright.errors import (
     InputFileNotFoundError,
     InvalidArgumentError,
     ModelFileMissingError,
+    OperationCancelledError,
 )
 from skillwright.pipeline import GenerationRecord, GenerationRequest, retrieve, run_generation
 from skillwright.pipeline.events import (
@@ -287,3 +288,54 @@ def test_the_tiny_gguf_runs_through_every_stage_with_a_real_llama_cpp(
         "checks",
         "outputs",
     ]
+
+
+def test_retrieve_stops_once_the_embedding_model_is_loaded_if_cancelled_meanwhile(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import skillwright.llm.embeddings
+
+    cancel = threading.Event()
+    embedded: list[object] = []
+
+    class Loaded:
+        """What load_embedder returns; the user pressed Esc while it loaded."""
+
+        def embed(self, texts: object) -> object:
+            embedded.append(texts)
+            raise AssertionError("embedded after the cancel")
+
+    def load_then_cancel(*_args: object, **_kwargs: object) -> Loaded:
+        cancel.set()
+        return Loaded()
+
+    monkeypatch.setattr(skillwright.llm.embeddings, "load_embedder", load_then_cancel)
+    with pytest.raises(OperationCancelledError):
+        retrieve(
+            SHIPPED_CAPABILITIES / "move-forward.ttl",
+            None,
+            RECORDING,
+            dense=True,
+            cancel=cancel,
+        )
+    assert embedded == []
+
+
+def test_retrieve_does_not_load_the_embedding_model_once_cancelled(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import skillwright.llm.embeddings
+    from skillwright.interfaces import load
+
+    cancel = threading.Event()
+    real_load = load.load_inventory
+    monkeypatch.setattr(
+        load, "load_inventory", lambda *a, **k: (real_load(*a, **k), cancel.set())[0]
+    )
+    loads: list[object] = []
+    monkeypatch.setattr(skillwright.llm.embeddings, "load_embedder", lambda *a: loads.append(a))
+    with pytest.raises(OperationCancelledError, match="retrieval cancelled"):
+        retrieve(
+            SHIPPED_CAPABILITIES / "move-forward.ttl", None, RECORDING, dense=True, cancel=cancel
+        )
+    assert loads == []

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Sequence
 from functools import cache
 from typing import Literal
@@ -10,6 +11,7 @@ import pytest
 
 from skillwright.capability import Capability, load_capability
 from skillwright.capability.model import DataElement, Parameter
+from skillwright.errors import OperationCancelledError
 from skillwright.interfaces.inventory import Interface, InterfaceKind, Inventory, Resource
 from skillwright.interfaces.load import load_inventory
 from skillwright.retrieval.retrieve import Ranking, rank_interfaces
@@ -239,3 +241,37 @@ def test_without_the_type_prior_a_behaviour_wins_a_place() -> None:
     flat = Ranking(neutral_factor=1.0, auxiliary_factor=1.0)
     hits = rank_interfaces(behaviour_inventory(), forward_capability(), k=2, ranking=flat)
     assert [h.name for h in hits] == ["/cmd_vel", "/drive_on_heading"]
+
+
+def test_a_cancel_during_embedding_stops_the_ranking_before_scoring(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from skillwright.retrieval import retrieve
+
+    capability = load_capability(SHIPPED_CAPABILITIES / "rotate.ttl").capability
+    cancel = threading.Event()
+
+    def embed_then_cancel(texts: Sequence[str]) -> list[list[float]]:
+        cancel.set()  # Esc while the model embeds
+        return [[1.0, 0.0] for _ in texts]
+
+    scored: list[object] = []
+    monkeypatch.setattr(retrieve, "_facet_scores", lambda *args: scored.append(args))
+    with pytest.raises(OperationCancelledError, match="ranking the interfaces cancelled"):
+        rank_interfaces(mr1(), capability, embed=embed_then_cancel, cancel=cancel)
+    assert scored == []
+
+
+def test_a_cancel_set_before_ranking_embeds_nothing() -> None:
+    capability = load_capability(SHIPPED_CAPABILITIES / "rotate.ttl").capability
+    cancel = threading.Event()
+    cancel.set()
+    embedded: list[Sequence[str]] = []
+
+    def embed(texts: Sequence[str]) -> list[list[float]]:
+        embedded.append(texts)
+        return [[1.0, 0.0] for _ in texts]
+
+    with pytest.raises(OperationCancelledError):
+        rank_interfaces(mr1(), capability, embed=embed, cancel=cancel)
+    assert embedded == []

@@ -3,12 +3,17 @@ configuration, the tiny GGUF model, and helpers to wait for workers and read the
 
 from __future__ import annotations
 
+import asyncio
 import io
+import itertools
 import shutil
+import threading
 import time
+import weakref
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 from pathlib import Path
+from typing import Any
 
 import pytest
 from pytest_textual_snapshot import SVGImageExtension
@@ -27,7 +32,28 @@ from tests.llm.conftest import isolated_config, tiny_gguf
 # syrupy 5 and later read file_extension and would store the SVG snapshots as .raw files.
 SVGImageExtension.file_extension = "svg"
 
-__all__ = ["choose", "isolated_config", "running", "screen_text", "tiny_gguf", "wait_until"]
+__all__ = [
+    "MODEL_RUN",
+    "STEP",
+    "Gate",
+    "Watch",
+    "choose",
+    "isolated_config",
+    "running",
+    "screen_text",
+    "tiny_gguf",
+    "wait_until",
+]
+
+
+STEP = 120.0
+"""Deadline of one step of the app (a worker reading a file, keys handled): it takes a
+second or two on an idle machine, and ten times that on a 2-core machine busy with builds
+and other test runs. Only a failing test waits this long."""
+
+MODEL_RUN = 600.0
+"""Deadline of a run of the tiny model: its byte-level vocabulary makes a generation prompt
+about 12,000 tokens, evaluated in 15 s on an idle machine and in minutes on a busy one."""
 
 
 @pytest.fixture
@@ -36,9 +62,20 @@ def anyio_backend() -> str:
     return "asyncio"
 
 
+@pytest.fixture(scope="session")
+def _run_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return tmp_path_factory.mktemp("tui-cache")
+
+
 @pytest.fixture(autouse=True)
-def _config(isolated_config: Path) -> Path:
-    """Every TUI test gets its own configuration, data and cache folders."""
+def _config(isolated_config: Path, _run_cache: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """Every TUI test gets its own configuration and data folders.
+
+    The cache folder is shared by the run's TUI tests, as a user's runs share theirs: the
+    tiny model's 12,000-token prompt prefix is then evaluated once per run instead of once
+    per generating test (half a minute each on a busy machine).
+    """
+    monkeypatch.setenv("XDG_CACHE_HOME", str(_run_cache))
     return isolated_config
 
 
@@ -96,6 +133,15 @@ def app_for(workspace: Path, models_file: Path | None = None) -> SkillwrightApp:
     app = make_app(workspace, models_file=models_file)
     app.save_delay = 0.05
     app.animation_level = "none"
+    told: list[str] = []
+    show = app.notify
+
+    def notify(message: str, *args: Any, **kwargs: Any) -> None:
+        told.append(message)
+        show(message, *args, **kwargs)
+
+    app.notify = notify  # type: ignore[method-assign]
+    _told[app] = told
     return app
 
 
@@ -118,7 +164,7 @@ async def running(app: App[None], size: tuple[int, int] = (120, 40)) -> AsyncIte
 
 
 async def wait_until(
-    pilot: Pilot[object], condition: Callable[[], object], timeout: float = 30.0
+    pilot: Pilot[object], condition: Callable[[], object], timeout: float = STEP
 ) -> None:
     """Lets the app run until ``condition()`` is true; fails the test after ``timeout``."""
     deadline = time.monotonic() + timeout
@@ -165,6 +211,69 @@ def rich_text(renderable: object, width: int = 120) -> str:
     return console.export_text()
 
 
-def notifications(app: App[object]) -> list[str]:
-    """Messages of the notifications currently shown."""
-    return [n.message for n in app._notifications]
+_told: weakref.WeakKeyDictionary[App[Any], list[str]] = weakref.WeakKeyDictionary()
+
+
+def notifications(app: App[Any]) -> list[str]:
+    """Messages of every notification the app has shown, expired ones included: a toast
+    lasts 5 s, and a busy machine may take longer than that to get the test to look."""
+    return list(_told[app])
+
+
+class Gate:
+    """Holds the engine inside one of its steps until the test opens the gate, so the test
+    can cancel while the step runs (as a user pressing Esc during a slow read would)."""
+
+    def __init__(self, monkeypatch: pytest.MonkeyPatch, module: object, name: str) -> None:
+        self.entered = threading.Event()
+        self.opened = threading.Event()
+        real = getattr(module, name)
+
+        def held(*args: Any, **kwargs: Any) -> Any:
+            self.entered.set()
+            self.opened.wait(STEP)
+            return real(*args, **kwargs)
+
+        monkeypatch.setattr(module, name, held)
+
+    async def reached(self) -> None:
+        """Waits (without blocking the app) until a worker is inside the step."""
+        assert await asyncio.to_thread(self.entered.wait, STEP), "the engine never got there"
+
+    def open(self) -> None:
+        """Lets the step finish."""
+        self.opened.set()
+
+
+class Watch:
+    """Records what an engine function called by a worker returned or raised, call by call."""
+
+    def __init__(self, monkeypatch: pytest.MonkeyPatch, module: object, name: str) -> None:
+        self.outcomes: dict[int, object] = {}
+        """Each call's result or exception by the order the calls began in."""
+        self.returned = threading.Event()
+        """Set once the first call has returned (later calls may return before it)."""
+        calls = itertools.count()
+        real = getattr(module, name)
+
+        def watched(*args: Any, **kwargs: Any) -> Any:
+            call = next(calls)
+            try:
+                result = real(*args, **kwargs)
+            except BaseException as error:
+                self._ended(call, error)
+                raise
+            self._ended(call, result)
+            return result
+
+        monkeypatch.setattr(module, name, watched)
+
+    def _ended(self, call: int, outcome: object) -> None:
+        self.outcomes[call] = outcome
+        if call == 0:
+            self.returned.set()
+
+    async def first(self) -> object:
+        """The first call's result or exception, once it has returned."""
+        assert await asyncio.to_thread(self.returned.wait, STEP), "the engine call never returned"
+        return self.outcomes[0]

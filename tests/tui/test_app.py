@@ -9,10 +9,11 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from textual.command import CommandPalette
+from textual.command import CommandList, CommandPalette
 from textual.widgets import TabbedContent
 
 from skillwright.cli import main
+from skillwright.tui.app import SkillwrightApp
 from skillwright.tui.screens.help import HelpScreen
 from skillwright.tui.session import load_session
 from tests.tui.conftest import app_for, running, screen_text, wait_until
@@ -106,9 +107,15 @@ async def test_every_action_is_in_the_command_palette(workspace: Path) -> None:
         await pilot.press("ctrl+p")
         await wait_until(pilot, lambda: isinstance(app.screen, CommandPalette))
         await pilot.press(*"go to hist")
-        await pilot.pause(0.3)
+        # The palette searches in the background; Enter picks the best hit once it is there.
+        await wait_until(pilot, lambda: "Go to History" in _best_hit(app))
         await pilot.press("enter")
         await wait_until(pilot, lambda: app.query_one("#tabs", TabbedContent).active == "history")
+
+
+def _best_hit(app: SkillwrightApp) -> str:
+    commands = app.screen.query_one(CommandList)
+    return str(commands.get_option_at_index(0).prompt) if commands.option_count else ""
 
 
 def test_the_tui_command_refuses_a_workspace_that_does_not_exist(tmp_path: Path) -> None:

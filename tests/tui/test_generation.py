@@ -4,7 +4,6 @@ the same result folder and record as the headless command."""
 from __future__ import annotations
 
 import asyncio
-import threading
 import time
 from pathlib import Path
 from typing import Any
@@ -13,12 +12,16 @@ import pytest
 from textual import events
 from textual.widgets import Input, OptionList, Select, Static, TabbedContent
 
+from skillwright.errors import GenerationCancelledError
 from skillwright.pipeline import GenerationRecord
 from skillwright.tui.screens.generation import SKELETON, GenerationPane
 from skillwright.tui.screens.history import HistoryPane
 from skillwright.tui.session import SpecDraft
 from skillwright.tui.widgets.code_view import CodeView
 from tests.tui.conftest import (
+    MODEL_RUN,
+    STEP,
+    Watch,
     app_for,
     notifications,
     preset_session,
@@ -57,7 +60,7 @@ async def _send_keys(app: Any, keys: list[str], done: Any) -> None:
     for key in keys:
         app._driver.send_message(events.Key(key, key if len(key) == 1 else None))
     while not done():
-        assert time.monotonic() - started < 30, f"keys {keys} not handled in 30 s"
+        assert time.monotonic() - started < STEP, f"keys {keys} not handled in {STEP} s"
         await asyncio.sleep(0.01)
 
 
@@ -207,7 +210,7 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
         pane = await _ready(pilot, app)
         assert app.query_one("#generation-model", Select).value == "tiny"
         await pilot.press("ctrl+g")
-        await wait_until(pilot, lambda: pane.outcome is not None, timeout=180)
+        await wait_until(pilot, lambda: pane.outcome is not None, timeout=MODEL_RUN)
         [result] = _results(workspace)
         record = GenerationRecord.load(result / "record.json")
         assert record.mode == "llm"
@@ -246,15 +249,17 @@ async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
         # While the worker loads the model and evaluates the prompt, keys are answered.
         options = app.query_one("#capability-list")
         await _send_keys(app, ["f2"], lambda: app.focused is options)
-        field = app.query_one("#capability-iri", Input)
-        field.focus()
+        table = app.query_one("#interfaces-table")
+        await _send_keys(app, ["f4"], lambda: app.focused is table)
+        field = app.query_one("#interfaces-filter", Input)
+        await _send_keys(app, ["slash"], lambda: app.focused is field)
         await _send_keys(app, list("abc"), lambda: field.value == "abc")
         await _send_keys(app, ["f6"], lambda: _tab(app) == "generation")
         assert pane.running, "the keys were handled while the generation worker ran"
         # Once the model writes, Esc stops it; nothing is written.
-        await wait_until(pilot, lambda: pane.streamed, timeout=120)
+        await wait_until(pilot, lambda: pane.streamed, timeout=MODEL_RUN)
         await pilot.press("escape")
-        await wait_until(pilot, lambda: not pane.running, timeout=60)
+        await wait_until(pilot, lambda: not pane.running)
         assert "cancelled: nothing was written" in _status(app)
         assert any("cancelled" in n for n in notifications(app))
         assert _results(workspace) == []
@@ -313,25 +318,16 @@ async def test_quitting_during_a_generation_stops_it_and_writes_nothing(
 ) -> None:
     from skillwright.pipeline import run as pipeline_run
 
-    # Notes when the engine call returns, whatever the app has done by then.
-    returned = threading.Event()
-    real = pipeline_run.run_generation
-
-    def watched(*args: Any, **kwargs: Any) -> Any:
-        try:
-            return real(*args, **kwargs)
-        finally:
-            returned.set()
-
-    monkeypatch.setattr(pipeline_run, "run_generation", watched)
-    # 1500 tokens take the tiny model far longer than the 30 s allowed below.
+    # The engine call's own outcome, whatever the app has done by then: a pipeline that ran
+    # to its end after the quit would return an Outcome instead of raising.
+    generation = Watch(monkeypatch, pipeline_run, "run_generation")
     models = write_models(tmp_path / "long.toml", tiny_gguf, max_tokens=1500)
     preset_session(workspace, **INPUTS)
     app = app_for(workspace, models)
     async with running(app) as pilot:
         pane = await _ready(pilot, app)
         await pilot.press("ctrl+g")
-        await wait_until(pilot, lambda: pane.streamed, timeout=120)
+        await wait_until(pilot, lambda: pane.streamed, timeout=MODEL_RUN)
         await pilot.press("ctrl+q")
-    assert await asyncio.to_thread(returned.wait, 30), "the pipeline ran on after the app quit"
+    assert isinstance(await generation.first(), GenerationCancelledError)
     assert _results(workspace) == []

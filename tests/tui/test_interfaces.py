@@ -11,10 +11,13 @@ import pytest
 from textual.coordinate import Coordinate
 from textual.widgets import Checkbox, DataTable, Input, ProgressBar, Select, Static
 
+from skillwright.errors import OperationCancelledError
 from skillwright.interfaces.load import load_inventory
 from skillwright.tui.screens.interfaces import InterfacesPane
 from tests.interfaces.sources.test_live import FILES, ROBOT, RecordedGraph
 from tests.tui.conftest import (
+    Gate,
+    Watch,
     app_for,
     notifications,
     preset_session,
@@ -223,3 +226,25 @@ async def test_the_live_graph_is_discovered_and_saved_as_an_inventory(
         assert load_inventory(workspace / "ros2_graph.inventory.json").sources[0].kind == (
             "ros2_live"
         )
+
+
+async def test_esc_stops_reading_a_recording_at_the_engines_next_step(
+    workspace: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright import core
+    from skillwright.interfaces import load
+
+    reading = Gate(monkeypatch, core, "read_mcap")
+    loaded = Watch(monkeypatch, load, "load_inventory")
+    preset_session(workspace, interfaces="recordings/mr1", active_tab="interfaces")
+    app = app_for(workspace)
+    async with running(app, (120, 40)) as pilot:
+        try:
+            await reading.reached()
+            await pilot.press("escape")
+        finally:
+            reading.open()
+        assert isinstance(await loaded.first(), OperationCancelledError)
+        await pilot.pause()
+        assert app.loaded.inventory is None
+        assert _status(app) == "cancelled"

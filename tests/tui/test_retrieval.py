@@ -8,9 +8,18 @@ from typing import Any
 import pytest
 from textual.widgets import DataTable, Static
 
+from skillwright.errors import OperationCancelledError
 from skillwright.pipeline import retrieve
 from skillwright.tui.screens.retrieval import RetrievalPane
-from tests.tui.conftest import app_for, notifications, preset_session, running, wait_until
+from tests.tui.conftest import (
+    Gate,
+    Watch,
+    app_for,
+    notifications,
+    preset_session,
+    running,
+    wait_until,
+)
 
 pytestmark = pytest.mark.anyio
 
@@ -89,3 +98,38 @@ async def test_ranking_needs_a_capability_and_interfaces_and_says_so(workspace: 
     async with running(app, (120, 40)) as pilot:
         await pilot.press("f5", "ctrl+r")
         await wait_until(pilot, lambda: any("capability first" in n for n in notifications(app)))
+
+
+@pytest.mark.parametrize("key", ["escape", "ctrl+q"])
+async def test_esc_or_quitting_stops_the_ranking_once_the_embedding_model_has_loaded(
+    workspace: Path, monkeypatch: pytest.MonkeyPatch, key: str
+) -> None:
+    import skillwright.llm.embeddings
+    import skillwright.pipeline
+
+    embedded: list[object] = []
+
+    class Embedder:
+        def embed(self, texts: object) -> object:
+            embedded.append(texts)
+            raise AssertionError("embedded after the cancel")
+
+    monkeypatch.setattr(skillwright.llm.embeddings, "load_embedder", lambda *a: Embedder())
+    loading = Gate(monkeypatch, skillwright.llm.embeddings, "load_embedder")
+    ranked = Watch(monkeypatch, skillwright.pipeline, "retrieve")
+    preset_session(workspace, **{**INPUTS, "dense": True})
+    app = app_for(workspace)
+    async with running(app, (120, 40)) as pilot:
+        await _ready(pilot, app)
+        try:
+            await pilot.press("ctrl+r")
+            await loading.reached()
+            await pilot.press(key)
+        finally:
+            loading.open()
+        if key == "escape":
+            assert isinstance(await ranked.first(), OperationCancelledError)
+            assert _status(app) == "cancelled"
+            assert app.loaded.hits == []
+    assert isinstance(await ranked.first(), OperationCancelledError)
+    assert embedded == []

@@ -12,7 +12,7 @@ from typing import Any
 
 import pytest
 from textual.pilot import Pilot
-from textual.widgets import Input, Select, TextArea
+from textual.widgets import Input, Select, TabbedContent, TextArea
 
 from skillwright.pipeline import GenerationRequest, run_generation
 from skillwright.tui.screens.history import HistoryPane
@@ -32,6 +32,14 @@ def _inputs(workspace: Path, tab: str) -> None:
     )
 
 
+def _focus_in_active_tab(app: Any) -> bool:
+    """The focus is in the tab shown (its first activation can come late on a busy machine),
+    so the footer shows that tab's keys."""
+    tabs = app.query_one("#tabs", TabbedContent)
+    pane = tabs.get_pane(tabs.active)
+    return app.focused is not None and pane in app.focused.ancestors_with_self
+
+
 def _settled(
     extra: Callable[[Any], object] = lambda app: True,
 ) -> Callable[[Pilot[Any]], Awaitable[None]]:
@@ -46,6 +54,7 @@ def _settled(
                 and app.loaded.inventory is not None
                 and app.spec_pane().spec is not None
                 and app.query_one("#generation-model", Select).value is not Select.NULL
+                and _focus_in_active_tab(app)
                 and extra(app)
             ),
         )

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from skillwright.capability.model import (
         Capability,
+        CapabilityChoice,
         CapabilityLoad,
         Constraint,
         DataElement,
@@ -25,6 +26,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Capability",
+    "CapabilityChoice",
     "CapabilityLoad",
     "Constraint",
     "DataElement",

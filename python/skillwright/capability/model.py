@@ -14,6 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 __all__ = [
     "Capability",
+    "CapabilityChoice",
     "CapabilityLoad",
     "Constraint",
     "DataElement",
@@ -161,6 +162,14 @@ class Capability(_Document):
     )
 
 
+class CapabilityChoice(_Document):
+    """One of the capabilities a file holds, as offered for choosing."""
+
+    iri: str = Field(description="IRI of the capability individual.")
+    name: str = Field(description="Local name of the IRI, e.g. moveForward.")
+    label: str = Field(description="Its rdfs:label, else a readable form of the name.")
+
+
 class CapabilityLoad(_Document):
     """The result of reading a capability file: the capability and what to warn about."""
 
@@ -168,5 +177,9 @@ class CapabilityLoad(_Document):
     capability: Capability = Field(description="The selected capability.")
     others: list[str] = Field(
         default_factory=list, description="IRIs of further capabilities in the same file."
+    )
+    choices: list[CapabilityChoice] = Field(
+        default_factory=list,
+        description="Every capability in the file, the selected one included, by IRI.",
     )
     warnings: list[str] = Field(default_factory=list, description="Things the user should know.")

@@ -8,13 +8,16 @@ so later stages can still work with what is there.
 from __future__ import annotations
 
 import re
+import threading
 from collections.abc import Iterable, Sequence
 from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
+from skillwright.cancel import raise_if_cancelled
 from skillwright.capability.model import (
     Capability,
+    CapabilityChoice,
     CapabilityLoad,
     Constraint,
     DataElement,
@@ -25,7 +28,7 @@ from skillwright.capability.model import (
     Scalar,
 )
 from skillwright.capability.rdf import parse_graph
-from skillwright.errors import CapabilityError
+from skillwright.errors import CapabilityError, CapabilitySelectionError
 
 if TYPE_CHECKING:
     from rdflib import Graph
@@ -355,20 +358,23 @@ def _find_capabilities(graph: Graph, classes: set[str]) -> list[tuple[str, list[
     return sorted((iri, sorted(kinds)) for iri, kinds in found.items())
 
 
-def _select(found: Sequence[tuple[str, list[str]]], wanted: str | None, source: Path) -> int:
-    listing = "\n".join(f"  {iri}" for iri, _ in found)
+def _select(choices: Sequence[CapabilityChoice], wanted: str | None, source: Path) -> int:
+    listing = "\n".join(f"  {choice.iri}" for choice in choices)
     if wanted is None:
-        if len(found) == 1:
+        if len(choices) == 1:
             return 0
-        raise CapabilityError(
-            f"{source} holds {len(found)} capabilities; choose one with --capability IRI:\n"
-            + listing
+        raise CapabilitySelectionError(
+            f"{source} holds {len(choices)} capabilities; choose one with --capability IRI:\n"
+            + listing,
+            choices,
         )
-    matches = [i for i, (iri, _) in enumerate(found) if wanted in (iri, local_name(iri))]
+    matches = [i for i, choice in enumerate(choices) if wanted in (choice.iri, choice.name)]
     if len(matches) == 1:
         return matches[0]
     reason = "matches several" if matches else "is not one of the capabilities"
-    raise CapabilityError(f"--capability {wanted} {reason} in {source}:\n{listing}")
+    raise CapabilitySelectionError(
+        f"--capability {wanted} {reason} in {source}:\n{listing}", choices
+    )
 
 
 def load_capability(
@@ -376,21 +382,26 @@ def load_capability(
     *,
     capability_iri: str | None = None,
     ontologies: Iterable[str | Path] = (),
+    cancel: threading.Event | None = None,
 ) -> CapabilityLoad:
     """Reads the capability model at ``path``.
 
     ``capability_iri`` selects one capability when the file holds several (its full IRI
     or its local name). ``ontologies`` are local copies of imported ontologies; their
-    class hierarchy lets domain-specific capability classes be recognised.
+    class hierarchy lets domain-specific capability classes be recognised. ``cancel`` is
+    looked at before and after each file is parsed (see :mod:`skillwright.cancel`).
     """
     from rdflib import RDFS, URIRef
 
     from skillwright.capability.vocabulary import load_vocabulary
 
+    what = f"reading {path}"
+    raise_if_cancelled(cancel, what)
     source = Path(path)
     graph = parse_graph(source)
     ontology_paths = [Path(p) for p in ontologies]
-    vocabulary = load_vocabulary(ontology_paths) if ontology_paths else None
+    vocabulary = load_vocabulary(ontology_paths, cancel=cancel) if ontology_paths else None
+    raise_if_cancelled(cancel, what)
     reader = _Reader(graph, source)
 
     imports = sorted(
@@ -414,9 +425,18 @@ def load_capability(
             + ", ".join(_short(c) for c in CAPABILITY_CLASSES)
             + " (or a subclass declared in the file or an --ontology)"
         )
-    index = _select(found, capability_iri, source)
+    choices = [
+        CapabilityChoice(
+            iri=iri,
+            name=local_name(iri),
+            label=reader.text(URIRef(iri), str(RDFS.label)) or readable_label(local_name(iri)),
+        )
+        for iri, _ in found
+    ]
+    index = _select(choices, capability_iri, source)
     iri, kinds = found[index]
     node = URIRef(iri)
+    label = choices[index].label
 
     comment = reader.text(node, str(RDFS.comment))
     if not comment:
@@ -442,8 +462,6 @@ def load_capability(
     constraints = [
         reader.constraint(n, names) for n in reader.objects(node, f"{CSS}isRestrictedBy")
     ]
-    label = reader.text(node, str(RDFS.label)) or readable_label(local_name(iri))
-
     capability = Capability(
         iri=iri,
         name=local_name(iri),
@@ -459,5 +477,6 @@ def load_capability(
         source=str(source),
         capability=capability,
         others=[other for other, _ in found if other != iri],
+        choices=choices,
         warnings=reader.warnings,
     )

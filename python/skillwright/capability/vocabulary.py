@@ -10,10 +10,12 @@ part is cached as N-Triples keyed by the file's SHA-256 and reused on later runs
 from __future__ import annotations
 
 import contextlib
+import threading
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from skillwright.cancel import raise_if_cancelled
 from skillwright.capability.rdf import parse_graph
 from skillwright.fileio import write_atomic
 from skillwright.paths import cache_dir
@@ -68,12 +70,16 @@ def _load_one(path: Path) -> Graph:
     return subset
 
 
-def load_vocabulary(paths: Iterable[Path]) -> Vocabulary:
-    """Reads the vocabulary of each ontology file (cached after the first read)."""
+def load_vocabulary(paths: Iterable[Path], *, cancel: threading.Event | None = None) -> Vocabulary:
+    """Reads the vocabulary of each ontology file (cached after the first read).
+
+    ``cancel`` is looked at before each file (see :mod:`skillwright.cancel`).
+    """
     from rdflib import OWL, RDF, Graph
 
     merged = Graph()
     for path in paths:
+        raise_if_cancelled(cancel, "reading the ontologies")
         for triple in _load_one(path):
             merged.add(triple)
     iris = {str(s) for s in merged.subjects(RDF.type, OWL.Ontology)}

@@ -8,9 +8,11 @@ rosbag2 recording.
 from __future__ import annotations
 
 import json
+import threading
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from skillwright.cancel import raise_if_cancelled
 from skillwright.errors import FileFormatError, InputFileError, InputFileNotFoundError
 from skillwright.interfaces.inventory import Inventory
 
@@ -66,12 +68,15 @@ def _inventory_from_json(path: Path, document: Any) -> Inventory:
         ) from None
 
 
-def _read_json_source(path: Path, resource_name: str | None = None) -> Inventory:
+def _read_json_source(
+    path: Path, resource_name: str | None, cancel: threading.Event | None
+) -> Inventory:
     from skillwright.interfaces.sources.report import inventory_from_report, is_report
 
     document = _read_json(path)
+    raise_if_cancelled(cancel, f"reading {path}")
     if is_report(document):
-        return inventory_from_report(document, str(path), resource_name)
+        return inventory_from_report(document, str(path), resource_name, cancel=cancel)
     if isinstance(document, dict) and "interfaces" in document and "resource" in document:
         inventory = _inventory_from_json(path, document)
         if resource_name:
@@ -85,10 +90,20 @@ def _read_json_source(path: Path, resource_name: str | None = None) -> Inventory
 
 
 def discover_path(
-    source: str | Path, mode: ReadMode = "auto", resource_name: str | None = None
+    source: str | Path,
+    mode: ReadMode = "auto",
+    resource_name: str | None = None,
+    *,
+    cancel: threading.Event | None = None,
 ) -> Inventory:
     """The inventory of a file or folder: saved inventory or report JSON (by content), an
-    ``.mcap`` file or a rosbag2 folder. ``mode`` applies to recordings only."""
+    ``.mcap`` file or a rosbag2 folder. ``mode`` applies to recordings only.
+
+    ``cancel`` is looked at between files and between interfaces; once it is set,
+    :class:`~skillwright.errors.OperationCancelledError` is raised (see
+    :mod:`skillwright.cancel`).
+    """
+    raise_if_cancelled(cancel, f"reading {source}")
     path = Path(source)
     if not path.exists():
         raise InputFileNotFoundError(
@@ -96,13 +111,13 @@ def discover_path(
             "folder, a report or an inventory .json"
         )
     if is_json_file(path):
-        return _read_json_source(path, resource_name)
+        return _read_json_source(path, resource_name, cancel)
     from skillwright.interfaces.sources.bag import discover_bag
 
-    return discover_bag(path, mode, resource_name)
+    return discover_bag(path, mode, resource_name, cancel=cancel)
 
 
-def load_inventory(source: str | Path) -> Inventory:
+def load_inventory(source: str | Path, *, cancel: threading.Event | None = None) -> Inventory:
     """The inventory from a saved inventory or a reference-tool report (JSON, told apart by
-    content), an ``.mcap`` file or a rosbag2 folder."""
-    return discover_path(source)
+    content), an ``.mcap`` file or a rosbag2 folder; ``cancel`` as for :func:`discover_path`."""
+    return discover_path(source, cancel=cancel)

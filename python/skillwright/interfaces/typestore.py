@@ -14,11 +14,13 @@ filled only where a store defines its parts (``pkg/srv/T_Request`` ...).
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cache
 from typing import Any, Final
 
+from skillwright.cancel import raise_if_cancelled
 from skillwright.interfaces.inventory import Interface, InterfaceKind, MessageDefinition
 from skillwright.interfaces.ros2msg import definition_from_text, normalize_type_name
 
@@ -142,16 +144,22 @@ def filled_note(count: int) -> str:
 
 
 def fill_missing_definitions(
-    interfaces: Iterable[Interface], distro: str | None = None, store: TypeStore | None = None
+    interfaces: Iterable[Interface],
+    distro: str | None = None,
+    store: TypeStore | None = None,
+    *,
+    cancel: threading.Event | None = None,
 ) -> int:
     """Fills every missing definition the stores know; returns how many were filled.
 
     An interface only partly found (a service whose request is in a store but not its
-    response) keeps what was found and a note for the rest.
+    response) keeps what was found and a note for the rest. ``cancel`` is looked at before
+    each interface (see :mod:`skillwright.cancel`).
     """
     lookup = store or TypeStore(distro)
     filled = 0
     for interface in interfaces:
+        raise_if_cancelled(cancel, "filling in definitions")
         missing = missing_roles(interface)
         unknown: list[str] = []
         for role, part_type in missing:

@@ -9,7 +9,9 @@ path evaluate exactly the same batches, so they give the same tokens.
 
 from __future__ import annotations
 
+import atexit
 import codecs
+import functools
 import json
 import logging
 import os
@@ -467,6 +469,19 @@ def _grammar(schema: dict[str, Any]) -> LlamaGrammar:
         ) from None
 
 
+@functools.cache
+def _close_null_files_at_exit() -> None:
+    """Has the two ``/dev/null`` files closed at exit that llama-cpp-python opens when imported
+    (it redirects native output into them while a model loads) and never closes; Python
+    would report them as unclosed files when the process ends."""
+    from llama_cpp import _utils
+
+    for name in ("outnull_file", "errnull_file"):
+        handle = getattr(_utils, name, None)
+        if handle is not None:
+            atexit.register(handle.close)
+
+
 def _generation_threads() -> int:
     """Threads for generating tokens when models.toml does not say.
 
@@ -506,6 +521,7 @@ def load_llamacpp(
         )
     from llama_cpp import Llama
 
+    _close_null_files_at_exit()
     route_native_logs()
     started = time.perf_counter()
     try:

@@ -204,7 +204,9 @@ def _rank(
     dense: bool,
     models_file: Path | None,
     dropped: Sequence[str] = (),
+    cancel: threading.Event | None = None,
 ) -> tuple[list[Hit], Literal["hybrid", "lexical"]]:
+    from skillwright.cancel import raise_if_cancelled
     from skillwright.retrieval.retrieve import rank_interfaces
 
     pool = inventory
@@ -216,6 +218,8 @@ def _rank(
     if dense:
         from skillwright.llm.embeddings import load_embedder
 
+        # Loading the embedding model (torch first) takes seconds: look before and after.
+        raise_if_cancelled(cancel, "retrieval")
         embed = cast("Embedder", load_embedder(_registry(models_file)).embed)
     hits = rank_interfaces(
         pool,
@@ -224,6 +228,7 @@ def _rank(
         k=k,
         include_infrastructure=include_infrastructure,
         embed=embed,
+        cancel=cancel,
     )
     return hits, "hybrid" if dense else "lexical"
 
@@ -239,15 +244,21 @@ def retrieve(
     dense: bool = True,
     models_file: Path | None = None,
     dropped: Sequence[str] = (),
+    cancel: threading.Event | None = None,
 ) -> RetrievalResult:
-    """Loads the inputs and ranks the interfaces (what the TUI's retrieval view shows)."""
+    """Loads the inputs and ranks the interfaces (what the TUI's retrieval view shows).
+
+    Once ``cancel`` is set, :class:`~skillwright.errors.OperationCancelledError` is raised
+    at the next step: between the inputs, around the embedding model's load, between the
+    ranking's phases (see :mod:`skillwright.cancel`).
+    """
     from skillwright.capability.reader import load_capability
     from skillwright.interfaces.load import load_inventory
     from skillwright.spec.loader import load_spec
 
-    load = load_capability(capability, capability_iri=capability_iri)
+    load = load_capability(capability, capability_iri=capability_iri, cancel=cancel)
     skill_spec = load_spec(spec) if spec is not None else None
-    inventory = load_inventory(interfaces)
+    inventory = load_inventory(interfaces, cancel=cancel)
     _known_names(inventory, dropped, "dropped")
     hits, method = _rank(
         load,
@@ -258,6 +269,7 @@ def retrieve(
         dense=dense,
         models_file=models_file,
         dropped=dropped,
+        cancel=cancel,
     )
     return RetrievalResult(load, skill_spec, inventory, hits, method)
 

@@ -21,10 +21,12 @@ sets, against the paper's comment-only embedding search.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
+from skillwright.cancel import raise_if_cancelled
 from skillwright.capability.model import Capability
 from skillwright.interfaces.inventory import Interface, Inventory
 from skillwright.retrieval.documents import (
@@ -271,8 +273,15 @@ def rank_interfaces(
     include_infrastructure: bool = False,
     embed: Embedder | None = None,
     ranking: Ranking | None = None,
+    cancel: threading.Event | None = None,
 ) -> list[Hit]:
-    """The ``k`` interfaces the capability most likely needs, in the order they were picked."""
+    """The ``k`` interfaces the capability most likely needs, in the order they were picked.
+
+    ``cancel`` is looked at between the phases (describing, embedding, scoring) and before
+    each pick (see :mod:`skillwright.cancel`).
+    """
+    what = "ranking the interfaces"
+    raise_if_cancelled(cancel, what)
     ranking = ranking or Ranking()
     pool = candidates(inventory, include_infrastructure)
     if not pool or k <= 0:
@@ -283,8 +292,10 @@ def rank_interfaces(
     documents = [interface_terms(i, d) for i, d in zip(pool, descriptions, strict=True)]
     dense_raw = None
     if embed is not None:
+        raise_if_cancelled(cancel, what)
         texts = [interface_text(i, d) for i, d in zip(pool, descriptions, strict=True)]
         dense_raw = _cosines(embed, [f.text for f in facets], texts, [i.kind for i in pool])
+    raise_if_cancelled(cancel, what)
     scores = _facet_scores(facets, documents, dense_raw, ranking)
     _apply_type_semantics(scores.mixed, pool, facets, ranking)
     weights = [f.weight for f in facets]
@@ -296,6 +307,7 @@ def rank_interfaces(
     picked_types: set[str] = set()
     hits: list[Hit] = []
     while remaining and len(hits) < k:
+        raise_if_cancelled(cancel, what)
 
         def gains(i: int, covered: list[float] = covered) -> list[float]:
             return [

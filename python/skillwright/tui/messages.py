@@ -17,12 +17,13 @@ from textual.message import Message
 if TYPE_CHECKING:
     from rich.console import RenderableType
 
-    from skillwright.capability.model import CapabilityLoad
+    from skillwright.capability.model import CapabilityChoice, CapabilityLoad
     from skillwright.interfaces.inventory import Inventory
     from skillwright.retrieval.retrieve import Hit
     from skillwright.spec.model import SkillSpec
 
 __all__ = [
+    "CapabilityChoices",
     "CapabilityLoaded",
     "EnrichProgress",
     "GenerationEvent",
@@ -58,6 +59,16 @@ class CapabilityLoaded(Message):
     load: CapabilityLoad
     summary: RenderableType
     """The engine's readable summary (``render_capability``)."""
+
+
+@dataclass
+class CapabilityChoices(Message):
+    """A capability file holds several capabilities; the user chooses one."""
+
+    path: Path
+    choices: list[CapabilityChoice]
+    wanted: str | None = None
+    """The IRI asked for that matched none or several of them, if one was."""
 
 
 @dataclass

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import json
+import threading
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from skillwright.errors import FileFormatError
+from skillwright.errors import FileFormatError, OperationCancelledError
 from skillwright.interfaces.inventory import Description, MessageField
 from skillwright.interfaces.sources.report import (
     definitions_from_details,
@@ -390,3 +391,25 @@ def test_report_json_is_detected_by_load_inventory(raw_report: Path, tmp_path: P
     other.write_text(json.dumps({"a": 1}), encoding="utf-8")
     with pytest.raises(FileFormatError, match=r"neither a skillwright inventory .* nor a report"):
         load_inventory(other)
+
+
+def test_a_cancelled_import_stops_between_entries(monkeypatch: pytest.MonkeyPatch) -> None:
+    from skillwright.interfaces.sources import report
+
+    cancel = threading.Event()
+    imported: list[str] = []
+    real = report._interfaces_of
+
+    def import_then_cancel(entry: dict[str, Any], *args: Any) -> Any:
+        imported.append(entry["name"])
+        cancel.set()  # Esc while the first entry is being read
+        return real(entry, *args)
+
+    monkeypatch.setattr(report, "_interfaces_of", import_then_cancel)
+    entries = [
+        {"name": name, "type": "topic", "interfaces": [{"name": "std_msgs/msg/String"}]}
+        for name in ("/a", "/b", "/c")
+    ]
+    with pytest.raises(OperationCancelledError, match=r"reading r\.json cancelled"):
+        inventory_from_report(_report(entries), "r.json", cancel=cancel)
+    assert imported == ["/a"]

@@ -12,12 +12,14 @@ from __future__ import annotations
 
 import base64
 import re
+import threading
 from collections.abc import Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
+from skillwright.cancel import raise_if_cancelled
 from skillwright.errors import FileFormatError, InputFileNotFoundError, InvalidArgumentError
 from skillwright.interfaces.infrastructure import classify
 from skillwright.interfaces.inventory import (
@@ -262,7 +264,7 @@ class _Channel:
 
 
 def _read_files(
-    files: Sequence[Path], mode: ReadMode
+    files: Sequence[Path], mode: ReadMode, cancel: threading.Event | None = None
 ) -> tuple[list[tuple[Path, McapFile]], list[SourceFile]]:
     """Reads every file; returns the readable ones and a record of the unreadable ones.
 
@@ -273,6 +275,7 @@ def _read_files(
     from skillwright.core import read_mcap
 
     def read(path: Path) -> McapFile | FileFormatError:
+        raise_if_cancelled(cancel, f"reading {path}")
         try:
             return read_mcap(path, mode)
         except FileFormatError as error:
@@ -531,8 +534,11 @@ def _classify_channel(topic: str) -> tuple[InterfaceKind, str, str]:
     return "topic", topic, "messages"
 
 
-def build_interfaces(channels: Sequence[_Channel]) -> list[Interface]:
-    """Groups recorded channels into topic, service and action entries."""
+def build_interfaces(
+    channels: Sequence[_Channel], cancel: threading.Event | None = None
+) -> list[Interface]:
+    """Groups recorded channels into topic, service and action entries; ``cancel`` is
+    looked at before each entry's definitions are parsed."""
     groups: dict[tuple[InterfaceKind, str], list[tuple[str, _Channel]]] = {}
     for channel in channels:
         kind, name, role = _classify_channel(channel.topic)
@@ -542,6 +548,7 @@ def build_interfaces(channels: Sequence[_Channel]) -> list[Interface]:
 
     interfaces: list[Interface] = []
     for (kind, key_name), members in groups.items():
+        raise_if_cancelled(cancel, "reading the recording")
         name = key_name.split("\0", 1)[0]
         chans = [c for _, c in members]
         notes = [note for c in chans for note in _channel_notes(c)]
@@ -687,13 +694,15 @@ class BagSource(InterfaceSource):
     path: Path
     mode: ReadMode = "auto"
     resource_name: str | None = None
+    cancel: threading.Event | None = field(default=None, compare=False, repr=False)
+    """Looked at between files, between interfaces and before filling in definitions."""
 
     kind = "rosbag2"
 
     def discover(self) -> Inventory:
         """Reads the recording (see :func:`discover_bag`)."""
         recording = resolve_recording(self.path)
-        readable, unreadable = _read_files(recording.files, self.mode)
+        readable, unreadable = _read_files(recording.files, self.mode, self.cancel)
         results = [r for _, r in readable]
         channels = _merge_channels(results)
         if recording.metadata is not None:
@@ -727,22 +736,27 @@ class BagSource(InterfaceSource):
         name = self.resource_name or (
             recording.location.stem if recording.kind == "mcap" else recording.location.name
         )
-        interfaces = build_interfaces(channels)
+        interfaces = build_interfaces(channels, self.cancel)
         # Channels without a schema (or with an empty one) still name their type.
-        filled = fill_missing_definitions(interfaces, source.ros_distro)
+        filled = fill_missing_definitions(interfaces, source.ros_distro, cancel=self.cancel)
         if filled:
             source.notes.append(filled_note(filled))
         return Inventory(resource=Resource(name=name), sources=[source], interfaces=interfaces)
 
 
 def discover_bag(
-    path: str | Path, mode: ReadMode = "auto", resource_name: str | None = None
+    path: str | Path,
+    mode: ReadMode = "auto",
+    resource_name: str | None = None,
+    *,
+    cancel: threading.Event | None = None,
 ) -> Inventory:
     """The inventory of an ``.mcap`` file or rosbag2 folder.
 
     ``mode`` is passed to the Rust reader: ``auto`` (summary when complete, else scan),
     ``scan`` or ``full``. Damaged files give a partial inventory; the source's files say
     where they broke. Raises ``InputFileNotFoundError``, ``InvalidArgumentError`` (no
-    .mcap files) or ``FileFormatError`` (not MCAP, bad metadata.yaml).
+    .mcap files) or ``FileFormatError`` (not MCAP, bad metadata.yaml); with ``cancel``
+    set, ``OperationCancelledError`` before the next file or interface.
     """
-    return BagSource(Path(path), mode, resource_name).discover()
+    return BagSource(Path(path), mode, resource_name, cancel).discover()

@@ -21,12 +21,14 @@ from __future__ import annotations
 
 import json
 import re
+import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any, Final
 
+from skillwright.cancel import raise_if_cancelled
 from skillwright.errors import FileFormatError, InputFileError
 from skillwright.interfaces.infrastructure import classify
 from skillwright.interfaces.inventory import (
@@ -546,17 +548,23 @@ def _interfaces_of(
 
 
 def inventory_from_report(
-    document: object, where: str, resource_name: str | None = None
+    document: object,
+    where: str,
+    resource_name: str | None = None,
+    *,
+    cancel: threading.Event | None = None,
 ) -> Inventory:
     """The inventory of a parsed report; ``where`` names the file in error messages.
 
     Raises :class:`FileFormatError` naming the file and the JSON path of the bad entry.
+    ``cancel`` is looked at before each entry (see :mod:`skillwright.cancel`).
     """
     if not is_report(document):
         raise FileFormatError(f"{where}: not a reference-tool report (no 'ros2_control_entities')")
     assert isinstance(document, dict)
     interfaces: list[Interface] = []
     for path, section_kind, entry in _entries(document, where):
+        raise_if_cancelled(cancel, f"reading {where}")
         if not isinstance(entry, dict):
             raise FileFormatError(f"{where}: {path}: expected an object {{name, type, interfaces}}")
         name = _text(entry, "name", where, path)
@@ -575,7 +583,7 @@ def inventory_from_report(
     # Stable: types of one name keep the report's order, so export gives them back as read.
     interfaces.sort(key=lambda i: (_KIND_ORDER[i.kind], i.name))
     # Entries without details still name their type; the report says nothing of the distro.
-    filled = fill_missing_definitions(interfaces)
+    filled = fill_missing_definitions(interfaces, cancel=cancel)
     timestamp = document.get("timestamp")
     described = sum(i.description is not None for i in interfaces)
     notes = []

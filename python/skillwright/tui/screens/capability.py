@@ -1,10 +1,15 @@
-"""The Capability tab: the workspace's capability models and the summary of the chosen one."""
+"""The Capability tab: the workspace's capability models and the summary of the chosen one.
+
+A file that holds several capabilities shows them in a list above the summary (label, local
+name, IRI); the one chosen is kept in the session with the file.
+"""
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterable
 from pathlib import Path
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from rich.console import RenderableType
 from rich.text import Text
@@ -12,16 +17,31 @@ from textual import on, work
 from textual.app import ComposeResult, SystemCommand
 from textual.binding import Binding, BindingType
 from textual.containers import Horizontal, Vertical, VerticalScroll
-from textual.widgets import Button, Input, Label, LoadingIndicator, OptionList, Static
+from textual.widgets import Button, Label, LoadingIndicator, OptionList, Static, TabbedContent
 from textual.widgets.option_list import Option
-from textual.worker import Worker, get_current_worker
+from textual.worker import get_current_worker
 
-from skillwright.errors import SkillwrightError
-from skillwright.tui.messages import CapabilityLoaded, JobFailed
+from skillwright.errors import (
+    CapabilitySelectionError,
+    OperationCancelledError,
+    SkillwrightError,
+)
+from skillwright.tui.jobs import EngineJob
+from skillwright.tui.messages import CapabilityChoices, CapabilityLoaded, JobFailed
 from skillwright.tui.screens.base import Pane
 from skillwright.tui.screens.open_path import OpenPathScreen
 
-__all__ = ["CapabilityPane"]
+if TYPE_CHECKING:
+    from skillwright.capability.model import CapabilityChoice
+
+__all__ = ["CapabilityPane", "choice_prompt"]
+
+
+def choice_prompt(choice: CapabilityChoice) -> Text:
+    """How a capability is offered in the list: label and local name, its IRI below."""
+    return Text.assemble(
+        (choice.label, "bold"), "  ", choice.name, "\n", (choice.iri, "dim"), no_wrap=False
+    )
 
 
 class CapabilityPane(Pane):
@@ -36,7 +56,8 @@ class CapabilityPane(Pane):
 
     def __init__(self) -> None:
         super().__init__(id="capability-pane")
-        self._worker: Worker[None] | None = None
+        self._job = EngineJob()
+        self._path: Path | None = None
         self.summary: RenderableType = ""
         """The engine's summary of the loaded capability, as shown."""
 
@@ -45,15 +66,11 @@ class CapabilityPane(Pane):
             with Vertical(id="capability-side"):
                 yield Label("Capabilities in the workspace", classes="section")
                 yield OptionList(id="capability-list")
-                yield Input(
-                    placeholder="IRI, if the file has several",
-                    id="capability-iri",
-                    compact=True,
-                )
                 yield Button("Open file… ^O", id="capability-open", compact=True)
             with VerticalScroll(id="capability-view"):
                 yield LoadingIndicator(id="capability-loading")
                 yield Static("", id="capability-status", markup=False)
+                yield OptionList(id="capability-choices")
                 yield Static(
                     "Choose a capability model on the left (Enter), or open any file with Ctrl+O.",
                     id="capability-summary",
@@ -62,7 +79,7 @@ class CapabilityPane(Pane):
 
     def on_mount(self) -> None:
         self.query_one("#capability-loading").display = False
-        self.query_one("#capability-iri", Input).value = self.sw.session.capability_iri or ""
+        self.query_one("#capability-choices").display = False
         self.refresh_list()
         stored = self.sw.session.capability
         if stored:
@@ -90,13 +107,11 @@ class CapabilityPane(Pane):
         if event.option.id:
             self.load(Path(event.option.id))
 
-    @on(Input.Submitted, "#capability-iri")
-    def _iri_submitted(self) -> None:
-        self.action_reload()
-
-    @on(Input.Changed, "#capability-iri")
-    def _iri_changed(self, event: Input.Changed) -> None:
-        self.sw.update_session(capability_iri=event.value.strip() or None)
+    @on(OptionList.OptionSelected, "#capability-choices")
+    def _choice_selected(self, event: OptionList.OptionSelected) -> None:
+        if event.option.id and self._path is not None:
+            self.sw.update_session(capability_iri=event.option.id)
+            self.load(self._path)
 
     @on(Button.Pressed, "#capability-open")
     def action_open_file(self) -> None:
@@ -118,20 +133,32 @@ class CapabilityPane(Pane):
             self.load(path)
 
     def load(self, path: Path) -> None:
-        """Reads ``path`` in a worker; the summary follows when it is done."""
-        self.sw.update_session(capability=self.sw.workspace.relative(path))
+        """Reads ``path`` in a worker; the summary follows when it is done.
+
+        The capability chosen earlier is kept for the same file and forgotten for another.
+        """
+        relative = self.sw.workspace.relative(path)
+        if relative != self.sw.session.capability:
+            self.sw.update_session(capability=relative, capability_iri=None)
+        self._path = path
         self.query_one("#capability-loading").display = True
         self.query_one("#capability-status", Static).update(f"reading {path} …")
-        self._worker = self._read(path, self.sw.session.capability_iri)
+        iri = self.sw.session.capability_iri
+        self._job.start(lambda cancel: self._read(path, iri, cancel))
 
     @work(thread=True, exclusive=True, group="capability", exit_on_error=False)
-    def _read(self, path: Path, iri: str | None) -> None:
+    def _read(self, path: Path, iri: str | None, cancel: threading.Event) -> None:
         # rdflib and pydantic load here, in the worker, on first use.
         from skillwright.capability.reader import load_capability
         from skillwright.capability.render import render_capability
 
         try:
-            load = load_capability(path, capability_iri=iri)
+            load = load_capability(path, capability_iri=iri, cancel=cancel)
+        except OperationCancelledError:
+            return  # the pane already says so, or a newer read replaced this one
+        except CapabilitySelectionError as error:
+            self.post_message(CapabilityChoices(path, error.choices, iri))
+            return
         except SkillwrightError as error:
             self.fail(str(error))
             return
@@ -141,8 +168,7 @@ class CapabilityPane(Pane):
             self.post_message(CapabilityLoaded(path, load, render_capability(load)))
 
     def cancel_job(self) -> bool:
-        if self._worker is not None and self._worker.is_running:
-            self._worker.cancel()
+        if self._job.stop():
             self.query_one("#capability-loading").display = False
             self.query_one("#capability-status", Static).update("cancelled")
             return True
@@ -158,14 +184,59 @@ class CapabilityPane(Pane):
         status.set_class(bool(warnings), "warning")
         self.summary = message.summary
         self.query_one("#capability-summary", Static).update(message.summary)
+        self._show_choices(message.load.choices, message.load.capability.iri)
         self.sw.loaded.capability_path = message.path
         self.sw.loaded.capability = message.load
         self.sw.capability_changed()
+
+    def on_capability_choices(self, message: CapabilityChoices) -> None:
+        where = self.sw.workspace.relative(message.path)
+        if len(message.choices) == 1:
+            # The choice saved earlier is gone from the file and one capability is left.
+            self.notify(
+                f"{message.wanted} is no longer in {where}; reading its only capability",
+                title="Capability",
+                severity="warning",
+                markup=False,
+            )
+            self.sw.update_session(capability_iri=None)
+            self.load(message.path)
+            return
+        self.query_one("#capability-loading").display = False
+        status = self.query_one("#capability-status", Static)
+        status.set_class(False, "error")
+        status.set_class(True, "warning")
+        count = len(message.choices)
+        if message.wanted:
+            status.update(
+                f"{message.wanted} does not name one of the {count} capabilities in {where}: "
+                "choose one (Enter)"
+            )
+        else:
+            status.update(f"{where} holds {count} capabilities: choose one (Enter)")
+        self.summary = ""
+        self.query_one("#capability-summary", Static).update("")
+        self._show_choices(message.choices, None)
+        # Focusing a widget of a hidden tab would switch to it; only take the focus if shown.
+        if self.sw.query_one("#tabs", TabbedContent).active == "capability":
+            self.query_one("#capability-choices", OptionList).focus()
+        self.sw.loaded.capability = None
+        self.sw.loaded.capability_path = None
+
+    def _show_choices(self, choices: list[CapabilityChoice], chosen: str | None) -> None:
+        picker = self.query_one("#capability-choices", OptionList)
+        picker.clear_options()
+        picker.display = len(choices) > 1
+        if picker.display:
+            picker.add_options(Option(choice_prompt(c), id=c.iri) for c in choices)
+            iris = [c.iri for c in choices]
+            picker.highlighted = iris.index(chosen) if chosen in iris else 0
 
     def on_job_failed(self, message: JobFailed) -> None:
         if message.job != self.job:
             return
         self.query_one("#capability-loading").display = False
+        self.query_one("#capability-choices").display = False
         status = self.query_one("#capability-status", Static)
         status.set_class(False, "warning")
         status.set_class(True, "error")

@@ -29,7 +29,7 @@ workspace (`.skillwright/session.json`) as you go and restored on the next start
 | Ctrl+Q | quit |
 
 **Capability** — pick a model from the workspace list (Enter), or Ctrl+O to open any file.
-A file holding several capabilities needs the capability's IRI or local name in the IRI field.
+A file holding several capabilities lists them above the summary: choose one with Enter.
 
 **Specification** — name, description, skill interface and one text per PackML acting state
 (`execute` is required). Checked as you type. Ctrl+S saves (JSON or YAML by the file's

@@ -15,9 +15,10 @@ from textual.binding import Binding, BindingType
 from textual.containers import Horizontal, VerticalScroll
 from textual.coordinate import Coordinate
 from textual.widgets import Button, Checkbox, DataTable, Input, ProgressBar, Select, Static
-from textual.worker import Worker, get_current_worker
+from textual.worker import get_current_worker
 
-from skillwright.errors import SkillwrightError
+from skillwright.errors import OperationCancelledError, SkillwrightError
+from skillwright.tui.jobs import EngineJob
 from skillwright.tui.messages import EnrichProgress, InventoryEnriched, InventoryLoaded, JobFailed
 from skillwright.tui.screens.base import Pane
 from skillwright.tui.screens.open_path import OpenPathScreen
@@ -82,9 +83,8 @@ class InterfacesPane(Pane):
 
     def __init__(self) -> None:
         super().__init__(id="interfaces-pane")
-        self._load_worker: Worker[None] | None = None
-        self._enrich_worker: Worker[None] | None = None
-        self._enrich_cancel = threading.Event()
+        self._load_job = EngineJob()
+        self._enrich_job = EngineJob()
         self.shown: list[Interface] = []
         """The interfaces in the table, in table order."""
 
@@ -164,14 +164,16 @@ class InterfacesPane(Pane):
     def load(self, source: Path) -> None:
         """Reads ``source`` in a worker."""
         self.query_one("#interfaces-status", Static).update(f"reading {source} …")
-        self._load_worker = self._read(source)
+        self._load_job.start(lambda cancel: self._read(source, cancel))
 
     @work(thread=True, exclusive=True, group="interfaces", exit_on_error=False)
-    def _read(self, source: Path) -> None:
+    def _read(self, source: Path, cancel: threading.Event) -> None:
         from skillwright.interfaces.load import load_inventory
 
         try:
-            inventory = load_inventory(source)
+            inventory = load_inventory(source, cancel=cancel)
+        except OperationCancelledError:
+            return  # the pane already says so, or a newer read replaced this one
         except SkillwrightError as error:
             self.fail(str(error))
             return
@@ -184,7 +186,9 @@ class InterfacesPane(Pane):
         self.query_one("#interfaces-status", Static).update(
             "discovering the live ROS 2 graph (until two snapshots agree, at most 10 s) …"
         )
-        self._load_worker = self._discover_live(self.sw.workspace.root)
+        # Live discovery does not take the switch yet: cancelling it only drops its result.
+        root = self.sw.workspace.root
+        self._load_job.start(lambda _cancel: self._discover_live(root))
 
     @work(thread=True, exclusive=True, group="interfaces", exit_on_error=False)
     def _discover_live(self, root: Path) -> None:
@@ -316,7 +320,7 @@ class InterfacesPane(Pane):
         if inventory is None or source is None:
             self.fail("load an interface source first (Ctrl+O)")
             return
-        if self._enrich_worker is not None and self._enrich_worker.is_running:
+        if self._enrich_job.running:
             return
         progress = self.query_one("#interfaces-progress", ProgressBar)
         progress.update(total=len(inventory.interfaces), progress=0)
@@ -324,13 +328,9 @@ class InterfacesPane(Pane):
         session = self.sw.session
         # The llm engine uses the model chosen for generation (or the configured default).
         model = None if session.skeleton else session.model
-        self._enrich_cancel = threading.Event()
-        self._enrich_worker = self._enrich(
-            inventory,
-            inventory_target(self.sw.workspace.root, source),
-            session.enrich_engine,
-            model,
-            self._enrich_cancel,
+        target = inventory_target(self.sw.workspace.root, source)
+        self._enrich_job.start(
+            lambda cancel: self._enrich(inventory, target, session.enrich_engine, model, cancel)
         )
 
     @work(thread=True, exclusive=True, group="enrich", exit_on_error=False)
@@ -416,12 +416,11 @@ class InterfacesPane(Pane):
         status.set_class(not message.cancelled, "error")
 
     def cancel_job(self) -> bool:
-        for worker in (self._enrich_worker, self._load_worker):
-            if worker is not None and worker.is_running:
-                worker.cancel()
-                if worker is self._enrich_worker:
-                    self._enrich_cancel.set()
+        for job in (self._enrich_job, self._load_job):
+            if job.stop():
                 self.query_one("#interfaces-progress").display = False
+                if job is self._load_job:
+                    self.query_one("#interfaces-status", Static).update("cancelled")
                 return True
         return False
 

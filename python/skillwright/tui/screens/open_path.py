@@ -12,7 +12,21 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Button, DirectoryTree, Input, Label, Static
 
-__all__ = ["OpenPathScreen"]
+__all__ = ["OpenPathScreen", "missing_part"]
+
+
+def missing_part(path: Path) -> str:
+    """Which step of the missing ``path`` does not exist, and the existing folder it is not in.
+
+    The dialog shows the reason first and this after it, so however long the path and
+    narrow the terminal, "no such file" stays in view; the full path is in the field above.
+    """
+    existing = path
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        return f"{existing} is a file, not a folder"
+    return f"{path.relative_to(existing).parts[0]} is not in {existing}"
 
 
 class OpenPathScreen(ModalScreen[Path | None]):
@@ -75,11 +89,15 @@ class OpenPathScreen(ModalScreen[Path | None]):
         path = Path(text).expanduser()
         if not path.is_absolute():
             path = self.start / path
-        if self.must_exist and not path.exists():
-            error.update(f"{path}: no such file or folder")
-            return
-        if not self.must_exist and not path.parent.is_dir():
-            error.update(f"{path.parent}: no such folder")
+        try:
+            if self.must_exist and not path.exists():
+                error.update(f"no such file or folder: {missing_part(path)}")
+                return
+            if not self.must_exist and not path.parent.is_dir():
+                error.update(f"no such folder: {missing_part(path.parent)}")
+                return
+        except OSError as problem:  # a folder on the way that may not be looked into
+            error.update(f"cannot look there: {problem.strerror} ({problem.filename})")
             return
         self.dismiss(path)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterable
 from typing import Any, ClassVar
 
@@ -11,9 +12,10 @@ from textual.app import ComposeResult, SystemCommand
 from textual.binding import Binding, BindingType
 from textual.containers import Horizontal
 from textual.widgets import Button, Checkbox, DataTable, Input, Label, Static
-from textual.worker import Worker, get_current_worker
+from textual.worker import get_current_worker
 
-from skillwright.errors import SkillwrightError
+from skillwright.errors import OperationCancelledError, SkillwrightError
+from skillwright.tui.jobs import EngineJob
 from skillwright.tui.messages import JobFailed, RetrievalFinished
 from skillwright.tui.screens.base import Pane
 from skillwright.tui.widgets.interface_detail import mark_of
@@ -41,7 +43,7 @@ class RetrievalPane(Pane):
 
     def __init__(self) -> None:
         super().__init__(id="retrieval-pane")
-        self._worker: Worker[None] | None = None
+        self._job = EngineJob()
         self._without_spec = False
         self.rows: list[str] = []
         """Interface names in table order."""
@@ -108,18 +110,20 @@ class RetrievalPane(Pane):
             "ranking …" if session.dense is False else "loading the embedding model and ranking …"
         )
         self._without_spec = spec_path is None
-        self._worker = self._rank(request)
+        self._job.start(lambda cancel: self._rank(request, cancel))
 
     def _known_names(self) -> set[str]:
         inventory = self.sw.loaded.inventory
         return {i.name for i in inventory.interfaces} if inventory is not None else set()
 
     @work(thread=True, exclusive=True, group="retrieval", exit_on_error=False)
-    def _rank(self, request: dict[str, Any]) -> None:
+    def _rank(self, request: dict[str, Any], cancel: threading.Event) -> None:
         from skillwright.pipeline import retrieve
 
         try:
-            result = retrieve(**request)
+            result = retrieve(**request, cancel=cancel)
+        except OperationCancelledError:
+            return  # the pane already says so, or a newer ranking replaced this one
         except SkillwrightError as error:
             self.fail(str(error))
             return
@@ -214,8 +218,7 @@ class RetrievalPane(Pane):
             self.query_one("#retrieval-status", Static).update(f"✗ {message.message}")
 
     def cancel_job(self) -> bool:
-        if self._worker is not None and self._worker.is_running:
-            self._worker.cancel()
+        if self._job.stop():
             self.query_one("#retrieval-status", Static).update("cancelled")
             return True
         return False
