@@ -364,8 +364,8 @@ def _select(choices: Sequence[CapabilityChoice], wanted: str | None, source: Pat
         if len(choices) == 1:
             return 0
         raise CapabilitySelectionError(
-            f"{source} holds {len(choices)} capabilities; choose one with --capability IRI:\n"
-            + listing,
+            f"{source} holds {len(choices)} capabilities; choose one by its IRI (--capability-iri "
+            "IRI for generate and retrieve, --capability IRI for capability show):\n" + listing,
             choices,
         )
     matches = [i for i, choice in enumerate(choices) if wanted in (choice.iri, choice.name)]
