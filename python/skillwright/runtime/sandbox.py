@@ -148,7 +148,34 @@ class SandboxProcess:
                     "max_rss_mb": round(usage.ru_maxrss / 1024, 1),
                 }
         self.exit_status = self.process.returncode
+        # The skill runs in a process the child forked (in its own PID namespace where the
+        # kernel allows); SIGKILL reaches it at once but it may take a moment to die on a busy
+        # machine. Nothing of the run may outlive close(), so wait until the group is gone.
+        _wait_until_group_gone(self.process.pid)
         shutil.rmtree(self.temp, ignore_errors=True)
+
+
+def _live_members(group: int) -> list[int]:
+    """Processes of process group ``group`` that are not zombies (from /proc)."""
+    members = []
+    for entry in os.scandir("/proc"):
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = Path(entry.path, "stat").read_bytes()
+        except OSError:
+            continue
+        # Fields after the command name (which may hold spaces): state ppid pgrp ...
+        fields = stat[stat.rfind(b")") + 2 :].split()
+        if len(fields) > 2 and int(fields[2]) == group and fields[0] != b"Z":
+            members.append(int(entry.name))
+    return members
+
+
+def _wait_until_group_gone(group: int, timeout: float = 5.0) -> None:
+    deadline = time.monotonic() + timeout
+    while _live_members(group) and time.monotonic() < deadline:
+        time.sleep(0.01)
 
 
 def _environment(temp: Path, marker: str) -> dict[str, str]:
