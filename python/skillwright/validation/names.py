@@ -21,28 +21,12 @@ import difflib
 import symtable
 from collections.abc import Iterator
 
+from skillwright.spec.model import PACKML_STATES
 from skillwright.validation.model import Finding
 
 __all__ = ["RCLPY_API", "check_names"]
 
-PYSKILLUP_NAMES = frozenset(
-    {
-        "skill",
-        "skill_parameter",
-        "skill_output",
-        "starting",
-        "execute",
-        "completing",
-        "holding",
-        "unholding",
-        "suspending",
-        "unsuspending",
-        "stopping",
-        "aborting",
-        "clearing",
-        "resetting",
-    }
-)
+PYSKILLUP_NAMES = frozenset({"skill", "skill_parameter", "skill_output", *PACKML_STATES})
 """What ``from pyskillup.decorators.decorators import *`` provides."""
 
 _LOGGER = frozenset(
