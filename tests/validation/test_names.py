@@ -44,7 +44,9 @@ def _check(source: str, inputs: tuple[Capability, SkillSpec]) -> CheckReport:
         (
             "            time.sleep(0.05)\n\n    @execute",
             "            self.odom_subscription.wait_for_message(timeout_sec=0.05)\n\n    @execute",
-            "self.odom_subscription is a Subscription, which has no 'wait_for_message' in rclpy",
+            "self.odom_subscription is a Subscription, which has no 'wait_for_message' in rclpy; "
+            "its callback keeps the latest message in self.odom_msg: wait for the first one with "
+            'self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")',
         ),
         (
             "self.cmd_vel_publisher.publish(command)",

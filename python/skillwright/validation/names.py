@@ -312,8 +312,23 @@ _KIND_HINTS = {
 }
 
 
+def _latest_message_hint(receiver: ast.expr, defined: set[str]) -> str | None:
+    """For ``self.X_subscription`` whose callback keeps ``self.X_msg`` (the skeleton's way):
+    the statement that waits for it, which a small model copies more readily than advice."""
+    name = _self_attribute(receiver)
+    if name is None or not name.endswith("_subscription"):
+        return None
+    latest = name.removesuffix("_subscription") + "_msg"
+    if latest not in defined:
+        return None
+    return (
+        f"; its callback keeps the latest message in self.{latest}: wait for the first one with "
+        f'self._wait_until(lambda: self.{latest} is not None, 2.0, "{latest}")'
+    )
+
+
 def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
-    _, kinds = _class_facts(cls)
+    defined, kinds = _class_facts(cls)
     findings = []
     for node in ast.walk(cls):
         if not isinstance(node, ast.Attribute) or not isinstance(node.ctx, ast.Load):
@@ -322,7 +337,11 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
         if kind is None or node.attr in RCLPY_API[kind]:
             continue
         close = difflib.get_close_matches(node.attr, sorted(RCLPY_API[kind]), n=1, cutoff=0.6)
-        hint = f"; did you mean {close[0]}?" if close else _KIND_HINTS.get(kind, "")
+        hint = (
+            f"; did you mean {close[0]}?"
+            if close
+            else _latest_message_hint(node.value, defined) or _KIND_HINTS.get(kind, "")
+        )
         findings.append(
             _finding(
                 node,
