@@ -171,7 +171,8 @@ def test_a_state_with_errors_is_asked_again_with_its_findings(case: _Case) -> No
     authored = case.write(model)
     assert model.asked[-1] == "completing"
     repair = model.prompts[-1].messages[-1].content
-    assert repair.startswith("The checks found problems in `completing`:")
+    assert repair.startswith("Write `completing`: Log the requested")
+    assert "Earlier answers to this had these problems; avoid them:\n- " in repair
     assert "self.logger" in repair
     assert "log with self.node.get_logger()" in repair
     tries = [a for a in authored.attempts if a.target == "completing"]
@@ -183,15 +184,62 @@ def test_a_state_with_errors_is_asked_again_with_its_findings(case: _Case) -> No
     assert "self.logger" not in authored.code
 
 
-def test_a_repair_branches_off_after_the_first_answer_of_its_method(case: _Case) -> None:
+def test_a_repair_branches_off_before_the_answer_it_repairs_so_it_cannot_copy_it(
+    case: _Case,
+) -> None:
     wrong = """        self.logger.info("done")\n```"""
     model = MethodScript({**GOOD, "completing": [wrong, COMPLETING]})
     case.write(model)
     repair = model.prompts[-1]
     own = repair.messages[repair.prefix_messages :]
-    # starting, execute, completing asked and answered, then the repair request.
-    assert [m.role for m in own] == ["user", "assistant"] * 3 + ["user"]
-    assert 'self.logger.info("done")' in own[-2].content
+    # starting and execute asked and answered, then completing asked again.
+    assert [m.role for m in own] == ["user", "assistant"] * 2 + ["user"]
+    answers = [m.content for m in own if m.role == "assistant"]
+    assert not any('self.logger.info("done")' in answer for answer in answers)
+
+
+def test_a_repair_continues_the_answer_from_the_statement_with_the_first_error(
+    case: _Case,
+) -> None:
+    wrong = EXECUTE.replace(
+        "        self._stop_base()\n", "        self.cmd_vel_publisher.send(Twist())\n"
+    )
+    model = MethodScript(
+        {
+            **GOOD,
+            "execute": [
+                wrong,
+                "        self._stop_base()\n" + "\n".join(EXECUTE.splitlines()[-3:]),
+            ],
+        }
+    )
+    authored = case.write(model)
+    repair = model.prompts[-1]
+    assert model.asked[-1] == "execute"
+    kept = repair.answer_prefix.removeprefix("```python\n")
+    assert kept.startswith("    @execute\n    def execute(self) -> None:\n")
+    assert kept.endswith("travelled = math.hypot(here.x - start.x, here.y - start.y)\n")
+    assert ".send(" not in kept
+    tries = [a for a in authored.attempts if a.target == "execute"]
+    assert tries[1].kept_lines == EXECUTE.splitlines().index("        self._stop_base()")
+    assert tries[1].errors == 0
+    assert authored.code.count("travelled = math.hypot(") == 1
+    assert ".send(" not in authored.code
+
+
+def test_later_repairs_are_told_every_problem_found_so_far(case: _Case) -> None:
+    first = """        self.logger.info("done")\n```"""
+    second = """        self.log_it("done")\n```"""
+    model = MethodScript({**GOOD, "completing": [first, second, COMPLETING]})
+    authored = case.write(model, attempts=3)
+    last = model.prompts[-1].messages[-1].content
+    assert "self.logger" in last
+    assert "self.log_it" in last
+    assert [a.chosen for a in authored.attempts if a.target == "completing"] == [
+        False,
+        False,
+        True,
+    ]
 
 
 def test_answers_are_bounded_and_later_repairs_sample_with_a_seed(case: _Case) -> None:
@@ -264,6 +312,26 @@ def test_a_helper_the_states_call_is_asked_for_and_kept(case: _Case) -> None:
         model.prompts[5].messages[-1].content
     )
     assert "    def _distance(self, a, b) -> float:" in authored.code
+    assert not [f for f in authored.findings if f.severity == "error"], authored.findings
+
+
+def test_a_callback_the_states_hand_to_a_timer_is_asked_for_as_a_helper(case: _Case) -> None:
+    uses_callback = EXECUTE.replace(
+        "        command = Twist()\n",
+        "        command = Twist()\n"
+        "        self.hold_timer = self.node.create_timer(0.05, self._hold_command)\n",
+    )
+    helper = """) -> None:
+        self.cmd_vel_publisher.publish(Twist())
+```"""
+    model = MethodScript({**GOOD, "execute": [uses_callback], "_hold_command": [helper]})
+    authored = case.write(model)
+    assert model.asked[5] == "_hold_command"
+    assert model.prompts[5].messages[-1].content == (
+        "Write the helper `_hold_command` that `execute` hands over as a callback in "
+        "`self.node.create_timer(0.05, self._hold_command)`."
+    )
+    assert "    def _hold_command(self) -> None:" in authored.code
     assert not [f for f in authored.findings if f.severity == "error"], authored.findings
 
 

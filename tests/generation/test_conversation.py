@@ -93,19 +93,16 @@ def test_the_first_request_carries_the_card_and_later_ones_do_not() -> None:
     assert prompt.answer_prefix == "```python\n    @execute\n"
 
 
-def test_a_repair_keeps_the_turns_up_to_its_method_and_its_earlier_repairs() -> None:
+def test_a_repair_is_asked_where_its_method_was_first_asked_for() -> None:
     conversation = Conversation("card")
     for name in ("starting", "execute", "stopping"):
         conversation.turns.append(Turn(state_ask(name, "x"), f"    def {name}(self): ..."))
-    earlier = Turn(repair_ask("execute", ["a"]), "    def execute(self): ...")
-    prompt = conversation.prompt(
-        repair_ask("execute", ["b"]), "    def execute", upto=2, extra=[earlier]
-    )
+    ask = repair_ask(state_ask("execute", "Go."), ["a", "b"])
+    prompt = conversation.prompt(ask, "    def execute", upto=1)
     own = [m.content for m in prompt.messages[prompt.prefix_messages :]]
-    assert len(own) == 7
-    assert (
-        own[-1]
-        == "The checks found problems in `execute`:\n- b\nWrite `execute` again with these fixed."
+    assert len(own) == 3
+    assert own[-1] == (
+        "Write `execute`: Go.\nEarlier answers to this had these problems; avoid them:\n- a\n- b"
     )
     assert not any("stopping" in text for text in own)
 

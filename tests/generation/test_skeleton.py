@@ -203,6 +203,15 @@ def test_the_transform_tree_is_read_through_a_tf2_buffer_and_a_helper() -> None:
     ast.parse(code)
 
 
+def test_waiting_helpers_the_behaviour_calls_stay_when_no_call_interface_is_left() -> None:
+    capability, spec = shipped("get-distance-to-nearest-object")
+    skeleton = build_skeleton(capability, spec, [ODOM], helpers=["_result_of"])
+    assert skeleton.helpers == ["_wait_until", "_result_of"]
+    assert "    def _result_of(self, future, timeout: float, what: str):" in skeleton.code
+    assert "import time" in skeleton.code
+    ast.parse(skeleton.code)
+
+
 def test_services_and_actions_get_clients_and_are_released() -> None:
     capability, spec = shipped("navigate-to-point")
     code = build_skeleton(capability, spec, [NAVIGATE, SAVE_MAP]).code

@@ -88,6 +88,69 @@ def test_names_nothing_defines_are_errors_located_at_their_use(
     assert changed[:20] in source.splitlines()[finding.line - 1]
 
 
+def test_a_local_variable_other_methods_read_from_the_skill_is_found_where_it_is_made(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "        command = Twist()\n",
+        "        command = Twist()\n        timer = self.node.create_timer(0.05, self._travelled)\n",
+        1,
+    ).replace(
+        '        """Halt the base."""\n',
+        '        """Halt the base."""\n        self.timer.cancel()\n',
+        1,
+    )
+    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    assert [f.message for f in found] == [
+        "timer is a local variable of execute, but stopping read self.timer: "
+        "assign it as self.timer = ... here"
+    ]
+    assert "timer = self.node.create_timer" in source.splitlines()[found[0].line - 1]
+
+
+def test_a_local_variable_of_another_method_is_found_where_it_is_used(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        '{self.out_distance} m done")', '{self.out_distance} m done at {speed} m/s")', 1
+    )
+    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    assert [f.message for f in found] == [
+        "speed is a local variable of execute and does not exist here: use what execute "
+        "stored on the skill (it keeps self.start_x, self.start_y, self.out_distance, "
+        "self.out_linear_velocity), or get the value again here"
+    ]
+    assert "m done at {speed}" in source.splitlines()[found[0].line - 1]
+
+
+def test_an_invented_attribute_with_no_close_name_points_to_the_latest_messages(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        '{self.out_distance} m done")',
+        '{self.out_distance} m done, {self.measured_speed_now} m/s")',
+        1,
+    )
+    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    assert [f.message for f in found] == [
+        "self.measured_speed_now is never set in this class; the latest messages are in "
+        "self.odom_msg (Odometry): read the field from there"
+    ]
+
+
+def test_an_attribute_close_to_a_method_name_suggests_calling_the_method(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        '{self.out_distance} m done")', '{self.out_distance} m done, {self._travelled_m}")', 1
+    )
+    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    assert [f.message for f in found] == [
+        "self._travelled_m is never set in this class; did you mean the method "
+        "self._travelled(...)?"
+    ]
+
+
 def test_the_good_skill_uses_no_undefined_name(move_forward: tuple[Capability, SkillSpec]) -> None:
     assert not [f for f in _check(GOOD, move_forward).findings if f.check == "names"]
 

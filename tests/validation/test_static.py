@@ -357,3 +357,53 @@ def test_a_tf2_listener_counts_as_using_the_transform_tree(
     # On a robot without a transform tree the listener would never hear anything.
     without = messages(run(source, move_forward), "grounding")
     assert any(m.startswith("topic /tf does not exist on this robot") for m in without)
+
+
+def test_an_error_caught_and_ignored_where_the_spec_says_abort_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    old = "        deadline = time.time() + 2.0\n"
+    assert old in GOOD
+    swallowing = (
+        "        try:\n"
+        "            self._check_distance()\n"
+        "        except ValueError as error:\n"
+        "            self.node.get_logger().error(str(error))\n"
+    )
+    found = [f for f in run(GOOD.replace(old, swallowing + old), move_forward).findings]
+    failures = [f for f in found if f.check == "failures"]
+    assert [(f.severity, f.message) for f in failures] == [
+        (
+            "error",
+            "the specification says @starting aborts, but this handler catches ValueError and "
+            "carries on: log it if you like, then raise (a state that raises aborts the skill)",
+        )
+    ]
+    reraising = swallowing + "            raise\n"
+    found = run(GOOD.replace(old, reraising + old), move_forward).findings
+    assert not [f for f in found if f.check == "failures"]
+
+
+def test_an_error_ignored_where_the_spec_does_not_say_abort_is_a_warning(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    old = '        """Log requested and travelled distance."""\n'
+    assert old in GOOD
+    swallowing = old + (
+        "        try:\n"
+        "            self._check_distance()\n"
+        "        except Exception:\n"
+        "            return\n"
+    )
+    failures = [
+        f
+        for f in run(GOOD.replace(old, swallowing), move_forward).findings
+        if f.check == "failures"
+    ]
+    assert [(f.severity, f.message) for f in failures] == [
+        (
+            "warning",
+            "this handler catches Exception in @completing and carries on; check that the "
+            "skill should go on after it",
+        )
+    ]

@@ -9,10 +9,12 @@
    behaviour uses (:mod:`~skillwright.generation.assemble`), and the result is validated (the
    static checks, and whatever later stages the caller adds: run, simulation).
 4. Every method with an error — a finding on its lines, or an answer that failed outright —
-   is asked for again with its problems, within ``attempts`` per method: the second answer
-   greedy (sampled when the first looped or ran out of tokens), later ones sampled with a
-   fixed seed. The best answer per method by its findings
-   wins; every attempt is kept for the record.
+   is asked for again within ``attempts`` per method: its request once more with every
+   problem found so far, the answer prefilled with the latest answer's statements before its
+   first error (so the model continues where it went wrong, without the wrong lines to copy).
+   The second answer is greedy (sampled when the first looped or ran out of tokens), later
+   ones sampled with a fixed seed. The best answer per method by its findings wins; every
+   attempt is kept for the record.
 """
 
 from __future__ import annotations
@@ -125,7 +127,8 @@ class _Target:
     turn_index: int
     caller: str | None = None
     attempts: list[Attempt] = field(default_factory=list)
-    repairs: list[Turn] = field(default_factory=list)
+    problems: list[str] = field(default_factory=list)
+    """Every problem found in its answers so far, in order."""
 
 
 def _state_prefill(state: str, skeleton: Skeleton) -> str:
@@ -161,12 +164,10 @@ class _Author:
         conversation: Conversation,
         target: _Target,
         ask: str,
-        extra: Sequence[Turn],
-        *,
-        upto: int,
+        prefill: str,
     ) -> Attempt:
-        """Asks the model for one method after the first ``upto`` turns and ``extra``, and
-        judges what comes back."""
+        """Asks the model for one method after the turns before the target's, its answer
+        starting with ``prefill``, and judges what comes back."""
         self.check_cancel()
         number = len(target.attempts) + 1
         # Greedy decoding gives the first answer, and the first repair of an answer that was
@@ -179,7 +180,7 @@ class _Author:
         temperature = 0.0 if greedy else self.settings.repair_temperature
         seed = self.settings.seed + number
         self.emit(AttemptStarted(target.name, target.kind, number))
-        prompt = conversation.prompt(ask, target.prefill, upto=upto, extra=extra)
+        prompt = conversation.prompt(ask, prefill, upto=target.turn_index)
         options = GenerationOptions(
             max_tokens=self.settings.max_tokens, temperature=temperature, seed=seed, stop=STOP
         )
@@ -197,7 +198,9 @@ class _Author:
                 break
         self.check_cancel()
         response = "".join(parts)
-        finish, note, code = self._judge(target, response, stream.finish_reason, guard, looped)
+        finish, note, code = self._judge(
+            target, prefill + response, stream.finish_reason, guard, looped
+        )
         attempt = Attempt(
             target=target.name,
             kind=target.kind,
@@ -212,11 +215,12 @@ class _Author:
             completion_tokens=stream.completion_tokens or stream.completion_chunks,
             seconds=round(time.perf_counter() - started, 3),
             prefix_cache=stream.prefix_cache,
+            kept_lines=prefill.count("\n") - target.prefill.count("\n"),
         )
         target.attempts.append(attempt)
         self.log.append(
             f"===== user =====\n{ask}\n\n===== assistant (attempt {number}) =====\n"
-            f"```python\n{target.prefill}{response}"
+            f"```python\n{prefill}{response}"
         )
         self.emit(AttemptFinished(attempt))
         return attempt
@@ -224,7 +228,7 @@ class _Author:
     def _judge(
         self,
         target: _Target,
-        response: str,
+        text: str,
         reason: str | None,
         guard: RepetitionGuard,
         looped: bool,
@@ -238,7 +242,6 @@ class _Author:
                 "method",
                 None,
             )
-        text = target.prefill + response
         # The closing fence right after the prefilled lines (the method was complete with
         # them) is not preceded by a newline of the answer, so the stop strings miss it.
         fence_at = text.find("\n```")
@@ -273,26 +276,63 @@ def _syntax_note(text: str, name: str) -> str:
 _CALL = re.compile(r"self\.(_?[A-Za-z]\w*)\(")
 
 
+def _self_member(node: ast.AST) -> str | None:
+    if (
+        isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id == "self"
+    ):
+        return node.attr
+    return None
+
+
+_TAKES_CALLBACK = frozenset(
+    {"create_timer", "create_subscription", "create_service", "add_done_callback"}
+)
+"""rclpy calls whose positional arguments include a callback."""
+
+
+@dataclass(frozen=True)
+class _Missing:
+    name: str
+    caller: str
+    call: str
+    """The call that uses it, as source."""
+    callback: bool
+    """Handed over as an argument (a timer's or subscription's callback), not called."""
+
+
 def _missing_helpers(
     methods: dict[str, str], known: set[str], attributes: set[str]
-) -> list[tuple[str, str, str]]:
-    """(helper, caller, call source) for ``self.name(...)`` calls of methods nobody wrote."""
-    found: dict[str, tuple[str, str, str]] = {}
+) -> list[_Missing]:
+    """Methods nobody wrote that the behaviour calls (``self.name(...)``) or hands over as a
+    callback (``create_timer(0.05, self.name)``)."""
+    found: dict[str, _Missing] = {}
     for caller, text in methods.items():
         method = parse_method(text)
         if method is None:
             continue
         for node in ast.walk(method):
-            if (
-                isinstance(node, ast.Call)
-                and isinstance(node.func, ast.Attribute)
-                and isinstance(node.func.value, ast.Name)
-                and node.func.value.id == "self"
-            ):
-                name = node.func.attr
-                if name in known or name in attributes or name in found or name == "node":
+            if not isinstance(node, ast.Call):
+                continue
+            uses = [(_self_member(node.func), False)]
+            if isinstance(node.func, ast.Attribute) and node.func.attr in _TAKES_CALLBACK:
+                uses += [(_self_member(arg), True) for arg in node.args]
+            uses += [
+                (_self_member(keyword.value), True)
+                for keyword in node.keywords
+                if keyword.arg in {"callback", "target"}
+            ]
+            for name, callback in uses:
+                if (
+                    name is None
+                    or name in known
+                    or name in attributes
+                    or name in found
+                    or name == "node"
+                ):
                     continue
-                found[name] = (name, caller, ast.unparse(node))
+                found[name] = _Missing(name, caller, ast.unparse(node), callback)
     return list(found.values())[:_MAX_HELPERS]
 
 
@@ -332,6 +372,34 @@ def _problems(
         source = code_lines[finding.line - 1].strip() if 0 < finding.line <= len(code_lines) else ""
         out.append(f"`{source}`: {finding.message}" if source else finding.message)
     return out[:_MAX_PROBLEMS]
+
+
+def _resume_point(target: _Target, code: str, judgement: _Judgement, line: int) -> str:
+    """``code`` (an answer of ``target``) up to the statement of its body that holds the
+    assembled file's ``line``, or the target's own prefill when that cannot be told."""
+    statement = _body_statement_at(judgement, target.name, line)
+    method = parse_method(code)
+    if statement is None or method is None:
+        return target.prefill
+    key = ast.unparse(statement)
+    cut = next((s.lineno for s in method.body if ast.unparse(s) == key), None)
+    if cut is None:
+        return target.prefill
+    kept = "".join(code.splitlines(keepends=True)[: cut - 1])
+    return kept if len(kept) > len(target.prefill) else target.prefill
+
+
+def _body_statement_at(judgement: _Judgement, name: str, line: int) -> ast.stmt | None:
+    tree = ast.parse(judgement.assembly.code)
+    for cls in tree.body:
+        if isinstance(cls, ast.ClassDef) and cls.name == judgement.skeleton.class_name:
+            for member in cls.body:
+                if isinstance(member, ast.FunctionDef) and member.name == name:
+                    return next(
+                        (s for s in member.body if s.lineno <= line <= (s.end_lineno or s.lineno)),
+                        None,
+                    )
+    return None
 
 
 def _score(attempt: Attempt) -> tuple[int, int, int]:
@@ -390,9 +458,7 @@ class _Skill:
 
     def first_answer(self, target: _Target) -> None:
         self.targets[target.name] = target
-        attempt = self.author.answer(
-            self.conversation, target, target.ask, (), upto=target.turn_index
-        )
+        attempt = self.author.answer(self.conversation, target, target.ask, target.prefill)
         self.conversation.turns.append(
             Turn(target.ask, attempt.code or target.prefill + attempt.response)
         )
@@ -411,10 +477,11 @@ class _Skill:
             missing = _missing_helpers(written, known, _assigned_attributes(written))
             if not missing:
                 return
-            for name, caller, call in missing:
-                ask = helper_ask(name, caller, call)
+            for item in missing:
+                ask = helper_ask(item.name, item.caller, item.call, callback=item.callback)
                 turn = len(self.conversation.turns)
-                target = _Target(name, "helper", ask, f"    def {name}(self", turn, caller)
+                prefill = f"    def {item.name}(self"
+                target = _Target(item.name, "helper", ask, prefill, turn, item.caller)
                 self.first_answer(target)
 
     def judge(self, pick: _Pick) -> _Judgement:
@@ -445,28 +512,29 @@ class _Skill:
             attempt.warnings = len(mine) - attempt.errors
         return judgement
 
-    def failing(self, judgement: _Judgement) -> list[tuple[_Target, list[str]]]:
-        """Methods whose latest answer failed or has errors, with what to tell the model."""
+    def failing(self, judgement: _Judgement) -> list[tuple[_Target, list[str], str]]:
+        """Methods whose latest answer failed or has errors, with what to tell the model and
+        the start its repair continues from."""
         lines = judgement.assembly.code.splitlines()
         out = []
         for target in self.targets.values():
             last = target.attempts[-1]
             mine = judgement.mine(target.name)
             if last.code is None:
-                out.append((target, _problems(last, [], lines)))
+                out.append((target, _problems(last, [], lines), target.prefill))
             elif last.errors and mine is not None:
-                out.append((target, _problems(last, mine, lines)))
+                errors = [f.line for f in mine if f.severity == "error"]
+                start = _resume_point(target, last.code, judgement, min(errors))
+                out.append((target, _problems(last, mine, lines), start))
         return out
 
-    def repair(self, target: _Target, problems: list[str]) -> None:
-        # A repair branches off right after the method's first answer, followed by the earlier
-        # repairs of the same method, so the model sees its own attempts and what was wrong.
-        ask = repair_ask(target.name, problems)
-        attempt = self.author.answer(
-            self.conversation, target, ask, target.repairs, upto=target.turn_index + 1
-        )
+    def repair(self, target: _Target, problems: list[str], prefill: str) -> None:
+        # A repair branches off where the method was first asked for: the same request with
+        # everything found so far, continuing the latest answer up to its first error.
+        target.problems += [p for p in problems if p not in target.problems]
+        ask = repair_ask(target.ask, target.problems[-_MAX_PROBLEMS:])
+        attempt = self.author.answer(self.conversation, target, ask, prefill)
         attempt.problems = problems
-        target.repairs.append(Turn(ask, attempt.code or target.prefill + attempt.response))
 
 
 def author_skill(
@@ -492,8 +560,8 @@ def author_skill(
         failing = skill.failing(judgement)
         if not failing:
             break
-        for target, problems in failing:
-            skill.repair(target, problems)
+        for target, problems, prefill in failing:
+            skill.repair(target, problems, prefill)
         judgement = skill.judge(_latest)
     # The final file takes each method's best answer (fewest errors, then warnings).
     judgement = skill.judge(lambda t: _best(t) or _latest(t))

@@ -9,7 +9,9 @@ state), so the model only continues a method body and stops when the method ends
 
 A conversation only grows at its end while the states are written, so the model's context
 keeps everything before the new request: each turn costs the model its request and its
-answer, not the card again. A repair branches off after the answer it repairs.
+answer, not the card again. A repair branches off before the answer it repairs: the same
+request with the problems found, the answer prefilled with the earlier answer's lines before
+its first error.
 """
 
 from __future__ import annotations
@@ -88,18 +90,21 @@ def state_ask(state: str, text: str) -> str:
     return f"Write `{state}`: {' '.join(text.split())}"
 
 
-def helper_ask(name: str, caller: str, call: str) -> str:
-    """The request for a helper method the behaviour calls but nobody has written."""
+def helper_ask(name: str, caller: str, call: str, *, callback: bool = False) -> str:
+    """The request for a helper method the behaviour calls (or hands over as a callback, in
+    ``call``) but nobody has written."""
+    if callback:
+        return f"Write the helper `{name}` that `{caller}` hands over as a callback in `{call}`."
     return f"Write the helper `{name}` that `{caller}` calls as `{call}`."
 
 
-def repair_ask(target: str, problems: Sequence[str]) -> str:
-    """The request to write a method again, with what the checks found."""
+def repair_ask(ask: str, problems: Sequence[str]) -> str:
+    """The method's request again, with what the checks found in earlier answers to it.
+
+    The earlier answers themselves are not shown: a small model shown its own answer copies
+    it, mistakes and all (three answers of 311 identical tokens, the last one sampled)."""
     listed = "\n".join(f"- {problem}" for problem in problems)
-    return (
-        f"The checks found problems in `{target}`:\n{listed}\n"
-        f"Write `{target}` again with these fixed."
-    )
+    return f"{ask}\nEarlier answers to this had these problems; avoid them:\n{listed}"
 
 
 @dataclass
@@ -115,12 +120,10 @@ class Conversation:
         answer_prefix: str,
         *,
         upto: int | None = None,
-        extra: Sequence[Turn] = (),
     ) -> Prompt:
-        """The prompt for a new request after the first ``upto`` turns (default: all) and the
-        ``extra`` turns (earlier repairs of the same method), with the answer prefilled by
-        ``answer_prefix`` (the fence is added here)."""
-        history = [*(self.turns if upto is None else self.turns[:upto]), *extra]
+        """The prompt for a new request after the first ``upto`` turns (default: all), with
+        the answer prefilled by ``answer_prefix`` (the fence is added here)."""
+        history = self.turns if upto is None else self.turns[:upto]
         prefix = prefix_messages()
         messages = list(prefix)
         for index, turn in enumerate([*history, Turn(ask, "")]):

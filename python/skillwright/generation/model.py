@@ -99,6 +99,11 @@ class Attempt(BaseModel):
     problems: list[str] = Field(
         default_factory=list, description="What it was asked to fix (repair attempts)."
     )
+    kept_lines: int = Field(
+        default=0,
+        description="Lines of the earlier answer (before its first error) this repair was "
+        "given to continue from.",
+    )
     errors: int | None = Field(
         default=None, description="Errors the checks found in this method (null: not checked)."
     )

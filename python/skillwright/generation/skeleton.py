@@ -375,16 +375,22 @@ def _is_twist_publisher(interface: InterfaceRef) -> bool:
     )
 
 
-def skeleton_helpers(interfaces: Sequence[InterfaceRef]) -> dict[str, list[str]]:
+def skeleton_helpers(
+    interfaces: Sequence[InterfaceRef], wanted: Collection[str] = ()
+) -> dict[str, list[str]]:
     """Helper methods the behaviour may call, by name, as code lines (class indentation).
 
     They are written here, once and tested, so that a small model spends its tokens on
     behaviour: waiting with a deadline while callbacks run, waiting for a future (service
     responses, action goals and results) and commanding the base to stand still. Only the
     helpers the interfaces make useful are offered; unused ones are removed after generation.
+    The helpers that need no interface (waiting) are offered too when ``wanted`` names them:
+    the behaviour may call them on futures of its own after the interfaces they were first
+    offered for turned out unused.
     """
     helpers: dict[str, list[str]] = {}
-    if interfaces:
+    generic = {"_wait_until", "_result_of"} & set(wanted)
+    if interfaces or generic:
         helpers["_wait_until"] = [
             "    def _wait_until(self, condition, timeout: float, what: str) -> None:",
             '        """Waits until ``condition()`` is true while callbacks keep running; raises',
@@ -395,7 +401,7 @@ def skeleton_helpers(interfaces: Sequence[InterfaceRef]) -> dict[str, list[str]]
             '                raise RuntimeError(f"no {what} within {timeout:g} s")',
             "            time.sleep(0.02)",
         ]
-    if any(i.kind in {"service", "action"} for i in interfaces):
+    if "_result_of" in generic or any(i.kind in {"service", "action"} for i in interfaces):
         helpers["_result_of"] = [
             "    def _result_of(self, future, timeout: float, what: str):",
             '        """Waits for ``future`` (a service call, a goal, a result) and returns its',
@@ -437,6 +443,16 @@ def skeleton_helpers(interfaces: Sequence[InterfaceRef]) -> dict[str, list[str]]
             ]
         helpers["_stop_base"] = lines
     return helpers
+
+
+_HELPER_NEEDS = {"_result_of": "_wait_until"}
+"""Skeleton helpers that call another one."""
+
+
+def _with_dependencies(helpers: Collection[str]) -> set[str]:
+    wanted = set(helpers)
+    wanted |= {_HELPER_NEEDS[h] for h in helpers if h in _HELPER_NEEDS}
+    return wanted
 
 
 def _helpers(out: _Writer, helpers: dict[str, list[str]]) -> None:
@@ -484,8 +500,9 @@ def build_skeleton(
     skill_iri = mint_skill_iri(capability, spec.name)
     parameters = _parameters(capability.inputs) + _parameters(capability.outputs)
 
-    offered = skeleton_helpers(interfaces)
-    helper_code = {n: c for n, c in offered.items() if helpers is None or n in helpers}
+    wanted = None if helpers is None else _with_dependencies(helpers)
+    offered = skeleton_helpers(interfaces, wanted or ())
+    helper_code = {n: c for n, c in offered.items() if wanted is None or n in wanted}
     prologues: dict[str, list[str]] = {}
     epilogues: dict[str, list[str]] = {}
     if "starting" in spec.states:

@@ -186,30 +186,73 @@ def _global_uses(table: symtable.SymbolTable) -> Iterator[tuple[str, symtable.Sy
         yield from _global_uses(child)
 
 
+_Scope = ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda
+
+
+def _scope_uses(tree: ast.Module, name: str, line: int) -> ast.Name | None:
+    """The first use of ``name`` in the function (or lambda) that starts on ``line``."""
+    for scope in ast.walk(tree):
+        if isinstance(scope, _Scope) and scope.lineno == line:
+            for node in ast.walk(scope):
+                if isinstance(node, ast.Name) and node.id == name:
+                    return node
+    return None
+
+
+def _stores_of(method: ast.FunctionDef | ast.AsyncFunctionDef) -> list[str]:
+    names = []
+    for node in ast.walk(method):
+        if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store):
+            name = _self_attribute(node)
+            if name is not None and f"self.{name}" not in names:
+                names.append(f"self.{name}")
+    return names
+
+
+def _undefined_message(name: str, tree: ast.Module) -> str:
+    for cls in tree.body:
+        if isinstance(cls, ast.ClassDef):
+            local = _locals_by_method(cls)
+            if name in local:
+                owner, _ = local[name]
+                method = next(
+                    m
+                    for m in cls.body
+                    if isinstance(m, ast.FunctionDef | ast.AsyncFunctionDef) and m.name == owner
+                )
+                stored = _stores_of(method)
+                kept = f" (it keeps {', '.join(stored[:6])})" if stored else ""
+                return (
+                    f"{name} is a local variable of {owner} and does not exist here: use what "
+                    f"{owner} stored on the skill{kept}, or get the value again here"
+                )
+    return (
+        f"{name} is not defined: import it (message classes come from the interfaces' "
+        "packages, e.g. geometry_msgs.msg) or use what the skeleton defines"
+    )
+
+
 def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
     known = _module_names(source, tree)
     table = symtable.symtable(source, "skill.py", "exec")
-    wanted = {name for name, _ in _global_uses(table) if name not in known}
+    uses = [(name, child) for name, child in _global_uses(table) if name not in known]
     class_level = {
         s.get_name()
         for child in table.get_children()
         for s in child.get_symbols()
         if s.is_referenced() and not s.is_assigned() and s.get_name() not in known
-    }
-    wanted |= class_level - {c.get_name() for c in table.get_children()}
+    } - {c.get_name() for c in table.get_children()}
     findings = []
     seen: set[str] = set()
+    for name, child in uses:
+        use = _scope_uses(tree, name, child.get_lineno())
+        if use is not None and name not in seen:
+            seen.add(name)
+            findings.append(_finding(use, _undefined_message(name, tree)))
     for node in ast.walk(tree):
-        if isinstance(node, ast.Name) and node.id in wanted and node.id not in seen:
+        if isinstance(node, ast.Name) and node.id in class_level and node.id not in seen:
             seen.add(node.id)
-            findings.append(
-                _finding(
-                    node,
-                    f"{node.id} is not defined: import it (message classes come from the "
-                    "interfaces' packages, e.g. geometry_msgs.msg) or use what the skeleton "
-                    "defines",
-                )
-            )
+            findings.append(_finding(node, _undefined_message(node.id, tree)))
     return findings
 
 
@@ -257,32 +300,101 @@ def _class_facts(cls: ast.ClassDef) -> tuple[set[str], dict[str, str]]:
     return defined, kinds
 
 
-def _hint(name: str, defined: set[str]) -> str:
+def _latest_messages(cls: ast.ClassDef) -> list[str]:
+    """``self.X_msg`` attributes declared with a message annotation (the skeleton's latest
+    messages), as ``self.odom_msg (Odometry)``."""
+    found = []
+    for node in ast.walk(cls):
+        if isinstance(node, ast.AnnAssign):
+            name = _self_attribute(node.target)
+            if name is not None and name.endswith("_msg"):
+                annotation = node.annotation
+                if isinstance(annotation, ast.BinOp):  # Odometry | None
+                    annotation = annotation.left
+                found.append(f"self.{name} ({ast.unparse(annotation)})")
+    return found
+
+
+def _hint(name: str, defined: set[str], methods: set[str], latest: list[str]) -> str:
     if name in {"logger", "get_logger", "log"}:
         return "; log with self.node.get_logger()"
     if name in {"get_clock", "create_publisher", "create_subscription", "create_timer"}:
         return f"; it belongs to the node: self.node.{name}(...)"
     close = difflib.get_close_matches(name, sorted(defined), n=1, cutoff=0.75)
-    return f"; did you mean self.{close[0]}?" if close else ""
+    if close and close[0] in methods:
+        return f"; did you mean the method self.{close[0]}(...)?"
+    if close:
+        return f"; did you mean self.{close[0]}?"
+    if latest:
+        # A small model invents attributes for values it means to read from a message.
+        return f"; the latest messages are in {', '.join(latest)}: read the field from there"
+    return ""
+
+
+def _locals_by_method(cls: ast.ClassDef) -> dict[str, tuple[str, ast.AST]]:
+    """Local variable name -> (the method, its first assignment) over the class's methods."""
+    found: dict[str, tuple[str, ast.AST]] = {}
+    for member in cls.body:
+        if not isinstance(member, ast.FunctionDef | ast.AsyncFunctionDef):
+            continue
+        for node in ast.walk(member):
+            if isinstance(node, ast.Assign):
+                for target in node.targets:
+                    if isinstance(target, ast.Name):
+                        found.setdefault(target.id, (member.name, node))
+    return found
+
+
+def _readers(cls: ast.ClassDef, name: str) -> list[str]:
+    return [
+        member.name
+        for member in cls.body
+        if isinstance(member, ast.FunctionDef | ast.AsyncFunctionDef)
+        and any(
+            _self_attribute(node) == name and isinstance(node.ctx, ast.Load)
+            for node in ast.walk(member)
+            if isinstance(node, ast.Attribute)
+        )
+    ]
 
 
 def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
     defined, _ = _class_facts(cls)
+    methods = {m.name for m in cls.body if isinstance(m, ast.FunctionDef | ast.AsyncFunctionDef)}
+    latest = _latest_messages(cls)
+    local = _locals_by_method(cls)
     findings = []
     seen: set[str] = set()
     for node in ast.walk(cls):
         name = _self_attribute(node)
         if (
-            name is not None
-            and isinstance(node, ast.Attribute)
-            and isinstance(node.ctx, ast.Load)
-            and name not in defined
-            and name not in seen
+            name is None
+            or not isinstance(node, ast.Attribute)
+            or not isinstance(node.ctx, ast.Load)
+            or name in defined
+            or name in seen
         ):
-            seen.add(name)
+            continue
+        seen.add(name)
+        if name in local:
+            # One method keeps in a local variable what others read from the skill: the fix
+            # is where it is made, so the finding goes there.
+            owner, assignment = local[name]
+            readers = " and ".join(_readers(cls, name))
             findings.append(
-                _finding(node, f"self.{name} is never set in this class{_hint(name, defined)}")
+                _finding(
+                    assignment,
+                    f"{name} is a local variable of {owner}, but {readers} read self.{name}: "
+                    f"assign it as self.{name} = ... here",
+                )
             )
+            continue
+        findings.append(
+            _finding(
+                node,
+                f"self.{name} is never set in this class{_hint(name, defined, methods, latest)}",
+            )
+        )
     return findings
 
 

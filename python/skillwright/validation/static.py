@@ -4,8 +4,8 @@ The checks follow the paper's evaluation criteria and the failure modes seen whe
 wrote these skills (see the project's SKILL-FRAMEWORK notes): syntax; annotation
 completeness against the capability and the specification; grounding of every topic,
 service, action and message field in the robot's inventory; placeholders; constants
-that stand in for a capability input; interfaces retrieved but unused, or used but not
-retrieved.
+that stand in for a capability input; errors caught and ignored where the specification
+says to abort; interfaces retrieved but unused, or used but not retrieved.
 """
 
 from __future__ import annotations
@@ -265,6 +265,44 @@ def _check_placeholders(
                     message=f"left-over marker in a comment: {token.string.strip()}",
                 )
             )
+
+
+# --- errors swallowed where the specification says to abort -----------------------------
+
+_ABORT = re.compile(r"\babort", re.IGNORECASE)
+
+
+def _check_swallowed_errors(
+    ctx: _Context, methods: dict[str, ast.FunctionDef], spec: SkillSpec
+) -> None:
+    """An ``except`` in a state that neither raises nor returns after logging keeps the skill
+    going; where the specification says to abort, that hides the failure from the operator
+    (pySkillUp aborts the skill when a state raises)."""
+    for state, method in methods.items():
+        text = spec.states.get(state, "")
+        for node in ast.walk(method):
+            if not isinstance(node, ast.ExceptHandler):
+                continue
+            if any(isinstance(n, ast.Raise) for part in node.body for n in ast.walk(part)):
+                continue
+            caught = ast.unparse(node.type) if node.type is not None else "every exception"
+            if _ABORT.search(text):
+                ctx.add(
+                    "failures",
+                    "error",
+                    node,
+                    f"the specification says @{state} aborts, but this handler catches "
+                    f"{caught} and carries on: log it if you like, then raise (a state that "
+                    "raises aborts the skill)",
+                )
+            else:
+                ctx.add(
+                    "failures",
+                    "warning",
+                    node,
+                    f"this handler catches {caught} in @{state} and carries on; check that "
+                    "the skill should go on after it",
+                )
 
 
 # --- constants standing in for inputs ------------------------------------------------
@@ -709,6 +747,7 @@ def check_skill(
         _check_parameters(ctx, cls, capability.outputs, "skill_output", "output")
         methods = _check_states(ctx, cls, spec)
         _check_placeholders(ctx, tree, source, methods)
+        _check_swallowed_errors(ctx, methods, spec)
         _check_input_writes(ctx, cls, capability)
         ctx.findings += check_names(source, tree, cls, imports)
         if catalog is not None:
