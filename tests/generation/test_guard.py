@@ -67,3 +67,16 @@ def test_the_guard_says_what_was_repeated() -> None:
 def test_short_lines_may_repeat() -> None:
     text = "".join(f"        else:\n            x{i} = {i}\n        )\n" for i in range(8))
     assert not _feed(text)[0]
+
+
+def test_a_line_repeated_under_different_conditions_is_not_a_loop() -> None:
+    text = "".join(
+        f"        if self.reading_{i} < self.limit:\n            self._stop_base()\n"
+        for i in range(6)
+    )
+    assert not _feed(text)[0]
+
+
+def test_a_line_repeated_after_the_same_line_is_a_loop() -> None:
+    text = "        if blocked:\n            self._stop_base()\n" * 5
+    assert _feed(text)[0]

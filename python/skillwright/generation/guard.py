@@ -9,6 +9,7 @@ failed (finish reason ``repetition``) and the repair loop tries again.
 from __future__ import annotations
 
 from collections import Counter
+from itertools import pairwise
 
 __all__ = ["RepetitionGuard"]
 
@@ -17,9 +18,11 @@ class RepetitionGuard:
     """Watches streamed text; :meth:`feed` returns ``True`` once the text loops.
 
     A loop is one of: a substantial line (at least ``min_line`` characters) seen
-    ``line_repeats`` times among the last ``window`` lines; a block of 2 to 8 lines repeated
-    ``block_repeats`` times in a row; or the tail of an unbroken line that is one short
-    pattern repeated (``...x = x = x = x``).
+    ``line_repeats`` times after the same line among the last ``window`` lines, or twice as
+    often after any lines; a block of 2 to 8 lines repeated ``block_repeats`` times in a row;
+    or the tail of an unbroken line that is one short pattern repeated (``...x = x = x = x``).
+    A line alone is not enough: real code repeats ``self._stop_base()`` under each condition
+    that ends a motion, and it was cut off as a loop.
     """
 
     def __init__(
@@ -52,10 +55,14 @@ class RepetitionGuard:
         return self._tail_loop()
 
     def _line_loop(self) -> bool:
-        recent = [line.strip() for line in self.lines[-self.window :]]
-        counts = Counter(line for line in recent if len(line) >= self.min_line)
-        for line, count in counts.items():
+        recent = [line.strip() for line in self.lines[-self.window - 1 :]]
+        pairs = [(before, line) for before, line in pairwise(recent) if len(line) >= self.min_line]
+        for (_, line), count in Counter(pairs).items():
             if count >= self.line_repeats:
+                self.reason = f"the line {line!r} {count} times"
+                return True
+        for line, count in Counter(line for _, line in pairs).items():
+            if count >= 2 * self.line_repeats:
                 self.reason = f"the line {line!r} {count} times"
                 return True
         return False
