@@ -227,9 +227,70 @@ def test_a_repair_continues_the_answer_from_the_statement_with_the_first_error(
     assert ".send(" not in authored.code
 
 
+def test_a_repair_is_prefilled_with_the_statement_the_check_suggests(case: _Case) -> None:
+    waits_wrongly = STARTING.replace(
+        '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")\n',
+        "        self.odom_subscription.wait_for_message(timeout_sec=2.0)\n",
+    )
+    model = MethodScript({**GOOD, "starting": [waits_wrongly, "```"]})
+    authored = case.write(model)
+    repair = model.prompts[-1]
+    assert model.asked[-1] == "starting"
+    assert repair.answer_prefix.endswith(
+        '            raise ValueError(f"the distance must not be negative, not '
+        '{self.in_distance} m")\n'
+        '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")\n'
+    )
+    tries = [a for a in authored.attempts if a.target == "starting"]
+    assert tries[1].errors == 0
+    assert "wait_for_message" not in authored.code
+
+
+def test_a_helper_a_repair_calls_is_asked_for(case: _Case) -> None:
+    wrong = """        self.logger.info("done")\n```"""
+    calls_helper = """        self._report()\n```"""
+    helper = """) -> None:
+        self.node.get_logger().info(f"drove {self.out_distance:.2f} m")
+```"""
+    model = MethodScript({**GOOD, "completing": [wrong, calls_helper], "_report": [helper]})
+    authored = case.write(model)
+    assert model.asked[-1] == "_report"
+    assert "    def _report(self) -> None:" in authored.code
+    assert not [f for f in authored.findings if f.severity == "error"], authored.findings
+
+
+def test_an_answer_only_the_run_faults_beats_one_the_static_checks_stop(case: _Case) -> None:
+    static_error = """        self.logger.info("done")\n```"""
+    runs_badly = """        self.node.get_logger().info("faults when run")\n```"""
+
+    def validate(code: str, skeleton: Skeleton) -> list[Finding]:
+        findings = case.validate(code, skeleton)
+        for number, line in enumerate(code.splitlines(), 1):
+            if "faults when run" in line:
+                findings.append(
+                    Finding(check="run.exception", severity="error", line=number, message="boom")
+                )
+        return findings
+
+    model = MethodScript({**GOOD, "completing": [static_error, runs_badly, static_error]})
+    authored = author_skill(
+        model,
+        case.skeleton,
+        case.load.capability,
+        case.spec,
+        case.items,
+        validate,
+        settings=AuthorSettings(attempts=3, max_tokens=400),
+    )
+    tries = [a for a in authored.attempts if a.target == "completing"]
+    assert [(a.errors, a.behaviour_errors) for a in tries] == [(1, 0), (1, 1), (1, 0)]
+    assert [a.chosen for a in tries] == [False, True, False]
+    assert "faults when run" in authored.code
+
+
 def test_later_repairs_are_told_every_problem_found_so_far(case: _Case) -> None:
     first = """        self.logger.info("done")\n```"""
-    second = """        self.log_it("done")\n```"""
+    second = """        self.log_it.info("done")\n```"""
     model = MethodScript({**GOOD, "completing": [first, second, COMPLETING]})
     authored = case.write(model, attempts=3)
     last = model.prompts[-1].messages[-1].content

@@ -4,7 +4,8 @@
    task card and writes each specified state in turn (:mod:`~skillwright.generation.conversation`),
    each answer prefilled with the method's start and ended at the method's end, under a
    per-method token budget and a :class:`~skillwright.generation.guard.RepetitionGuard`.
-2. Helper methods the states call but nobody wrote are asked for next.
+2. Helper methods the states call but nobody wrote are asked for next (and again after each
+   round of repairs).
 3. The methods go into the skeleton, rebuilt with only the interfaces and helpers the
    behaviour uses (:mod:`~skillwright.generation.assemble`), and the result is validated (the
    static checks, and whatever later stages the caller adds: run, simulation).
@@ -374,10 +375,12 @@ def _problems(
     return out[:_MAX_PROBLEMS]
 
 
-def _resume_point(target: _Target, code: str, judgement: _Judgement, line: int) -> str:
+def _resume_point(target: _Target, code: str, judgement: _Judgement, error: Finding) -> str:
     """``code`` (an answer of ``target``) up to the statement of its body that holds the
-    assembled file's ``line``, or the target's own prefill when that cannot be told."""
-    statement = _body_statement_at(judgement, target.name, line)
+    ``error``, followed by the statement the check suggests instead when there is one and
+    the flagged statement is a plain one (or a loop) that it can take the place of; the
+    target's own prefill when the statement cannot be told."""
+    statement = _body_statement_at(judgement, target.name, error.line)
     method = parse_method(code)
     if statement is None or method is None:
         return target.prefill
@@ -386,7 +389,15 @@ def _resume_point(target: _Target, code: str, judgement: _Judgement, line: int) 
     if cut is None:
         return target.prefill
     kept = "".join(code.splitlines(keepends=True)[: cut - 1])
-    return kept if len(kept) > len(target.prefill) else target.prefill
+    if len(kept) < len(target.prefill):
+        kept = target.prefill
+    if error.replacement is not None and isinstance(statement, _REPLACEABLE):
+        kept += f"        {error.replacement}\n"
+    return kept
+
+
+_REPLACEABLE = (ast.Assign, ast.AnnAssign, ast.Expr, ast.While)
+"""Statements a check's suggested statement may take the place of whole."""
 
 
 def _body_statement_at(judgement: _Judgement, name: str, line: int) -> ast.stmt | None:
@@ -402,11 +413,17 @@ def _body_statement_at(judgement: _Judgement, name: str, line: int) -> ast.stmt 
     return None
 
 
-def _score(attempt: Attempt) -> tuple[int, int, int]:
-    """Lower is better: unusable answers last, then errors, then warnings."""
+def _score(attempt: Attempt) -> tuple[int, int, int, int]:
+    """Lower is better: unusable answers last, then errors the static checks find (an answer
+    that passed them got further), then the run's and simulation's errors, then warnings."""
     if attempt.code is None or attempt.errors is None:
-        return (1, 10**6, 10**6)
-    return (0, attempt.errors, attempt.warnings or 0)
+        return (1, 10**6, 10**6, 10**6)
+    later = attempt.behaviour_errors or 0
+    return (0, attempt.errors - later, later, attempt.warnings or 0)
+
+
+_LATER_STAGES = ("run", "behaviour")
+"""Check-name prefixes of findings from running the skill rather than reading it."""
 
 
 _Pick = Callable[[_Target], Attempt | None]
@@ -508,8 +525,10 @@ class _Skill:
             mine = judgement.mine(target.name)
             if attempt is None or attempt.code is None or mine is None:
                 continue
-            attempt.errors = sum(f.severity == "error" for f in mine)
+            errors = [f for f in mine if f.severity == "error"]
+            attempt.errors = len(errors)
             attempt.warnings = len(mine) - attempt.errors
+            attempt.behaviour_errors = sum(f.check.startswith(_LATER_STAGES) for f in errors)
         return judgement
 
     def failing(self, judgement: _Judgement) -> list[tuple[_Target, list[str], str]]:
@@ -523,8 +542,8 @@ class _Skill:
             if last.code is None:
                 out.append((target, _problems(last, [], lines), target.prefill))
             elif last.errors and mine is not None:
-                errors = [f.line for f in mine if f.severity == "error"]
-                start = _resume_point(target, last.code, judgement, min(errors))
+                first = min((f for f in mine if f.severity == "error"), key=lambda f: f.line)
+                start = _resume_point(target, last.code, judgement, first)
                 out.append((target, _problems(last, mine, lines), start))
         return out
 
@@ -562,6 +581,7 @@ def author_skill(
             break
         for target, problems, prefill in failing:
             skill.repair(target, problems, prefill)
+        skill.write_helpers()  # a repair may call a helper nobody has written yet
         judgement = skill.judge(_latest)
     # The final file takes each method's best answer (fewest errors, then warnings).
     judgement = skill.judge(lambda t: _best(t) or _latest(t))

@@ -108,4 +108,9 @@ class Attempt(BaseModel):
         default=None, description="Errors the checks found in this method (null: not checked)."
     )
     warnings: int | None = Field(default=None, description="Warnings found in this method.")
+    behaviour_errors: int | None = Field(
+        default=None,
+        description="Of its errors, those the sandboxed run or the simulation found (an answer "
+        "that got that far beats one the static checks stopped).",
+    )
     chosen: bool = Field(default=False, description="Whether the final skill holds it.")

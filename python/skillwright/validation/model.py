@@ -47,6 +47,11 @@ class Finding(BaseModel):
     line: int = Field(description="1-based line (0 when it concerns the whole file).")
     column: int = Field(default=0, description="1-based column, 0 when unknown.")
     message: str = Field(description="What is wrong, in plain words, and what to do.")
+    replacement: str | None = Field(
+        default=None,
+        description="A statement that does what the flagged one meant, when the check knows "
+        "it (e.g. the wait for a subscription's first message).",
+    )
 
 
 class CheckReport(BaseModel):

@@ -161,13 +161,14 @@ _BASE_ATTRIBUTES = frozenset({"node"})
 """What pySkillUp's ``ROS2Skill`` gives a skill."""
 
 
-def _finding(node: ast.AST, message: str) -> Finding:
+def _finding(node: ast.AST, message: str, replacement: str | None = None) -> Finding:
     return Finding(
         check="names",
         severity="error",
         line=getattr(node, "lineno", 0),
         column=getattr(node, "col_offset", -1) + 1,
         message=message,
+        replacement=replacement,
     )
 
 
@@ -424,18 +425,21 @@ _KIND_HINTS = {
 }
 
 
-def _latest_message_hint(receiver: ast.expr, defined: set[str]) -> str | None:
+def _latest_message_wait(receiver: ast.expr, defined: set[str]) -> tuple[str, str] | None:
     """For ``self.X_subscription`` whose callback keeps ``self.X_msg`` (the skeleton's way):
-    the statement that waits for it, which a small model copies more readily than advice."""
+    a hint and the statement that waits for the first message, which a small model copies
+    more readily than advice."""
     name = _self_attribute(receiver)
     if name is None or not name.endswith("_subscription"):
         return None
     latest = name.removesuffix("_subscription") + "_msg"
     if latest not in defined:
         return None
+    statement = f'self._wait_until(lambda: self.{latest} is not None, 2.0, "{latest}")'
     return (
         f"; its callback keeps the latest message in self.{latest}: wait for the first one with "
-        f'self._wait_until(lambda: self.{latest} is not None, 2.0, "{latest}")'
+        f"{statement}",
+        statement,
     )
 
 
@@ -449,16 +453,19 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
         if kind is None or node.attr in RCLPY_API[kind]:
             continue
         close = difflib.get_close_matches(node.attr, sorted(RCLPY_API[kind]), n=1, cutoff=0.6)
-        hint = (
-            f"; did you mean {close[0]}?"
-            if close
-            else _latest_message_hint(node.value, defined) or _KIND_HINTS.get(kind, "")
-        )
+        wait = None if close else _latest_message_wait(node.value, defined)
+        if close:
+            hint = f"; did you mean {close[0]}?"
+        elif wait is not None:
+            hint = wait[0]
+        else:
+            hint = _KIND_HINTS.get(kind, "")
         findings.append(
             _finding(
                 node,
                 f"{ast.unparse(node.value)} is {_KIND_WORDS[kind]}, which has no "
                 f"{node.attr!r} in rclpy{hint}",
+                wait[1] if wait is not None else None,
             )
         )
     return findings
