@@ -83,6 +83,21 @@ def test_imports_and_init_attributes_the_behaviour_needs_are_added() -> None:
     ast.parse(result.code)
 
 
+def test_standard_modules_and_geometry_messages_are_imported_without_an_interface() -> None:
+    skeleton = _skeleton([ODOM])
+    execute = _method(
+        "execute",
+        "        stamp = datetime.datetime.now().strftime('%H%M%S')\n"
+        "        self.map_path = os.path.join(os.getcwd(), stamp)\n"
+        "        self.stop_command = Twist()\n",
+    )
+    result = assemble(skeleton, {"execute": execute}, {})
+    assert "import os" in result.code
+    assert "import datetime" in result.code
+    assert "from geometry_msgs.msg import Twist" in result.code
+    ast.parse(result.code)
+
+
 def test_usage_counts_what_the_behaviour_touches_not_the_prefilled_handles() -> None:
     skeleton = _skeleton([CMD_VEL, ODOM, BACKUP])
     starting = _method(

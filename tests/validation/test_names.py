@@ -59,6 +59,12 @@ def _check(source: str, inputs: tuple[Capability, SkillSpec]) -> CheckReport:
             "is the logger, which has no 'log' in rclpy",
         ),
         (
+            'self.node.get_logger().info(f"{self.in_distance}',
+            'self.node.info(f"{self.in_distance}',
+            "self.node is the node (rclpy Node), which has no 'info' in rclpy; info belongs to "
+            "the logger: self.node.get_logger().info(...)",
+        ),
+        (
             "    def _travelled(self) -> float:",
             "    def _travelled(self, p: Odometry.Pose = None) -> float:",
             "Odometry.Pose does not exist",
@@ -71,6 +77,7 @@ def _check(source: str, inputs: tuple[Capability, SkillSpec]) -> CheckReport:
         "subscription method",
         "publisher method",
         "logger method",
+        "logger method on the node",
         "nested message class",
     ],
 )

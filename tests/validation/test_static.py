@@ -370,7 +370,7 @@ def test_an_error_caught_and_ignored_where_the_spec_says_abort_is_an_error(
         "        except ValueError as error:\n"
         "            self.node.get_logger().error(str(error))\n"
     )
-    found = [f for f in run(GOOD.replace(old, swallowing + old), move_forward).findings]
+    found = run(GOOD.replace(old, swallowing + old), move_forward).findings
     failures = [f for f in found if f.check == "failures"]
     assert [(f.severity, f.message) for f in failures] == [
         (

@@ -40,8 +40,17 @@ __all__ = [
     "usage",
 ]
 
-_STDLIB = {"time", "math"}
-_KNOWN_CLASSES = {"GoalStatus": "action_msgs.msg"}
+_STDLIB = {"time", "math", "os", "datetime", "threading"}
+"""Standard modules the written code may use without importing them (the import is added)."""
+_KNOWN_CLASSES = {
+    "GoalStatus": "action_msgs.msg",
+    "Path": "pathlib",
+    **dict.fromkeys(
+        ("Twist", "Vector3", "Point", "Pose", "PoseStamped", "Quaternion"), "geometry_msgs.msg"
+    ),
+}
+"""Classes the written code may use beyond the interfaces' own: every ROS 2 install has the
+geometry messages (a command the base helper makes, a goal's pose)."""
 
 
 def parse_method(text: str) -> ast.FunctionDef | None:

@@ -443,6 +443,15 @@ def _latest_message_wait(receiver: ast.expr, defined: set[str]) -> tuple[str, st
     )
 
 
+def _owner_of(attribute: str, kind: str) -> str | None:
+    """Where ``attribute`` lives when it is the node's or the logger's, not ``kind``'s."""
+    if kind != "node" and attribute in RCLPY_API["node"]:
+        return "the node: self.node"
+    if kind != "logger" and attribute in RCLPY_API["logger"]:
+        return "the logger: self.node.get_logger()"
+    return None
+
+
 def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
     defined, kinds = _class_facts(cls)
     findings = []
@@ -452,9 +461,12 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
         kind = _receiver_kind(node.value, kinds)
         if kind is None or node.attr in RCLPY_API[kind]:
             continue
+        owner = _owner_of(node.attr, kind)
         close = difflib.get_close_matches(node.attr, sorted(RCLPY_API[kind]), n=1, cutoff=0.6)
-        wait = None if close else _latest_message_wait(node.value, defined)
-        if close:
+        wait = None if close or owner else _latest_message_wait(node.value, defined)
+        if owner is not None:
+            hint = f"; {node.attr} belongs to {owner}.{node.attr}(...)"
+        elif close:
             hint = f"; did you mean {close[0]}?"
         elif wait is not None:
             hint = wait[0]
