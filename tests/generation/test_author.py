@@ -288,6 +288,19 @@ def test_an_answer_only_the_run_faults_beats_one_the_static_checks_stop(case: _C
     assert "faults when run" in authored.code
 
 
+def test_of_equally_good_answers_the_latest_is_chosen_and_is_the_one_in_the_file(
+    case: _Case,
+) -> None:
+    first = """        self.logger.info("first")\n```"""
+    second = """        self.logger.info("second")\n```"""
+    model = MethodScript({**GOOD, "completing": [first, second]})
+    authored = case.write(model, attempts=2)
+    tries = [a for a in authored.attempts if a.target == "completing"]
+    assert [a.chosen for a in tries] == [False, True]
+    assert 'self.logger.info("second")' in authored.code
+    assert '"first"' not in authored.code
+
+
 def test_later_repairs_are_told_every_problem_found_so_far(case: _Case) -> None:
     first = """        self.logger.info("done")\n```"""
     second = """        self.log_it.info("done")\n```"""

@@ -434,8 +434,10 @@ def _latest(target: _Target) -> Attempt | None:
 
 
 def _best(target: _Target) -> Attempt | None:
+    """The answer with the best score; of equals the latest, which was told more of what was
+    wrong (its count may include findings another method's answer caused)."""
     judged = [a for a in target.attempts if a.code is not None and a.errors is not None]
-    return min(judged, key=_score) if judged else None
+    return min(judged, key=lambda a: (_score(a), -a.number)) if judged else None
 
 
 @dataclass
@@ -583,12 +585,13 @@ def author_skill(
             skill.repair(target, problems, prefill)
         skill.write_helpers()  # a repair may call a helper nobody has written yet
         judgement = skill.judge(_latest)
-    # The final file takes each method's best answer (fewest errors, then warnings).
-    judgement = skill.judge(lambda t: _best(t) or _latest(t))
+    # The final file takes each method's best answer (fewest errors, then warnings), chosen
+    # once: judging the final file counts again and may move a score, not the choice.
+    choices = {name: _best(t) or _latest(t) for name, t in skill.targets.items()}
+    judgement = skill.judge(lambda t: choices[t.name])
     for target in skill.targets.values():
-        choice = _best(target)
         for attempt in target.attempts:
-            attempt.chosen = attempt is choice
+            attempt.chosen = attempt is choices[target.name] and attempt.code is not None
     return Authored(
         code=judgement.assembly.code,
         findings=judgement.findings,
