@@ -43,7 +43,7 @@ if TYPE_CHECKING:
 
     from skillwright.capability import Capability
     from skillwright.interfaces.inventory import Inventory
-    from skillwright.retrieval.retrieve import Ranking
+    from skillwright.retrieval.retrieve import Hit, Ranking
     from skillwright.spec import SkillSpec
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -165,7 +165,7 @@ def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
     from skillwright.llm import load_generator
     from skillwright.llm.config import load_registry
     from skillwright.retrieval.rerank import DEPTH, Reranker, default_cache
-    from skillwright.retrieval.retrieve import Hit, rank_interfaces
+    from skillwright.retrieval.retrieve import rank_interfaces
 
     unknown = [name for name in sets if name not in SETS]
     if unknown:
@@ -196,8 +196,13 @@ def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
                 if spent is cold:
                     cold_cpu.append(time.process_time() - cpu)
             second[(name, case.capability.iri)] = result.hits
+            found = [
+                "/".join(str(_found(case.needs, table[:k])) for k in (1, 4, 8))
+                for table in (hits, result.hits)
+            ]
             print(
-                f"\n{name} {case.name} (cold {cold[-1]:.1f} s, {cold_cpu[-1]:.1f} s CPU; "
+                f"\n{name} {case.name}: found @1/4/8 {found[0]} -> {found[1]} of "
+                f"{len(case.needs)} (cold {cold[-1]:.1f} s, {cold_cpu[-1]:.1f} s CPU; "
                 f"{result.summary()}); needs: {case.needs}",
                 flush=True,
             )
@@ -232,6 +237,11 @@ def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
         f"{os.getloadavg()[0]:.1f} at the end (other work on the machine slows the wall time)"
     )
     return 0
+
+
+def _found(needs: Sequence[tuple[str, ...]], hits: Sequence[Hit]) -> int:
+    names = {h.name for h in hits}
+    return sum(any(n in names for n in need) for need in needs)
 
 
 def load_embedder_for_bench(registry: Any) -> Callable[[Sequence[str]], Any]:
