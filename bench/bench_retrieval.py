@@ -17,10 +17,18 @@ the cache (a second run over the same inventory and capability), *cold* with no 
 (everything embedded); model loading is reported separately. Each is the median of
 several runs, best of three rounds. Run: ``python bench/bench_retrieval.py``; needs
 ``../shared`` beside the repository for the paper's robot.
+
+``--rerank MODEL`` measures the second stage instead (:mod:`skillwright.retrieval.rerank`):
+the local generation model MODEL judges the default ranking's first 8 hits for every
+capability of ``--sets`` (default: the Go2 and the TurtleBot 4, the weakest), and recall@1/4/8
+with and without it is printed with the seconds per capability, cold (an empty answer cache)
+and cached (the same questions again). It needs the model's file installed, so ``make bench``
+does not run it.
 """
 
 from __future__ import annotations
 
+import argparse
 import os
 import statistics
 import sys
@@ -35,7 +43,7 @@ if TYPE_CHECKING:
 
     from skillwright.capability import Capability
     from skillwright.interfaces.inventory import Inventory
-    from skillwright.retrieval.retrieve import Ranking
+    from skillwright.retrieval.retrieve import Hit, Ranking
     from skillwright.spec import SkillSpec
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -44,8 +52,16 @@ sys.path.insert(0, str(ROOT))  # the labelled sets live with the tests
 ROUNDS = 3
 
 
-def main() -> int:
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--rerank", metavar="MODEL", help="measure re-ranking with this model")
+    parser.add_argument(
+        "--sets", default="go2,tb4", help="labelled sets for --rerank (comma-separated)"
+    )
+    args = parser.parse_args(argv)
     os.environ["SKILLWRIGHT_CACHE_DIR"] = tempfile.mkdtemp(prefix="skillwright-bench-")
+    if args.rerank:
+        return rerank_comparison(args.rerank, args.sets.split(","))
     from tests.retrieval.labelled import SETS, load_set, measure
 
     from skillwright.llm.config import load_registry
@@ -139,6 +155,100 @@ def main() -> int:
     for (label, _), w, c in zip(timings, warm, cold, strict=True):
         print(f"{label:48}{w * 1e3:>9.2f} ms{c * 1e3:>9.1f} ms{warm[0] / w:>15.2f}x")
     return 0
+
+
+def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
+    """Recall@1/4/8 of the default ranking with and without the model's second stage, and
+    its seconds per capability, cold and cached (the answer cache starts empty)."""
+    from tests.retrieval.labelled import SETS, load_set
+
+    from skillwright.llm import load_generator
+    from skillwright.llm.config import load_registry
+    from skillwright.retrieval.rerank import DEPTH, Reranker, default_cache
+    from skillwright.retrieval.retrieve import rank_interfaces
+
+    unknown = [name for name in sets if name not in SETS]
+    if unknown:
+        print(f"unknown set(s) {', '.join(unknown)}; choose from {', '.join(SETS)}")
+        return 2
+    registry = load_registry()
+    embedder = load_embedder_for_bench(registry)
+    started = time.perf_counter()
+    generator = load_generator(registry, model_id)
+    load_seconds = time.perf_counter() - started
+    reranker = Reranker(generator, cache=default_cache())
+    first: dict[tuple[str, str], list[Hit]] = {}
+    second: dict[tuple[str, str], list[Hit]] = {}
+    cold: list[float] = []
+    cold_cpu: list[float] = []
+    cached: list[float] = []
+    labelled = {name: load_set(name) for name in sets}
+    for name, labelled_set in labelled.items():
+        for case in labelled_set.cases:
+            hits = rank_interfaces(
+                labelled_set.inventory, case.capability, case.spec, k=DEPTH, embed=embedder
+            )
+            first[(name, case.capability.iri)] = hits
+            for spent in (cold, cached):
+                cpu = time.process_time()
+                result = reranker.rerank(labelled_set.inventory, case.capability, case.spec, hits)
+                spent.append(result.seconds)
+                if spent is cold:
+                    cold_cpu.append(time.process_time() - cpu)
+            second[(name, case.capability.iri)] = result.hits
+            found = [
+                "/".join(str(_found(case.needs, table[:k])) for k in (1, 4, 8))
+                for table in (hits, result.hits)
+            ]
+            print(
+                f"\n{name} {case.name}: found @1/4/8 {found[0]} -> {found[1]} of "
+                f"{len(case.needs)} (cold {cold[-1]:.1f} s, {cold_cpu[-1]:.1f} s CPU; "
+                f"{result.summary()}); needs: {case.needs}",
+                flush=True,
+            )
+            for hit in result.hits:
+                verdict = {True: "yes", False: "no ", None: " - "}[hit.needed]
+                print(f"  {verdict} {hit.name}: {hit.judgement}")
+            for note in result.notes:
+                print(f"  note: {note}")
+    generator.close()
+
+    def from_table(table: dict[tuple[str, str], list[Hit]], name: str) -> Ranker:
+        def rank(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:
+            return [h.name for h in table[(name, cap.iri)][:k]]
+
+        return rank
+
+    print("\nrecall: needs found @1 / @4 / @8 of all needs")
+    print(f"{'method':48}" + "".join(f"{name:>12}" for name in sets))
+    print(f"{'needs':48}" + "".join(f"{labelled[n].need_count:>12}" for n in sets))
+    for label, table in (
+        ("hybrid default (first stage)", first),
+        (f"hybrid default + re-rank by {model_id}", second),
+    ):
+        cells = [recall_cell(labelled[name], from_table(table, name)) for name in sets]
+        print(f"{label:48}" + "".join(f"{c:>12}" for c in cells))
+    print(
+        f"\nre-ranking {DEPTH} candidates per capability, {len(cold)} capabilities "
+        f"({model_id} loaded in {load_seconds:.1f} s, {os.cpu_count()} cores): "
+        f"cold median {statistics.median(cold):.1f} s wall (min {min(cold):.1f}, max "
+        f"{max(cold):.1f}), {statistics.median(cold_cpu):.1f} s CPU; cached median "
+        f"{statistics.median(cached) * 1e3:.1f} ms; load average "
+        f"{os.getloadavg()[0]:.1f} at the end (other work on the machine slows the wall time)"
+    )
+    return 0
+
+
+def _found(needs: Sequence[tuple[str, ...]], hits: Sequence[Hit]) -> int:
+    names = {h.name for h in hits}
+    return sum(any(n in names for n in need) for need in needs)
+
+
+def load_embedder_for_bench(registry: Any) -> Callable[[Sequence[str]], Any]:
+    """The default embedding model's embed function."""
+    from skillwright.llm.embeddings import load_embedder
+
+    return load_embedder(registry).embed  # type: ignore[no-any-return]
 
 
 def _none(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:

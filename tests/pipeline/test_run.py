@@ -16,6 +16,7 @@ from skillwright.errors import (
     ModelFileMissingError,
     OperationCancelledError,
 )
+from skillwright.llm.base import GenerationOptions, Prompt, TextStream
 from skillwright.pipeline import GenerationRecord, GenerationRequest, retrieve, run_generation
 from skillwright.pipeline.events import (
     AttemptFinished,
@@ -173,6 +174,62 @@ def test_the_model_writes_each_state_and_the_skill_passes_the_checks(
     code = outcome.skill_path.read_text(encoding="utf-8")
     assert "Behaviour: written by the local model tiny, one method at a time" in code
     assert json.loads(outcome.record_path.read_text(encoding="utf-8"))["mode"] == "llm"
+
+
+class JudgingScript(MethodScript):
+    """Writes the scripted methods and calls the interfaces of ``needed`` needed when asked
+    to re-rank (a question with the re-ranking answer schema)."""
+
+    needed: frozenset[str] = frozenset({"/odom", "/cmd_vel"})
+
+    def stream(
+        self,
+        prompt: Prompt,
+        options: GenerationOptions | None = None,
+        cancel: threading.Event | None = None,
+    ) -> TextStream:
+        schema = None if options is None else options.json_schema
+        if schema is None or "needed" not in schema["properties"]:
+            return super().stream(prompt, options, cancel)
+        self.prompts.append(prompt)
+        name = prompt.messages[-1].content.splitlines()[0].removeprefix("Interface: ")
+        answer = {"reason": f"judged {name}", "needed": name in self.needed}
+        stream = TextStream(iter([json.dumps(answer)]))
+        stream.finish_reason = "stop"
+        return stream
+
+
+def test_rerank_loads_the_model_in_retrieval_uses_it_to_write_and_records_its_verdicts(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    model = JudgingScript(dict(SET_VELOCITY), model_id="tiny")
+    loads: list[str | None] = []
+    import skillwright.llm
+
+    def load(_registry: object, model_id: str | None = None, **_: object) -> MethodScript:
+        loads.append(model_id)
+        return model
+
+    monkeypatch.setattr(skillwright.llm, "load_generator", load)
+    monkeypatch.setenv("SKILLWRIGHT_CACHE_DIR", str(tmp_path / "cache"))
+    events: list[Event] = []
+    outcome = run_generation(
+        request(tmp_path / "out", models_file=models_file, rerank=True, pinned=()),
+        on_event=events.append,
+    )
+    assert loads == [None]  # once, in retrieval; generation reuses it
+    assert model.asked == ["starting", "execute", "completing", "stopping", "resetting"]
+    assert model.closed
+    retrieval = outcome.record.retrieval
+    assert retrieval.rerank is not None
+    assert (retrieval.rerank.model, retrieval.rerank.judged) == ("tiny", 8)
+    assert [h.name for h in retrieval.hits[:2]] == ["/cmd_vel", "/odom"]
+    assert all(h.needed is True for h in retrieval.hits[:2])
+    assert [h.needed for h in retrieval.hits[2:]] == [False, False]
+    assert retrieval.hits[0].judgement == "judged /cmd_vel"
+    finished = {e.stage: e.detail for e in events if isinstance(e, StageFinished)}
+    assert "re-ranked: 2 of 8 judged needed; 8 asked" in finished["retrieval"]
+    assert finished["model"].startswith("loaded for re-ranking")
 
 
 def test_attempts_and_their_findings_are_recorded(

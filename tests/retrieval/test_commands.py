@@ -172,3 +172,46 @@ def test_hybrid_ranking_loads_minilm_and_fills_the_dense_column(tmp_path: Path) 
     assert document["embedding_model"] == "all-minilm-l6-v2"
     assert all(h["dense"] is not None for h in document["hits"])
     assert "loading embedding model all-minilm-l6-v2" in result.stderr
+
+
+def scripted_reranker(monkeypatch: pytest.MonkeyPatch, needed: set[str]) -> list[str | None]:
+    """Makes `--rerank` load a scripted model that calls ``needed`` needed; returns the ids
+    it was loaded with."""
+    import skillwright.llm
+    from tests.retrieval.test_rerank import NEEDED, ScriptedModel
+
+    loads: list[str | None] = []
+
+    def load(_registry: object, model_id: str | None = None, **_: object) -> ScriptedModel:
+        loads.append(model_id)
+        return ScriptedModel(dict.fromkeys(needed, NEEDED), model_id="scripted")
+
+    monkeypatch.setattr(skillwright.llm, "load_generator", load)
+    return loads
+
+
+def test_rerank_puts_the_models_needed_first_and_prints_its_reasons(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setenv("SKILLWRIGHT_CACHE_DIR", str(tmp_path))
+    loads = scripted_reranker(monkeypatch, {"/odom"})
+    args = [*ROTATE, *ROTATE_SPEC, "--interfaces", MR1, "--no-dense", "--rerank"]
+    code, out, err = invoke(*args)
+    assert code == 0, err
+    assert table_names(out)[0] == "/odom"
+    assert "It commands the base velocity." in out
+    assert "re-ranked by scripted" in out
+    assert "re-ranked: 1 of 8 judged needed; 8 asked" in err
+    code, out, err = invoke(*args, "--json", "--model", "coder")
+    assert code == 0, err
+    document = json.loads(out)
+    assert document["rerank"]["cached"] == 8
+    assert document["hits"][0]["needed"] is True
+    assert document["hits"][1]["judgement"] == "The skill never reads images."
+    assert loads == ["qwen2.5-coder-1.5b-instruct"] * 2  # the default, then by alias
+
+
+def test_a_model_without_rerank_is_refused() -> None:
+    code, _, err = invoke(*ROTATE, "--interfaces", MR1, "--no-dense", "--model", "coder")
+    assert code == 2
+    assert "--model names the re-ranking model; add --rerank" in err

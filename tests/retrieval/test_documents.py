@@ -12,3 +12,13 @@ def test_a_twist_topic_is_a_command_whatever_its_name() -> None:
         assert interface_role(twist) == "command"
     odometry = Interface(name="/odom", kind="topic", type_name="nav_msgs/msg/Odometry")
     assert interface_role(odometry) == "measure"
+
+
+def test_the_request_topic_of_a_topic_api_is_a_command_and_its_response_a_measure() -> None:
+    def role(name: str) -> str | None:
+        return interface_role(Interface(name=name, kind="topic", type_name="vendor/msg/Msg"))
+
+    assert role("/api/motion/request") == "command"
+    assert role("/arm_request") == "command"
+    assert role("/api/motion/response") == "measure"
+    assert role("/requested_speed") == "measure"

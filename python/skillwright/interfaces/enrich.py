@@ -132,9 +132,11 @@ class EnrichmentCache:
     finished and a re-run resumes there.
     """
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, *, what: str = "enrichment cache") -> None:
         self.path = path
         """The SQLite file."""
+        self.what = what
+        """What the file is, for error messages."""
 
     def _connect(self) -> sqlite3.Connection:
         from skillwright.errors import InputFileError
@@ -148,7 +150,7 @@ class EnrichmentCache:
             )
         except (OSError, sqlite3.DatabaseError) as error:
             raise InputFileError(
-                f"{self.path}: the enrichment cache cannot be opened ({error}); delete the "
+                f"{self.path}: the {self.what} cannot be opened ({error}); delete the "
                 "file or set SKILLWRIGHT_CACHE_DIR to a writable folder"
             ) from error
         return connection

@@ -96,6 +96,10 @@ class GenerationOptions(BaseModel):
     """Text that ends the answer; it is not part of the output."""
     json_schema: dict[str, Any] | None = None
     """A JSON schema the answer must follow (constrained decoding)."""
+    save_prefix: bool = True
+    """Save a newly evaluated prompt prefix to the disk prefix cache. ``False`` for prefixes
+    used within one run only (re-ranking's per-capability prefix), which would otherwise push
+    the long, costly prefixes of skill generation out of the cache."""
 
 
 @dataclass

@@ -266,7 +266,7 @@ class LlamaCppGenerator:
         try:
             self._check_open()
             if prefix:
-                how = self._restore_prefix(prefix, cancel)
+                how = self._restore_prefix(prefix, cancel, save=options.save_prefix)
                 if how is None:
                     stream.finish_reason = "cancelled"
                     return
@@ -353,8 +353,11 @@ class LlamaCppGenerator:
             f"llama-cpp-python={llama_cpp.__version__}"
         )
 
-    def _restore_prefix(self, prefix: list[int], cancel: threading.Event | None) -> Any:
-        """Puts the prefix's state into the context; returns how, or ``None`` if cancelled."""
+    def _restore_prefix(
+        self, prefix: list[int], cancel: threading.Event | None, *, save: bool = True
+    ) -> Any:
+        """Puts the prefix's state into the context; returns how, or ``None`` if cancelled.
+        A newly evaluated prefix is saved to the disk cache only when ``save``."""
         llama = self.llama
         n = len(prefix)
         if llama.n_tokens >= n and llama.input_ids[:n].tolist() == prefix:
@@ -375,7 +378,7 @@ class LlamaCppGenerator:
                 llama.reset()  # type: ignore[no-untyped-call]
                 return None
             llama.eval(prefix[start : start + llama.n_batch])
-        if self.prefix_cache is None:
+        if self.prefix_cache is None or not save:
             return "evaluated"
         try:
             self.prefix_cache.store(key, PrefixState(tuple(prefix), self._state_bytes()))

@@ -99,7 +99,11 @@ def _summary(outcome: Outcome) -> None:
         table.add_column(column, overflow="fold")
     for hit in record.retrieval.hits:
         score = "pinned" if hit.score is None else f"{hit.score:.3f}"
-        table.add_row(hit.name, hit.kind, hit.type_name, score, hit.reason)
+        reason = hit.reason
+        if hit.judgement is not None:
+            verdict = {True: "needed", False: "not needed", None: "no verdict"}[hit.needed]
+            reason += f"; model: {verdict}: {hit.judgement}"
+        table.add_row(hit.name, hit.kind, hit.type_name, score, reason)
     console.print(table)
     print_findings(console, outcome.skill_path, outcome.report.findings)
     for note in record.notes:
@@ -164,6 +168,12 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
 @click.option("--all", "include_all", is_flag=True, help="Let retrieval pick infrastructure too.")
 @click.option("--no-dense", is_flag=True, help="Lexical retrieval only (no embedding model).")
 @click.option(
+    "--rerank",
+    is_flag=True,
+    help="Have the generation model judge the best 8 candidates after ranking (needed or not, "
+    "with a reason); the model is then loaded during retrieval. Answers are cached.",
+)
+@click.option(
     "--attempts",
     default=3,
     show_default=True,
@@ -206,6 +216,7 @@ def generate(
     drop: tuple[str, ...],
     include_all: bool,
     no_dense: bool,
+    rerank: bool,
     attempts: int,
     no_run: bool,
     no_sim: bool,
@@ -230,6 +241,8 @@ def generate(
 
     if skeleton and model_id is not None:
         raise InvalidArgumentError("--skeleton and --model exclude each other; choose one")
+    if skeleton and rerank:
+        raise InvalidArgumentError("--rerank needs the model that --skeleton leaves out")
     if out_dir is None:
         from skillwright.spec.loader import load_spec
 
@@ -248,6 +261,7 @@ def generate(
         dropped=drop,
         models_file=models_file,
         dense=not no_dense,
+        rerank=rerank,
         attempts=attempts,
         run=not no_run,
         simulate=not no_sim,

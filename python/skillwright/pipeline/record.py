@@ -27,6 +27,7 @@ __all__ = [
     "InputsRecord",
     "InterfacesRecord",
     "ModelRecord",
+    "RerankRecord",
     "RetrievalRecord",
     "RunEpisodeRecord",
     "RunRecord",
@@ -37,7 +38,8 @@ __all__ = [
 
 RECORD_SCHEMA_VERSION: Final = 2
 """2: the model writes method by method (``model.attempts``); 1: one whole-file answer.
-``run`` and ``simulation`` are optional additions to 2 (records without them still load)."""
+``run``, ``simulation`` and ``retrieval.rerank`` are optional additions to 2 (records without
+them still load)."""
 
 
 class _Model(BaseModel):
@@ -79,7 +81,24 @@ class HitRecord(_Model):
     dense: float | None = None
     lexical: float | None = None
     reason: str
+    needed: bool | None = Field(
+        default=None, description="The re-ranking model's verdict; null when not asked."
+    )
+    judgement: str | None = Field(
+        default=None, description="The re-ranking model's reason; null when not asked."
+    )
     pinned: bool = Field(default=False, description="Forced in by the user.")
+
+
+class RerankRecord(_Model):
+    """What the re-ranking stage did."""
+
+    model: str = Field(description="The generation model that judged the candidates.")
+    judged: int = Field(description="Candidates judged.")
+    asked: int = Field(description="Questions answered in this run (the rest were cached).")
+    cached: int = Field(description="Answers taken from the cache.")
+    seconds: float
+    notes: list[str] = Field(default_factory=list, description="Candidates without a verdict.")
 
 
 class RetrievalRecord(_Model):
@@ -87,6 +106,9 @@ class RetrievalRecord(_Model):
 
     k: int
     method: Literal["hybrid", "lexical"] = Field(description="Scores used.")
+    rerank: RerankRecord | None = Field(
+        default=None, description="The model's second stage, when it ran."
+    )
     include_infrastructure: bool
     hits: list[HitRecord]
     pinned: list[str] = Field(default_factory=list, description="Names the user forced in.")

@@ -52,6 +52,7 @@ from skillwright.pipeline.record import (
     InputsRecord,
     InterfacesRecord,
     ModelRecord,
+    RerankRecord,
     RetrievalRecord,
     RunRecord,
     SimulationRecord,
@@ -64,6 +65,7 @@ if TYPE_CHECKING:
     from skillwright.interfaces.inventory import Interface, Inventory
     from skillwright.llm.base import TextGenerator
     from skillwright.llm.config import Registry
+    from skillwright.retrieval.rerank import Reranking
     from skillwright.retrieval.retrieve import Embedder, Hit
     from skillwright.spec.model import SkillSpec
     from skillwright.validation.model import CheckReport, Finding
@@ -94,6 +96,9 @@ class GenerationRequest:
     models_file: Path | None = None
     dense: bool = True
     """Use the embedding model in retrieval (else lexical scores only)."""
+    rerank: bool = False
+    """Have the generation model judge the best candidates after ranking
+    (:mod:`skillwright.retrieval.rerank`); the model is then loaded during retrieval."""
     attempts: int = 3
     """Answers the model may give per method: the first, then repairs from the findings."""
     run: bool = True
@@ -115,6 +120,8 @@ class RetrievalResult:
     inventory: Inventory
     hits: list[Hit]
     method: Literal["hybrid", "lexical"] = "hybrid"
+    reranking: Reranking | None = None
+    """What the re-ranking stage did, when it ran."""
 
 
 @dataclass
@@ -205,8 +212,12 @@ def _rank(
     models_file: Path | None,
     dropped: Sequence[str] = (),
     cancel: threading.Event | None = None,
-) -> tuple[list[Hit], Literal["hybrid", "lexical"]]:
+    reranker: TextGenerator | None = None,
+) -> tuple[list[Hit], Literal["hybrid", "lexical"], Reranking | None]:
+    """The ``k`` best hits; with ``reranker``, the first stage's best
+    :data:`~skillwright.retrieval.rerank.DEPTH` judged by it, the needed ones first."""
     from skillwright.cancel import raise_if_cancelled
+    from skillwright.retrieval.rerank import DEPTH, Reranker, default_cache
     from skillwright.retrieval.retrieve import rank_interfaces
 
     pool = inventory
@@ -225,12 +236,18 @@ def _rank(
         pool,
         capability.capability,
         spec,
-        k=k,
+        k=k if reranker is None else max(k, DEPTH),
         include_infrastructure=include_infrastructure,
         embed=embed,
         cancel=cancel,
     )
-    return hits, "hybrid" if dense else "lexical"
+    reranking = None
+    if reranker is not None:
+        reranking = Reranker(reranker, cache=default_cache()).rerank(
+            pool, capability.capability, spec, hits, cancel=cancel
+        )
+        hits = reranking.hits
+    return hits[:k], "hybrid" if dense else "lexical", reranking
 
 
 def retrieve(
@@ -245,13 +262,19 @@ def retrieve(
     models_file: Path | None = None,
     dropped: Sequence[str] = (),
     cancel: threading.Event | None = None,
+    rerank: bool = False,
+    model: str | None = None,
 ) -> RetrievalResult:
     """Loads the inputs and ranks the interfaces (what the TUI's retrieval view shows).
+
+    With ``rerank``, the generation model ``model`` (default: the default one) judges the
+    best candidates (see :mod:`skillwright.retrieval.rerank`).
 
     Once ``cancel`` is set, :class:`~skillwright.errors.OperationCancelledError` is raised
     at the next step: between the inputs, around the embedding model's load, between the
     ranking's phases (see :mod:`skillwright.cancel`).
     """
+    from skillwright.cancel import raise_if_cancelled
     from skillwright.capability.reader import load_capability
     from skillwright.interfaces.load import load_inventory
     from skillwright.spec.loader import load_spec
@@ -260,18 +283,29 @@ def retrieve(
     skill_spec = load_spec(spec) if spec is not None else None
     inventory = load_inventory(interfaces, cancel=cancel)
     _known_names(inventory, dropped, "dropped")
-    hits, method = _rank(
-        load,
-        skill_spec,
-        inventory,
-        k=k,
-        include_infrastructure=include_infrastructure,
-        dense=dense,
-        models_file=models_file,
-        dropped=dropped,
-        cancel=cancel,
-    )
-    return RetrievalResult(load, skill_spec, inventory, hits, method)
+    generator = None
+    if rerank:
+        from skillwright.llm import load_generator
+
+        raise_if_cancelled(cancel, "retrieval")
+        generator = load_generator(_registry(models_file), model)
+    try:
+        hits, method, reranking = _rank(
+            load,
+            skill_spec,
+            inventory,
+            k=k,
+            include_infrastructure=include_infrastructure,
+            dense=dense,
+            models_file=models_file,
+            dropped=dropped,
+            cancel=cancel,
+            reranker=generator,
+        )
+    finally:
+        if generator is not None:
+            generator.close()
+    return RetrievalResult(load, skill_spec, inventory, hits, method, reranking)
 
 
 def _with_pins(hits: list[Hit], inventory: Inventory, pinned: Sequence[str]) -> list[HitRecord]:
@@ -284,6 +318,8 @@ def _with_pins(hits: list[Hit], inventory: Inventory, pinned: Sequence[str]) -> 
             dense=None if h.dense is None else round(h.dense, 4),
             lexical=round(h.lexical, 4),
             reason=h.reason,
+            needed=h.needed,
+            judgement=h.judgement,
             pinned=h.name in pinned,
         )
         for h in hits
@@ -512,6 +548,7 @@ def _record(
     spec: SkillSpec,
     inventory: Inventory,
     method: Literal["hybrid", "lexical"],
+    reranking: Reranking | None,
     chosen_hits: list[HitRecord],
     skeleton: Skeleton,
     model_result: _ModelResult | None,
@@ -544,6 +581,16 @@ def _record(
         retrieval=RetrievalRecord(
             k=request.k,
             method=method,
+            rerank=None
+            if reranking is None
+            else RerankRecord(
+                model=reranking.model_id,
+                judged=len(reranking.judgements),
+                asked=reranking.asked,
+                cached=reranking.cached,
+                seconds=round(reranking.seconds, 3),
+                notes=reranking.notes,
+            ),
             include_infrastructure=request.include_infrastructure,
             hits=chosen_hits,
             pinned=list(request.pinned),
@@ -579,14 +626,22 @@ def _model_stages(
     inventory: Inventory,
     chosen: Sequence[tuple[Interface, InterfaceRef]],
     behaviour: Behaviour,
+    loaded: tuple[TextGenerator | None, Registry | None] | None = None,
 ) -> _ModelResult | None:
-    """Loads the model and has it write the behaviour; ``None`` when there is no model."""
+    """Loads the model (unless re-ranking ``loaded`` it) and has it write the behaviour;
+    ``None`` when there is no model."""
     if request.skeleton:
+        if loaded is not None and loaded[0] is not None:
+            loaded[0].close()
         return None
     generator: TextGenerator | None = None
     registry: Registry | None = None
     with stages.stage("model", f"loading {request.model or 'the default model'}") as s:
-        generator, registry = _load_model(request, stages)
+        if loaded is None:
+            generator, registry = _load_model(request, stages)
+        else:
+            generator, registry = loaded
+            s.append("loaded for re-ranking")
         s.append(generator.model_id if generator is not None else "not installed")
     model_result: _ModelResult | None = None
     try:
@@ -690,6 +745,52 @@ def _behaviour_stages(
     return run_record, sim_record
 
 
+_Loaded = tuple["TextGenerator | None", "Registry | None"]
+
+
+def _retrieval_stage(
+    request: GenerationRequest,
+    stages: _Stages,
+    load: CapabilityLoad,
+    spec: SkillSpec,
+    inventory: Inventory,
+) -> tuple[
+    list[Hit], Literal["hybrid", "lexical"], Reranking | None, list[HitRecord], _Loaded | None
+]:
+    """Ranks (and with ``request.rerank`` loads the model and re-ranks); the model loaded
+    for re-ranking is returned for generation."""
+    method = "hybrid" if request.dense else "lexical"
+    loaded: _Loaded | None = None
+    detail = f"top {request.k} interfaces ({method}{', re-ranked' if request.rerank else ''})"
+    with stages.stage("retrieval", detail) as s:
+        if request.rerank:
+            loaded = _load_model(request, stages)
+        try:
+            hits, method, reranking = _rank(
+                load,
+                spec,
+                inventory,
+                k=request.k,
+                include_infrastructure=request.include_infrastructure,
+                dense=request.dense,
+                models_file=request.models_file,
+                dropped=request.dropped,
+                cancel=stages.cancel,
+                reranker=None if loaded is None else loaded[0],
+            )
+        except BaseException:
+            if loaded is not None and loaded[0] is not None:
+                loaded[0].close()
+            raise
+        chosen_hits = _with_pins(hits, inventory, request.pinned)
+        s.append(", ".join(h.name for h in chosen_hits) or "none")
+        if reranking is not None:
+            s.append(f"re-ranked: {reranking.summary()}")
+            for note in reranking.notes:
+                stages.emit(Notice("warning", note))
+    return hits, method, reranking, chosen_hits, loaded
+
+
 def run_generation(
     request: GenerationRequest,
     *,
@@ -719,20 +820,8 @@ def run_generation(
         _known_names(inventory, request.dropped, "dropped")
         notes += load.warnings
         s.append(f"{load.capability.name}, {spec.name}, {len(inventory.interfaces)} interfaces")
-    method = "hybrid" if request.dense else "lexical"
-    with stages.stage("retrieval", f"top {request.k} interfaces ({method})") as s:
-        hits, method = _rank(
-            load,
-            spec,
-            inventory,
-            k=request.k,
-            include_infrastructure=request.include_infrastructure,
-            dense=request.dense,
-            models_file=request.models_file,
-            dropped=request.dropped,
-        )
-        chosen_hits = _with_pins(hits, inventory, request.pinned)
-        s.append(", ".join(h.name for h in chosen_hits) or "none")
+    retrieved = _retrieval_stage(request, stages, load, spec, inventory)
+    hits, method, reranking, chosen_hits, loaded = retrieved
     chosen = _interface_refs(inventory, chosen_hits)
     with stages.stage("skeleton", "structure, annotations and interface handles") as s:
         skeleton = build_skeleton(
@@ -755,7 +844,9 @@ def run_generation(
             sim_seconds=request.sim_seconds,
             cancel=cancel,
         )
-        model_result = _model_stages(request, stages, load, spec, inventory, chosen, behaviour)
+        model_result = _model_stages(
+            request, stages, load, spec, inventory, chosen, behaviour, loaded
+        )
         files = _result_files(skeleton, model_result, notes)
         code = skeleton.code if model_result is None else model_result.code
         kept = skeleton if model_result is None else model_result.skeleton
@@ -780,6 +871,7 @@ def run_generation(
         spec=spec,
         inventory=inventory,
         method=method,
+        reranking=reranking,
         chosen_hits=chosen_hits,
         skeleton=skeleton,
         model_result=model_result,

@@ -18,8 +18,11 @@ import click
 from skillwright.cli_options import capability_options, interfaces_option, spec_option
 
 if TYPE_CHECKING:
+    from skillwright.capability.model import Capability
     from skillwright.interfaces.inventory import Inventory
+    from skillwright.retrieval.rerank import Reranking
     from skillwright.retrieval.retrieve import Embedder, Hit
+    from skillwright.spec.model import SkillSpec
 
 __all__ = ["retrieve"]
 
@@ -48,6 +51,18 @@ __all__ = ["retrieve"]
     help="Lexical ranking only: no embedding model is loaded.",
 )
 @click.option(
+    "--rerank",
+    is_flag=True,
+    help="Have the local generation model judge the best 8 candidates (needed or not, with "
+    "a reason) and put the needed ones first. Answers are cached.",
+)
+@click.option(
+    "--model",
+    "model_id",
+    metavar="ID",
+    help="The generation model that re-ranks (default: as for `skillwright generate`).",
+)
+@click.option(
     "--models",
     "models_file",
     type=click.Path(path_type=Path, dir_okay=False),
@@ -62,6 +77,8 @@ def retrieve(
     k: int,
     include_infrastructure: bool,
     no_dense: bool,
+    rerank: bool,
+    model_id: str | None,
     models_file: Path | None,
     as_json: bool,
 ) -> None:
@@ -70,11 +87,14 @@ def retrieve(
     Each hit has a combined score, its dense (embedding) and lexical (BM25) parts, each
     scaled to 0..1 over the candidates, and a reason naming the capability or spec
     evidence that matched. Infrastructure interfaces are left out unless --all is given.
+    With --rerank the local generation model judges the best candidates and its reasons
+    are shown.
     """
     from skillwright.capability.reader import load_capability
     from skillwright.console import err_console
     from skillwright.errors import InvalidArgumentError
     from skillwright.interfaces.load import load_inventory
+    from skillwright.retrieval.rerank import DEPTH
     from skillwright.retrieval.retrieve import candidates, rank_interfaces
     from skillwright.spec.loader import load_spec
 
@@ -88,13 +108,15 @@ def retrieve(
             f"interface source {source}: none of its {len(inventory.interfaces)} interface(s) "
             f"is a candidate{hint}"
         )
-    embed, model_id = (None, None) if no_dense else _embedder(models_file, len(pool))
+    if model_id is not None and not rerank:
+        raise InvalidArgumentError("--model names the re-ranking model; add --rerank")
+    embed, embedding_id = (None, None) if no_dense else _embedder(models_file, len(pool))
     started = time.perf_counter()
     hits = rank_interfaces(
         inventory,
         capability,
         spec,
-        k=k,
+        k=max(k, DEPTH) if rerank else k,
         include_infrastructure=include_infrastructure,
         embed=embed,
     )
@@ -102,11 +124,62 @@ def retrieve(
     err_console().print(
         f"ranked {len(pool)} interface(s) in {elapsed * 1e3:.0f} ms", highlight=False
     )
+    method = "lexical" if embedding_id is None else f"hybrid, dense part by {embedding_id}"
+    reranking = None
+    if rerank:
+        reranking = _rerank(models_file, model_id, inventory, capability, spec, hits)
+        hits = reranking.hits
+        method += f"; re-ranked by {reranking.model_id}"
+    hits = hits[:k]
     if as_json:
-        _print_json(capability.iri, spec_file, source, inventory, len(pool), k, model_id, hits)
+        _print_json(
+            capability.iri,
+            spec_file,
+            source,
+            inventory,
+            len(pool),
+            k,
+            embedding_id,
+            hits,
+            reranking,
+        )
     else:
-        method = "lexical" if model_id is None else f"hybrid, dense part by {model_id}"
         _print_table(inventory, len(pool), include_infrastructure, method, hits)
+
+
+def _rerank(
+    models_file: Path | None,
+    model_id: str | None,
+    inventory: Inventory,
+    capability: Capability,
+    spec: SkillSpec | None,
+    hits: list[Hit],
+) -> Reranking:
+    """The second stage with the generation model, its progress on stderr."""
+    from skillwright.console import err_console
+    from skillwright.llm import load_generator
+    from skillwright.llm.config import load_registry
+    from skillwright.retrieval.rerank import Reranker, default_cache
+
+    registry = load_registry(models_file)
+    entry = registry.generation_model(model_id)
+    console = err_console()
+    console.print(f"loading generation model {entry.id} to re-rank ...", highlight=False)
+    generator = load_generator(registry, entry.id)
+    try:
+
+        def progress(done: int, total: int, name: str) -> None:
+            console.print(f"judged {done}/{total}: {name}", highlight=False)
+
+        reranking = Reranker(generator, cache=default_cache()).rerank(
+            inventory, capability, spec, hits, progress=progress
+        )
+    finally:
+        generator.close()
+    for note in reranking.notes:
+        console.print(f"warning: {note}", highlight=False)
+    console.print(f"re-ranked: {reranking.summary()}", highlight=False)
+    return reranking
 
 
 def _embedder(models_file: Path | None, count: int) -> tuple[Embedder, str]:
@@ -150,8 +223,12 @@ def _print_table(
     table.add_column("Dense", justify="right")
     table.add_column("Lexical", justify="right")
     table.add_column("Reason", overflow="fold")
+    judged = any(hit.judgement is not None for hit in hits)
+    if judged:
+        table.add_column("Needed")
+        table.add_column("Model's reason", overflow="fold")
     for rank, hit in enumerate(hits, 1):
-        table.add_row(
+        row = [
             str(rank),
             escape(hit.name),
             hit.kind,
@@ -160,7 +237,11 @@ def _print_table(
             "-" if hit.dense is None else f"{hit.dense:.3f}",
             f"{hit.lexical:.3f}",
             escape(hit.reason),
-        )
+        ]
+        if judged:
+            verdict = {True: "yes", False: "no", None: "-"}[hit.needed]
+            row += [verdict, escape(hit.judgement or "")]
+        table.add_row(*row)
     console = out_console()
     if console.is_terminal:
         console.print(table)
@@ -193,6 +274,7 @@ def _print_json(
     k: int,
     model_id: str | None,
     hits: list[Hit],
+    reranking: Reranking | None,
 ) -> None:
     from dataclasses import asdict
 
@@ -205,6 +287,16 @@ def _print_json(
         "k": k,
         "method": "lexical" if model_id is None else "hybrid",
         "embedding_model": model_id,
+        "rerank": None
+        if reranking is None
+        else {
+            "model": reranking.model_id,
+            "judged": len(reranking.judgements),
+            "asked": reranking.asked,
+            "cached": reranking.cached,
+            "seconds": round(reranking.seconds, 3),
+            "notes": reranking.notes,
+        },
         "hits": [asdict(h) for h in hits],
     }
     sys.stdout.write(json.dumps(document, indent=2) + "\n")

@@ -27,8 +27,9 @@ TERM_WEIGHTS = {
 
 # Topics a skill writes to rather than reads: velocity commands (a bare Twist is one,
 # whatever the topic's name: measured velocities come stamped or inside an Odometry),
-# goals, setpoints, trajectories sent to a controller.
-_COMMAND_NAME = re.compile(r"(^|[/_])(cmd|command|commands|goal|setpoint)s?([/_]|$)")
+# goals, setpoints, trajectories sent to a controller, and the request topic of a
+# request/response pair (a vendor API served over topics: the client writes the request).
+_COMMAND_NAME = re.compile(r"(^|[/_])(cmd|command|commands|goal|setpoint|request)s?([/_]|$)")
 _COMMAND_TYPE = re.compile(r"trajectory_msgs/msg/\w+|\w+/msg/\w*Command|geometry_msgs/msg/Twist")
 _MAIN_ROLES = ("message", "goal", "request", "feedback", "result", "response")
 

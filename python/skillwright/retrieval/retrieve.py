@@ -107,6 +107,11 @@ class Hit:
     """Which capability or spec evidence matched which of the interface's terms."""
     facets: tuple[str, ...] = ()
     """Keys of the facets the hit covered best when it was picked, strongest first."""
+    needed: bool | None = None
+    """The re-ranking model's verdict (:mod:`~skillwright.retrieval.rerank`); ``None`` when
+    it was not asked or gave no usable answer."""
+    judgement: str | None = None
+    """The re-ranking model's reason for its verdict; ``None`` when it was not asked."""
 
 
 def candidates(inventory: Inventory, include_infrastructure: bool = False) -> list[Interface]:
