@@ -173,3 +173,22 @@ def test_pyskillup_decorators_builtins_and_locals_are_known(
         "            self.node.get_logger().debug(f'{index}: {value}')",
     )
     assert not [f for f in _check(source, move_forward).findings if f.check == "names"]
+
+
+def test_a_goal_handle_method_asked_of_the_action_client_gets_the_goal_handle_statement(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        '        """Halt the base."""\n',
+        '        """Halt the base."""\n'
+        '        self.nav_client = ActionClient(self.node, NavigateToPose, "/navigate_to_pose")\n'
+        "        self.nav_client.cancel_goal_async()\n",
+        1,
+    )
+    found = [f.message for f in _check(source, move_forward).findings if f.check == "names"]
+    assert (
+        "self.nav_client is an ActionClient, which has no 'cancel_goal_async' in rclpy; it "
+        "belongs to the goal handle that sending the goal gives: self.goal_handle = "
+        'self._result_of(self.nav_client.send_goal_async(goal), 5.0, "goal acceptance"), then '
+        "self.goal_handle.get_result_async() or self.goal_handle.cancel_goal_async()"
+    ) in found

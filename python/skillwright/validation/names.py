@@ -443,6 +443,10 @@ def _latest_message_wait(receiver: ast.expr, defined: set[str]) -> tuple[str, st
     )
 
 
+_GOAL_HANDLE = frozenset({"get_result_async", "cancel_goal_async", "accepted", "status"})
+"""What rclpy's ClientGoalHandle has that a model asks of the ActionClient."""
+
+
 def _owner_of(attribute: str, kind: str) -> str | None:
     """Where ``attribute`` lives when it is the node's or the logger's, not ``kind``'s."""
     if kind != "node" and attribute in RCLPY_API["node"]:
@@ -450,6 +454,15 @@ def _owner_of(attribute: str, kind: str) -> str | None:
     if kind != "logger" and attribute in RCLPY_API["logger"]:
         return "the logger: self.node.get_logger()"
     return None
+
+
+def _goal_handle_hint(receiver: ast.expr) -> str:
+    client = ast.unparse(receiver)
+    return (
+        "; it belongs to the goal handle that sending the goal gives: self.goal_handle = "
+        f'self._result_of({client}.send_goal_async(goal), 5.0, "goal acceptance"), then '
+        "self.goal_handle.get_result_async() or self.goal_handle.cancel_goal_async()"
+    )
 
 
 def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
@@ -466,6 +479,8 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
         wait = None if close or owner else _latest_message_wait(node.value, defined)
         if owner is not None:
             hint = f"; {node.attr} belongs to {owner}.{node.attr}(...)"
+        elif kind == "action_client" and node.attr in _GOAL_HANDLE:
+            hint = _goal_handle_hint(node.value)
         elif close:
             hint = f"; did you mean {close[0]}?"
         elif wait is not None:
