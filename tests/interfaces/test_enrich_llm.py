@@ -20,7 +20,8 @@ from skillwright.interfaces.enrich import (
     enrich,
 )
 from skillwright.interfaces.inventory import Inventory
-from skillwright.llm.base import GenerationOptions, Prompt, TextStream
+from skillwright.llm.base import TextStream
+from tests.fixtures.interface_answers import InterfaceAnswers
 from tests.interfaces.test_enrich import small_inventory
 
 SCAN_LIKE = {
@@ -34,45 +35,6 @@ SCAN_LIKE = {
 }
 
 
-class FakeGenerator:
-    """Answers from a table by interface name; records every prompt and option it gets."""
-
-    context_length = 4096
-
-    def __init__(self, answers: dict[str, Any], model_id: str = "fake-model") -> None:
-        self.model_id = model_id
-        self.answers = answers
-        self.prompts: list[Prompt] = []
-        self.options: list[GenerationOptions] = []
-
-    def count_tokens(self, prompt: Prompt) -> int | None:
-        return None
-
-    def stream(
-        self,
-        prompt: Prompt,
-        options: GenerationOptions | None = None,
-        cancel: threading.Event | None = None,
-    ) -> TextStream:
-        assert options is not None
-        self.prompts.append(prompt)
-        self.options.append(options)
-        name = prompt.messages[-1].content.splitlines()[0].removeprefix("Interface: ")
-        answer = self.answers[name]
-        if isinstance(answer, Exception):
-            raise answer
-        finish = "stop"
-        if isinstance(answer, tuple):
-            answer, finish = answer
-        text = answer if isinstance(answer, str) else json.dumps(answer)
-        stream = TextStream(iter([text[: len(text) // 2], text[len(text) // 2 :]]))
-        stream.finish_reason = finish  # type: ignore[assignment]
-        return stream
-
-    def close(self) -> None:
-        pass
-
-
 RULES_ANSWERS = {
     "/rosout": {**SCAN_LIKE, "purpose": "Log messages.", "category": "infrastructure"},
     "/teleop/set_parameters": {**SCAN_LIKE, "module": "system", "category": "infrastructure"},
@@ -80,7 +42,7 @@ RULES_ANSWERS = {
 
 
 def test_a_valid_answer_becomes_description_and_verdict_by_the_model() -> None:
-    generator = FakeGenerator({"/cmd_vel": SCAN_LIKE, **RULES_ANSWERS})
+    generator = InterfaceAnswers({"/cmd_vel": SCAN_LIKE, **RULES_ANSWERS})
     report = enrich(small_inventory(), LlmEngine(generator))
     cmd_vel = report.inventory.interface("/cmd_vel")
     assert cmd_vel.description is not None
@@ -102,7 +64,7 @@ def test_a_valid_answer_becomes_description_and_verdict_by_the_model() -> None:
 
 
 def test_prompts_share_a_fixed_prefix_and_ask_about_one_interface() -> None:
-    generator = FakeGenerator({"/cmd_vel": SCAN_LIKE, **RULES_ANSWERS})
+    generator = InterfaceAnswers({"/cmd_vel": SCAN_LIKE, **RULES_ANSWERS})
     enrich(small_inventory(), LlmEngine(generator, max_tokens=300))
     first, second = generator.prompts[0], generator.prompts[1]
     assert first.prefix_messages == second.prefix_messages == 5  # system + two examples
@@ -135,7 +97,7 @@ def test_prompts_share_a_fixed_prefix_and_ask_about_one_interface() -> None:
 def test_an_unusable_answer_falls_back_to_the_rules_with_a_named_note(
     answer: Any, says: str, tmp_path: Path
 ) -> None:
-    generator = FakeGenerator({"/cmd_vel": answer, **RULES_ANSWERS})
+    generator = InterfaceAnswers({"/cmd_vel": answer, **RULES_ANSWERS})
     cache = EnrichmentCache(tmp_path / "enrich.sqlite")
     report = enrich(small_inventory(), LlmEngine(generator), cache=cache)
     cmd_vel = report.inventory.interface("/cmd_vel")
@@ -154,20 +116,20 @@ def test_an_unusable_answer_falls_back_to_the_rules_with_a_named_note(
 def test_answers_are_cached_per_model(tmp_path: Path) -> None:
     cache = EnrichmentCache(tmp_path / "enrich.sqlite")
     answers = {"/cmd_vel": SCAN_LIKE, **RULES_ANSWERS}
-    first = FakeGenerator(answers)
+    first = InterfaceAnswers(answers)
     enrich(small_inventory(), LlmEngine(first), cache=cache)
-    again = FakeGenerator(answers)
+    again = InterfaceAnswers(answers)
     report = enrich(small_inventory(), LlmEngine(again), cache=cache)
     assert (report.described, report.cached) == (0, 3)
     assert again.prompts == []
-    other = FakeGenerator(answers, model_id="other-model")
+    other = InterfaceAnswers(answers, model_id="other-model")
     report = enrich(small_inventory(), LlmEngine(other), cache=cache)
     assert (report.described, report.cached) == (3, 0)
 
 
 def test_a_cancelled_generation_stops_the_run_and_caches_nothing(tmp_path: Path) -> None:
     cache = EnrichmentCache(tmp_path / "enrich.sqlite")
-    generator = FakeGenerator({"/cmd_vel": SCAN_LIKE, "/rosout": ("", "cancelled")})
+    generator = InterfaceAnswers({"/cmd_vel": SCAN_LIKE, "/rosout": ("", "cancelled")})
     report = enrich(small_inventory(), LlmEngine(generator), cache=cache)
     assert report.cancelled
     assert report.described == 1
@@ -177,7 +139,7 @@ def test_a_cancelled_generation_stops_the_run_and_caches_nothing(tmp_path: Path)
 
 def test_the_cache_key_depends_on_the_answer_limits() -> None:
     interface = small_inventory().interfaces[0]
-    generator = FakeGenerator({})
+    generator = InterfaceAnswers({})
     assert LlmEngine(generator).cache_key(interface) != LlmEngine(
         generator, limits=AnswerLimits(items=2)
     ).cache_key(interface)

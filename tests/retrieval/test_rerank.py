@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import threading
 from collections.abc import Iterator
 from pathlib import Path
@@ -13,52 +12,23 @@ import pytest
 from skillwright.capability import load_capability
 from skillwright.errors import OperationCancelledError
 from skillwright.interfaces.enrich import EnrichmentCache
-from skillwright.llm.base import GenerationOptions, Prompt, TextStream
+from skillwright.llm.base import TextStream
 from skillwright.retrieval.rerank import Reranker, Reranking, reorder
 from skillwright.retrieval.retrieve import Hit, rank_interfaces
 from skillwright.spec import load_spec
 from tests.conftest import SHIPPED_CAPABILITIES
+from tests.fixtures.interface_answers import InterfaceAnswers
 from tests.retrieval.test_retrieve import mr1
 
 NEEDED = {"reason": "It commands the base velocity.", "needed": True}
 NOT_NEEDED = {"reason": "The skill never reads images.", "needed": False}
 
 
-class ScriptedModel:
-    """Answers from a table by the interface the question names; records what it was asked."""
-
-    context_length = 4096
+class ScriptedModel(InterfaceAnswers):
+    """Answers as the table says, and "not needed" for every other interface."""
 
     def __init__(self, answers: dict[str, Any], model_id: str = "scripted") -> None:
-        self.model_id = model_id
-        self.answers = answers
-        self.prompts: list[Prompt] = []
-        self.options: list[GenerationOptions] = []
-
-    def count_tokens(self, prompt: Prompt) -> int | None:
-        return None
-
-    def stream(
-        self,
-        prompt: Prompt,
-        options: GenerationOptions | None = None,
-        cancel: threading.Event | None = None,
-    ) -> TextStream:
-        assert options is not None
-        self.prompts.append(prompt)
-        self.options.append(options)
-        name = prompt.messages[-1].content.splitlines()[0].removeprefix("Interface: ")
-        answer = self.answers.get(name, NOT_NEEDED)
-        finish = "stop"
-        if isinstance(answer, tuple):
-            answer, finish = answer
-        text = answer if isinstance(answer, str) else json.dumps(answer)
-        stream = TextStream(iter([text]))
-        stream.finish_reason = finish  # type: ignore[assignment]
-        return stream
-
-    def close(self) -> None:
-        pass
+        super().__init__(answers, model_id, default=NOT_NEEDED)
 
 
 def first_stage(stem: str = "move-forward", k: int = 8) -> tuple[Any, Any, list[Hit]]:
