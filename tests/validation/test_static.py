@@ -407,3 +407,23 @@ def test_an_error_ignored_where_the_spec_does_not_say_abort_is_a_warning(
             "skill should go on after it",
         )
     ]
+
+
+def test_a_zero_twist_made_of_numbers_is_pointed_to_the_stop_helper(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    helper = (
+        "    def _stop_base(self) -> None:\n"
+        "        self.cmd_vel_publisher.publish(Twist())\n\n"
+        "    @starting\n"
+    )
+    source = GOOD.replace("    @starting\n", helper, 1).replace(
+        '        """Halt the base."""\n        self.cmd_vel_publisher.publish(Twist())',
+        '        """Halt the base."""\n'
+        "        self.cmd_vel_publisher.publish(Twist(angular=0.0, linear=0.0))",
+    )
+    assert "Twist(angular=0.0, linear=0.0)" in source
+    found = [f for f in run(source, move_forward).findings if "is a message" in f.message]
+    assert len(found) == 2
+    assert all(f.message.endswith("; to stand still call self._stop_base()") for f in found)
+    assert {f.replacement for f in found} == {"self._stop_base()"}

@@ -51,11 +51,25 @@ class _Use:
 class _Context:
     findings: list[Finding] = field(default_factory=list)
 
-    def add(self, check: str, severity: str, node: ast.AST | None, message: str) -> None:
+    def add(
+        self,
+        check: str,
+        severity: str,
+        node: ast.AST | None,
+        message: str,
+        replacement: str | None = None,
+    ) -> None:
         line = getattr(node, "lineno", 0) if node is not None else 0
         column = getattr(node, "col_offset", -1) + 1 if node is not None else 0
         self.findings.append(
-            Finding(check=check, severity=severity, line=line, column=column, message=message)  # type: ignore[arg-type]
+            Finding(
+                check=check,
+                severity=severity,  # type: ignore[arg-type]
+                line=line,
+                column=column,
+                message=message,
+                replacement=replacement,
+            )
         )
 
 
@@ -612,6 +626,7 @@ def _check_fields(
     bindings = _message_bindings(cls, uses, catalog, imports)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         _FieldVisitor(ctx, catalog, bindings.get(method.name, {})).visit(method)
+    stops = any(isinstance(n, ast.FunctionDef) and n.name == "_stop_base" for n in cls.body)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         numbers = _numeric_names(method)
         for node in ast.walk(method):
@@ -625,6 +640,11 @@ def _check_fields(
             tree = catalog.fields.get(key)
             if tree is None:
                 continue
+            # Twist(linear=0.0, angular=0.0) means "stand still", which the skeleton's
+            # helper says in one call.
+            zero = (
+                stops and key.endswith("/Twist") and all(_is_zero(k.value) for k in node.keywords)
+            )
             for keyword in node.keywords:
                 if keyword.arg is None:
                     continue
@@ -637,8 +657,14 @@ def _check_fields(
                         keyword,
                         f"{key}'s field {keyword.arg!r} is a message (fields "
                         f"{', '.join(sorted(nested))}), not a number: make the message first and "
-                        f"set its fields, e.g. msg.{keyword.arg}.{sorted(nested)[0]} = ...",
+                        f"set its fields, e.g. msg.{keyword.arg}.{sorted(nested)[0]} = ..."
+                        + ("; to stand still call self._stop_base()" if zero else ""),
+                        "self._stop_base()" if zero else None,
                     )
+
+
+def _is_zero(node: ast.expr) -> bool:
+    return isinstance(node, ast.Constant) and node.value == 0 and not isinstance(node.value, bool)
 
 
 _NUMERIC_CALLS = {"min", "max", "abs", "float", "int", "round", "sum", "len"}
