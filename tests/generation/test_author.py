@@ -246,6 +246,20 @@ def test_a_repair_is_prefilled_with_the_statement_the_check_suggests(case: _Case
     assert "wait_for_message" not in authored.code
 
 
+def test_a_guard_that_only_raises_is_replaced_by_the_suggested_statement(case: _Case) -> None:
+    guards_wrongly = STARTING.replace(
+        '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")\n',
+        "        if not self.odom_subscription.is_alive():\n"
+        '            raise RuntimeError("no odometry")\n',
+    )
+    model = MethodScript({**GOOD, "starting": [guards_wrongly, "```"]})
+    authored = case.write(model)
+    assert model.prompts[-1].answer_prefix.endswith(
+        '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")\n'
+    )
+    assert "is_alive" not in authored.code
+
+
 def test_a_helper_a_repair_calls_is_asked_for(case: _Case) -> None:
     wrong = """        self.logger.info("done")\n```"""
     calls_helper = """        self._report()\n```"""

@@ -391,13 +391,21 @@ def _resume_point(target: _Target, code: str, judgement: _Judgement, error: Find
     kept = "".join(code.splitlines(keepends=True)[: cut - 1])
     if len(kept) < len(target.prefill):
         kept = target.prefill
-    if error.replacement is not None and isinstance(statement, _REPLACEABLE):
+    if error.replacement is not None and _replaceable(statement):
         kept += f"        {error.replacement}\n"
     return kept
 
 
-_REPLACEABLE = (ast.Assign, ast.AnnAssign, ast.Expr, ast.While)
-"""Statements a check's suggested statement may take the place of whole."""
+def _replaceable(statement: ast.stmt) -> bool:
+    """Whether a check's suggested statement may take the place of ``statement`` whole: a
+    plain statement, a loop, or a guard that only raises (``if not ...: raise ...``)."""
+    if isinstance(statement, ast.Assign | ast.AnnAssign | ast.Expr | ast.While):
+        return True
+    return (
+        isinstance(statement, ast.If)
+        and not statement.orelse
+        and all(isinstance(s, ast.Raise) for s in statement.body)
+    )
 
 
 def _body_statement_at(judgement: _Judgement, name: str, line: int) -> ast.stmt | None:
