@@ -140,6 +140,9 @@ class SandboxProcess:
 
     def close(self) -> None:
         """Kills every process of the child's group, reaps the child, removes its folder."""
+        # The skill's process (in a PID namespace) is killed before its parent reaps it, so
+        # the parent's resource use may miss it; /proc still counts it at this point.
+        seen = self.cpu_seconds() if self.process.returncode is None else None
         with contextlib.suppress(OSError):
             self.sock.close()
         with contextlib.suppress(ProcessLookupError, PermissionError):
@@ -152,7 +155,7 @@ class SandboxProcess:
             self.process.returncode = os.waitstatus_to_exitcode(status)
             if usage is not None:
                 self.rusage = {
-                    "cpu_seconds": round(usage.ru_utime + usage.ru_stime, 3),
+                    "cpu_seconds": round(max(usage.ru_utime + usage.ru_stime, seen or 0.0), 3),
                     "max_rss_mb": round(usage.ru_maxrss / 1024, 1),
                 }
         self.exit_status = self.process.returncode
