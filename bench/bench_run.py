@@ -6,8 +6,10 @@ Measured in the same run:
 * sandbox start-up: from starting the child to the skill's first state (namespaces,
   rlimits, audit hook, the stand-ins and pySkillUp imported, the skill loaded and made);
 * a trivial skill's whole run (all states, the trace, the cleanup) through ``run_skill``;
-* a motion skill (move_forward, 0.5 m in the kinematic world, normal and Stop runs):
-  how much faster than real time the lockstep simulation runs.
+* the nine MR-1 skills (``capabilities/skills``) in their run scenarios (the kinematic
+  world), normal and Stop runs: wall time and how much faster than real time the lockstep
+  simulation runs, with each run's child booted while the previous run goes on (one
+  ``ChildPool`` for all) against the alternative of booting it when the run starts.
 
 The target is at most 1 s of overhead per run. Medians of several runs; CPU times come
 from the child's resource use, so a busy machine shows in wall times only.
@@ -22,6 +24,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
 RECORDING = ROOT / "capabilities" / "recordings" / "mr1"
@@ -98,22 +101,47 @@ def main() -> None:
     _row("  child CPU per run", statistics.median(cpus))
     print(f"{'target <= 1 s of overhead per run':46s} {'met' if wall <= 1.0 else 'NOT met'}")
 
-    skill = SKILLS / "move_forward.py"
-    scenario = load_scenario(skill.with_suffix(".scenario.yaml"))
-    motion_walls, simulated = [], []
-    for _ in range(3):
-        started = time.perf_counter()
-        report = run_skill(skill, inventory, scenario=scenario)
-        motion_walls.append(time.perf_counter() - started)
-        assert report.passed, report.findings
-        simulated.append(sum(e.virtual_seconds for e in report.trace.episodes))
-    motion = statistics.median(motion_walls)
-    virtual = statistics.median(simulated)
-    _row(
-        "move_forward 0.5 m, normal and Stop runs",
-        motion,
-        f"for {virtual:.2f} s simulated, {virtual / motion:.1f}x real time",
+    print(
+        "\nthe nine MR-1 skills in their run scenarios (all runs of each): children booted "
+        "while the\nprevious run goes on (ahead, one pool for all) against booted when each "
+        "run starts (on demand)"
     )
+    print(
+        f"{'skill':26s} {'virtual':>8s} {'ahead':>8s} {'x real':>7s} {'on demand':>10s} "
+        f"{'x real':>7s} {'ratio':>6s}"
+    )
+    totals = [0.0, 0.0, 0.0]
+    runs = {ahead: _run_all(inventory, load_scenario, run_skill, ahead) for ahead in (False, True)}
+    for name, (virtual, wall) in runs[True].items():
+        _, old_wall = runs[False][name]
+        print(
+            f"{name:26s} {virtual:7.2f}s {wall:7.2f}s {virtual / wall:6.1f}x {old_wall:9.2f}s "
+            f"{virtual / old_wall:6.1f}x {old_wall / wall:5.2f}x"
+        )
+        totals = [totals[0] + virtual, totals[1] + wall, totals[2] + old_wall]
+    virtual, wall, old_wall = totals
+    print(
+        f"{'all':26s} {virtual:7.2f}s {wall:7.2f}s {virtual / wall:6.1f}x {old_wall:9.2f}s "
+        f"{virtual / old_wall:6.1f}x {old_wall / wall:5.2f}x"
+    )
+
+
+def _run_all(
+    inventory: Any, load_scenario: Any, run_skill: Any, ahead: bool
+) -> dict[str, tuple[float, float]]:
+    """Skill -> (virtual s, wall s) of its whole run, each skill in its shipped scenario."""
+    from skillwright.runtime.sandbox import ChildPool
+
+    rows = {}
+    with ChildPool(ahead=ahead) as children:
+        for skill in sorted(SKILLS.glob("*.py")):
+            scenario = load_scenario(skill.with_suffix(".scenario.yaml"))
+            started = time.perf_counter()
+            report = run_skill(skill, inventory, scenario=scenario, children=children)
+            wall = time.perf_counter() - started
+            assert report.passed, (skill.name, report.findings)
+            rows[skill.stem] = (sum(e.virtual_seconds for e in report.trace.episodes), wall)
+    return rows
 
 
 if __name__ == "__main__":

@@ -5,13 +5,12 @@ from __future__ import annotations
 import math
 import threading
 from pathlib import Path
-from typing import Any
 
 import pytest
 
 from skillwright.errors import GenerationCancelledError, InvalidArgumentError
 from skillwright.interfaces.inventory import Inventory
-from skillwright.runtime import session
+from skillwright.runtime import sandbox
 from skillwright.runtime.report import RunProgress
 from skillwright.runtime.run import run_skill
 from skillwright.runtime.sandbox import SandboxProcess, start_child
@@ -154,15 +153,15 @@ def test_cancelling_kills_the_run_and_leaves_nothing(
     cancel = threading.Event()
     children: list[SandboxProcess] = []
 
-    def start(*args: Any) -> SandboxProcess:
-        children.append(start_child(*args))
+    def start() -> SandboxProcess:
+        children.append(start_child())
         return children[-1]
 
     def on_progress(progress: RunProgress) -> None:
         if progress.event == "state-start" and progress.state == "execute":
             cancel.set()
 
-    monkeypatch.setattr(session, "start_child", start)
+    monkeypatch.setattr(sandbox, "start_child", start)
     with pytest.raises(GenerationCancelledError):
         run_skill(
             skill_path("navigate_to_point"),
@@ -173,6 +172,7 @@ def test_cancelling_kills_the_run_and_leaves_nothing(
             on_progress=on_progress,
             cancel=cancel,
         )
-    [child] = children
-    assert child.process.returncode is not None
-    assert not child.temp.exists()
+    assert children, "the run started a child"
+    for child in children:  # the run's own and the spare booted for its Stop run
+        assert child.process.returncode is not None
+        assert not child.temp.exists()

@@ -20,8 +20,7 @@ def test_a_report_passes_only_when_no_oracle_fails_and_no_error_is_found() -> No
         verdicts=[_verdict("a", True), _verdict("b", None)],
         virtual_seconds=10.0,
         wall_seconds=0.5,
-        world_seconds=0.25,
-        world_cpu_seconds=0.3,
+        world_seconds=0.3,
         publish_seconds=0.05,
     )
     scenario = ScenarioReport(name="s", world="open_floor", episodes=[episode])

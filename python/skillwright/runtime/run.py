@@ -19,6 +19,7 @@ from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime.api import WorldPlugin
 from skillwright.runtime.recorder import Recorder
 from skillwright.runtime.report import EpisodeTrace, RunProgress, RunReport, RunTrace
+from skillwright.runtime.sandbox import ChildPool
 from skillwright.runtime.scenario import RunScenario
 from skillwright.runtime.session import Episode, EpisodePlan, EpisodeResult
 from skillwright.runtime.skillinfo import SkillInfo, SkillSourceError, read_skill
@@ -146,6 +147,7 @@ def run_skill(
     recording: Path | None = None,
     on_progress: Callable[[RunProgress], None] | None = None,
     cancel: threading.Event | None = None,
+    children: ChildPool | None = None,
 ) -> RunReport:
     """Runs ``skill`` against a simulated graph of ``inventory`` in a sandbox.
 
@@ -156,6 +158,9 @@ def run_skill(
     limits come from ``scenario``. ``on_progress`` hears about episodes and states (from
     the calling thread); setting ``cancel`` kills the run and raises
     :class:`~skillwright.errors.GenerationCancelledError`, leaving nothing behind.
+    ``children`` hands out the sandboxed processes; a caller running several skills in a
+    row passes one pool to all of them (and closes it), so each run's child boots while
+    the previous run goes on. Without it the run keeps its own.
 
     Raises :class:`~skillwright.errors.InvalidArgumentError` for inputs the skill does
     not take or lacks, and the input-file errors when ``skill`` cannot be read. Problems
@@ -197,30 +202,40 @@ def run_skill(
     registry = TypeRegistry(inventory)
     files = recording_files(recording) if recording is not None else _default_recording(inventory)
     start = next((s.start_time_ns for s in inventory.sources if s.start_time_ns is not None), None)
-    episode = Episode(
-        source=source,
-        skill_name=path.name if path.suffix == ".py" else "skill.py",
-        info=info,
-        inputs=resolved,
-        inventory=inventory,
-        registry=registry,
-        scenario=scenario,
-        recording=files or None,
-        world_factory=world_factory,
-        epoch_ns=start if start is not None and files else _DEFAULT_EPOCH_NS,
-        on_progress=on_progress,
-        cancel=cancel,
-    )
-    findings: list[Finding] = list(setup.findings)
-    normal = episode.run(EpisodePlan("normal"))
-    trace.episodes.append(normal.trace)
-    given_names = {entry["name"] for entry in resolved}
-    findings += _analyse(normal, info, scenario, given_names, main=True)
-    plan = _stop_plan(normal, scenario)
-    if plan is not None:
-        stopped = episode.run(plan)
-        trace.episodes.append(stopped.trace)
-        findings += _analyse(stopped, info, scenario, given_names, main=False)
+    pool = children if children is not None else ChildPool()
+    try:
+        episode = Episode(
+            source=source,
+            skill_name=path.name if path.suffix == ".py" else "skill.py",
+            info=info,
+            inputs=resolved,
+            inventory=inventory,
+            registry=registry,
+            scenario=scenario,
+            recording=files or None,
+            world_factory=world_factory,
+            epoch_ns=start if start is not None and files else _DEFAULT_EPOCH_NS,
+            on_progress=on_progress,
+            cancel=cancel,
+            children=pool,
+        )
+        findings: list[Finding] = list(setup.findings)
+        # A shared pool serves the caller's next run too; an own one only a Stop run.
+        more = children is not None
+        normal = episode.run(
+            EpisodePlan("normal"), prepare_next=more or scenario.stop_run != "never"
+        )
+        trace.episodes.append(normal.trace)
+        given_names = {entry["name"] for entry in resolved}
+        findings += _analyse(normal, info, scenario, given_names, main=True)
+        plan = _stop_plan(normal, scenario)
+        if plan is not None:
+            stopped = episode.run(plan, prepare_next=more)
+            trace.episodes.append(stopped.trace)
+            findings += _analyse(stopped, info, scenario, given_names, main=False)
+    finally:
+        if children is None:
+            pool.close()
     unique: list[Finding] = []
     for finding in findings:
         if finding not in unique:

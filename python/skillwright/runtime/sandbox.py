@@ -7,6 +7,8 @@ private temporary folder that is also its ``HOME`` and ``TMPDIR``, and holds one
 a socketpair. ``boot.py`` then adds namespaces, rlimits and the audit hook before the
 skill's code runs (see there).
 
+A :class:`ChildPool` starts the next child while the current one runs.
+
 :meth:`SandboxProcess.close` kills the process group (and, with a PID namespace, every
 process the skill could have started), reaps the child with its resource use, and
 removes the temporary folder.
@@ -34,7 +36,7 @@ from typing import Final
 
 from skillwright.runtime.scenario import Limits
 
-__all__ = ["CHILD_ROOT", "MARKER_VARIABLE", "SandboxProcess", "start_child"]
+__all__ = ["CHILD_ROOT", "MARKER_VARIABLE", "ChildPool", "SandboxProcess", "start_child"]
 
 CHILD_ROOT: Final = Path(__file__).resolve().with_name("child")
 """The child's ``sys.path`` root: its own package and the stand-ins."""
@@ -118,6 +120,12 @@ class SandboxProcess:
         with contextlib.suppress(ProcessLookupError):
             os.kill(self.process.pid, signal.SIGUSR1)
 
+    def place(self, skill_source: str, skill_name: str) -> None:
+        """Writes the skill into the child's folder (before the child is told where it is);
+        the run's wall deadline counts from here."""
+        (self.temp / skill_name).write_text(skill_source, encoding="utf-8")
+        self.started = time.monotonic()
+
     def output_tail(self, limit: int = 4000) -> str:
         """The end of what the child wrote to its own stdout/stderr (crash messages)."""
         path = self.temp / "child-output.txt"
@@ -132,6 +140,9 @@ class SandboxProcess:
 
     def close(self) -> None:
         """Kills every process of the child's group, reaps the child, removes its folder."""
+        # The skill's process (in a PID namespace) is killed before its parent reaps it, so
+        # the parent's resource use may miss it; /proc still counts it at this point.
+        seen = self.cpu_seconds() if self.process.returncode is None else None
         with contextlib.suppress(OSError):
             self.sock.close()
         with contextlib.suppress(ProcessLookupError, PermissionError):
@@ -144,7 +155,7 @@ class SandboxProcess:
             self.process.returncode = os.waitstatus_to_exitcode(status)
             if usage is not None:
                 self.rusage = {
-                    "cpu_seconds": round(usage.ru_utime + usage.ru_stime, 3),
+                    "cpu_seconds": round(max(usage.ru_utime + usage.ru_stime, seen or 0.0), 3),
                     "max_rss_mb": round(usage.ru_maxrss / 1024, 1),
                 }
         self.exit_status = self.process.returncode
@@ -193,14 +204,15 @@ def _environment(temp: Path, marker: str) -> dict[str, str]:
     }
 
 
-def start_child(skill_source: str, skill_name: str = "skill.py") -> SandboxProcess:
-    """Starts a child holding a private copy of the skill (``<temp>/<skill_name>``)."""
+def start_child() -> SandboxProcess:
+    """Starts a child in a private temporary folder; it boots (interpreter, namespaces,
+    its own modules) and then waits for the host's answer to its ``hello``, so the skill
+    can be placed (:meth:`SandboxProcess.place`) any time before that answer."""
     _prepare_child_code()
     temp = Path(tempfile.mkdtemp(prefix="skillwright-run-")).resolve()
     marker = uuid.uuid4().hex
     host_end, child_end = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
     try:
-        (temp / skill_name).write_text(skill_source, encoding="utf-8")
         with (temp / "child-output.txt").open("wb") as output:
             process = subprocess.Popen(
                 [
@@ -227,6 +239,54 @@ def start_child(skill_source: str, skill_name: str = "skill.py") -> SandboxProce
     finally:
         child_end.close()
     return SandboxProcess(process=process, sock=host_end, temp=temp, marker=marker)
+
+
+class ChildPool:
+    """Hands out sandboxed children, keeping one started ahead of need.
+
+    Starting a child (an interpreter, namespaces, the runtime's modules) takes longer than
+    a short run itself. The lockstep keeps one core busy at a time (host or child), so a
+    spare started while a run goes on boots on the other core and the next run finds it
+    waiting. Every child is used once; :meth:`close` ends the spare nobody took.
+    ``ahead=False`` starts each child only when it is taken (what a run costs without).
+    """
+
+    def __init__(self, *, ahead: bool = True) -> None:
+        self.ahead = ahead
+        self._spare: SandboxProcess | None = None
+
+    def take(self, skill_source: str, skill_name: str = "skill.py") -> SandboxProcess:
+        """A booted (or booting) child holding a private copy of the skill
+        (``<temp>/<skill_name>``)."""
+        child, self._spare = self._spare, None
+        if child is not None and child.process.poll() is not None:
+            child.close()
+            child = None
+        if child is None:
+            child = start_child()
+        try:
+            child.place(skill_source, skill_name)
+        except BaseException:
+            child.close()
+            raise
+        return child
+
+    def prepare(self) -> None:
+        """Starts a spare child unless one is waiting (or the pool starts none ahead)."""
+        if self.ahead and self._spare is None:
+            self._spare = start_child()
+
+    def close(self) -> None:
+        """Ends the spare child, if any."""
+        child, self._spare = self._spare, None
+        if child is not None:
+            child.close()
+
+    def __enter__(self) -> ChildPool:
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
 
 
 def limits_config(limits: Limits) -> dict[str, int]:

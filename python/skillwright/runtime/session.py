@@ -24,11 +24,11 @@ from skillwright.runtime.protocol import ProtocolError, Wire
 from skillwright.runtime.recorder import Recorder
 from skillwright.runtime.report import EpisodeTrace, RunProgress, StateRun
 from skillwright.runtime.sandbox import (
+    ChildPool,
     SandboxProcess,
     allowed_packages,
     limits_config,
     read_roots,
-    start_child,
 )
 
 if TYPE_CHECKING:
@@ -100,6 +100,7 @@ class Episode:
         epoch_ns: int,
         on_progress: Callable[[RunProgress], None] | None,
         cancel: threading.Event | None,
+        children: ChildPool,
     ) -> None:
         self._source = source
         self._skill_name = skill_name
@@ -113,6 +114,7 @@ class Episode:
         self._epoch_ns = epoch_ns
         self._on_progress = on_progress
         self._cancel = cancel
+        self._children = children
 
     def _progress(
         self, plan: EpisodePlan, event: str, state: str | None = None, detail: str | None = None
@@ -122,9 +124,14 @@ class Episode:
                 RunProgress(plan.name, event, state, self._recorder.now, detail)  # type: ignore[arg-type]
             )
 
-    def run(self, plan: EpisodePlan) -> EpisodeResult:
-        """Runs the episode to its end; raises ``GenerationCancelledError`` when cancelled."""
+    def run(self, plan: EpisodePlan, *, prepare_next: bool = False) -> EpisodeResult:
+        """Runs the episode to its end; raises ``GenerationCancelledError`` when cancelled.
+
+        With ``prepare_next`` the pool starts the next run's child once this run's has
+        booted, so that one boots while this one runs.
+        """
         self._plan = plan
+        self._prepare_next = prepare_next
         self._recorder = Recorder()
         self._graph = GraphHost(
             self._inventory,
@@ -147,13 +154,14 @@ class Episode:
         self._startup: float | None = None
         self._progress(plan, "episode-start")
         started = time.monotonic()
-        world = self._world_factory()
         child: SandboxProcess | None = None
         try:
+            # The child boots while the world is built (on the other core, if idle).
+            child = self._children.take(self._source, self._skill_name)
+            self._child = child
+            world = self._world_factory()
             if world is not None:
                 self._graph.attach_world(world)
-            child = start_child(self._source, self._skill_name)
-            self._child = child
             self._loop(child)
         finally:
             self._graph.close()
@@ -206,6 +214,11 @@ class Episode:
             if not wire.pending():
                 ready, _, _ = select.select([child.sock], [], [], _POLL_SECONDS)
                 if not ready:
+                    if sampled < last:
+                        # The child has gone quiet: note its CPU time once, as the base the
+                        # busy check compares with. A child that keeps talking is never
+                        # sampled (reading /proc costs more than an exchange).
+                        sampled, last_cpu = time.monotonic(), child.cpu_seconds()
                     continue
             try:
                 frame = wire.receive()
@@ -229,10 +242,6 @@ class Episode:
             if frame["op"] == "stack":
                 interrupted_at = None
             last = time.monotonic()
-            # Reading /proc on every frame would cost more than the exchange itself; a
-            # sample at most a quarter second old is as good for a deadline of seconds.
-            if last - sampled > 0.25:
-                sampled, last_cpu = last, child.cpu_seconds()
 
     def _kill(self, reason: str, message: str) -> None:
         self._result.trace.ended = "killed"
@@ -337,6 +346,8 @@ class Episode:
                 for k, v in dict(frame.get("isolation") or {}).items()
                 if isinstance(v, (str, bool))
             }
+            if self._prepare_next:
+                self._children.prepare()
             return {"config": self._config()}
         if op == "package":
             return {"ok": self._registry.has_package(str(frame["name"]))}

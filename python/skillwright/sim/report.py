@@ -28,11 +28,8 @@ class EpisodeVerdicts(_Model):
     world_seconds: float = Field(
         default=0.0, description="Wall time in the world's advance, publishing included."
     )
-    world_cpu_seconds: float = Field(
-        default=0.0, description="CPU time in the world's advance, publishing included."
-    )
     publish_seconds: float = Field(
-        default=0.0, description="Of that, CPU time the host took to take its messages."
+        default=0.0, description="Of that, wall time the host took to take its messages."
     )
     child_cpu_seconds: float = Field(default=0.0, description="CPU time of the skill's process.")
 
@@ -48,9 +45,9 @@ class EpisodeVerdicts(_Model):
 
     @property
     def world_speed(self) -> float | None:
-        """Virtual seconds per CPU second of the world alone (physics, sensors, controllers;
-        not the host's taking of its messages)."""
-        own = self.world_cpu_seconds - self.publish_seconds
+        """Virtual seconds per wall second of the world alone (physics, sensors, controllers;
+        not the host's taking of its messages); on a quiet machine that is its CPU time."""
+        own = self.world_seconds - self.publish_seconds
         return self.virtual_seconds / own if own > 0 else None
 
 

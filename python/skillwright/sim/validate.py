@@ -29,6 +29,7 @@ from skillwright.capability.model import Capability
 from skillwright.errors import InputFileError
 from skillwright.fileio import write_atomic
 from skillwright.interfaces.inventory import Inventory
+from skillwright.runtime.sandbox import ChildPool
 from skillwright.sim.assets import resolve_world
 from skillwright.sim.bindings import Bindings, RecordedFacts, bind_interfaces, recorded_facts
 from skillwright.sim.oracles import RunView, StateSpan, Verdict, judge
@@ -185,6 +186,7 @@ class _Setup:
     lines: dict[str, int]
     fallback_line: int
     cancel: threading.Event | None
+    children: ChildPool
 
 
 class _Worlds:
@@ -290,6 +292,7 @@ def _run_scenario(
         recording=setup.recording,
         on_progress=progress,
         cancel=setup.cancel,
+        children=setup.children,
     )
     findings.extend(run.findings)
     report = ScenarioReport(
@@ -314,7 +317,6 @@ def _run_scenario(
                 virtual_seconds=float(episode.virtual_seconds),
                 wall_seconds=float(episode.wall_seconds),
                 world_seconds=world.wall_seconds,
-                world_cpu_seconds=world.cpu_seconds,
                 publish_seconds=world.publish_seconds,
                 child_cpu_seconds=float(episode.resources.get("cpu_seconds", 0.0)),
             )
@@ -381,6 +383,7 @@ def validate_skill(
     source: str | None = None,
     on_progress: Callable[[ValidationProgress], None] | None = None,
     cancel: threading.Event | None = None,
+    children: ChildPool | None = None,
 ) -> ValidationReport:
     """Run ``skill`` in each scenario of ``capability`` and judge it with the oracles.
 
@@ -392,7 +395,8 @@ def validate_skill(
     the trace with ground truth ``<name>.trace.json`` and the maps the skill saved
     (``<name>.maps/``), all at once when the validation is done; without it nothing is
     written. ``source`` is the skill's text when it is not (yet) in the file ``skill``
-    names (findings still refer to ``skill``).
+    names (findings still refer to ``skill``). ``children`` hands out the sandboxed
+    processes (default: a pool that boots each run's child while the previous run goes on).
     """
     from skillwright.runtime.skillinfo import SkillSourceError, read_skill
 
@@ -420,6 +424,7 @@ def validate_skill(
         lines=lines,
         fallback_line=fallback,
         cancel=cancel,
+        children=children if children is not None else ChildPool(),
     )
     report = ValidationReport(
         skill=str(skill),
@@ -438,6 +443,8 @@ def validate_skill(
         if setup.output_dir is not None and output_dir is not None:
             _publish(setup.output_dir, output_dir, report)
     finally:
+        if children is None:
+            setup.children.close()
         if setup.output_dir is not None:
             shutil.rmtree(setup.output_dir, ignore_errors=True)
     report.findings = sorted(dict.fromkeys(findings), key=lambda f: (f.line, f.check, f.message))
