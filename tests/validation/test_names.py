@@ -192,3 +192,19 @@ def test_a_goal_handle_method_asked_of_the_action_client_gets_the_goal_handle_st
         'self._result_of(self.nav_client.send_goal_async(goal), 5.0, "goal acceptance"), then '
         "self.goal_handle.get_result_async() or self.goal_handle.cancel_goal_async()"
     ) in found
+
+
+def test_a_local_variable_that_hides_a_module_the_method_uses_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        '        """Halt the base."""\n',
+        '        """Halt the base."""\n        time = 0.5\n        time.sleep(time)\n',
+        1,
+    )
+    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    assert [f.message for f in found] == [
+        "time is the module time, which stopping also uses; a local variable of that name "
+        "hides it in the whole method: name the variable differently"
+    ]
+    assert source.splitlines()[found[0].line - 1].strip() == "time = 0.5"

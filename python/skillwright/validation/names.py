@@ -524,12 +524,47 @@ def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[F
     return findings
 
 
+def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
+    """A local variable named like a module the same method uses (``time = distance /
+    speed`` then ``time.sleep(...)``): the module is gone inside that method."""
+    modules = {
+        (alias.asname or alias.name).split(".")[0]
+        for node in tree.body
+        if isinstance(node, ast.Import)
+        for alias in node.names
+    }
+    findings = []
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef | ast.AsyncFunctionDef):
+            continue
+        used = {
+            node.value.id
+            for node in ast.walk(method)
+            if isinstance(node, ast.Attribute)
+            and isinstance(node.value, ast.Name)
+            and node.value.id in modules
+        }
+        for node in ast.walk(method):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store) and node.id in used:
+                findings.append(
+                    _finding(
+                        node,
+                        f"{node.id} is the module {node.id}, which {method.name} also uses; a "
+                        "local variable of that name hides it in the whole method: name the "
+                        "variable differently",
+                    )
+                )
+                used.discard(node.id)
+    return findings
+
+
 def check_names(
     source: str, tree: ast.Module, cls: ast.ClassDef | None, imports: dict[str, str]
 ) -> list[Finding]:
-    """Findings (check ``names``) for names, attributes and rclpy calls nothing defines;
-    ``imports`` maps the message classes the file imports to their types."""
+    """Findings (check ``names``) for names, attributes and rclpy calls nothing defines, and
+    modules a local variable hides; ``imports`` maps the message classes the file imports to
+    their types."""
     findings = _undefined_names(source, tree) + _missing_nested_classes(tree, imports)
     if cls is not None:
-        findings += _unset_attributes(cls) + _unknown_api(cls)
+        findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
     return findings
