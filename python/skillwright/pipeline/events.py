@@ -6,6 +6,8 @@ thread doing the work; a UI posts them on to its own thread.
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -15,6 +17,7 @@ __all__ = [
     "STAGES",
     "AttemptFinished",
     "AttemptStarted",
+    "ChunkBatcher",
     "Event",
     "GenerationStats",
     "Notice",
@@ -100,3 +103,43 @@ Event = (
     | AttemptFinished
 )
 """Any event of the engine."""
+
+
+class ChunkBatcher:
+    """Passes events on to ``send``, joining the model's text chunks into one per
+    ``interval`` seconds.
+
+    A small model writes hundreds of chunks a second; a UI that redraws for each falls behind
+    on a busy machine, and the keys the user presses wait behind the queued text. Other events
+    go on at once, after the text that came before them. Call :meth:`flush` when the work ends.
+    """
+
+    def __init__(
+        self,
+        send: Callable[[object], None],
+        interval: float = 0.05,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        self.send = send
+        self.interval = interval
+        self.clock = clock
+        self.pending: list[str] = []
+        self.sent_at: float | None = None
+
+    def __call__(self, event: object) -> None:
+        if isinstance(event, TokenChunk):
+            self.pending.append(event.text)
+            now = self.clock()
+            if self.sent_at is None or now - self.sent_at >= self.interval:
+                self.sent_at = now
+                self.flush()
+            return
+        self.flush()
+        self.send(event)
+
+    def flush(self) -> None:
+        """Sends the text held back, if any."""
+        if self.pending:
+            text = "".join(self.pending)
+            self.pending.clear()
+            self.send(TokenChunk(text))

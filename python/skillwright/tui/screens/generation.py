@@ -182,16 +182,19 @@ class GenerationPane(Pane):
     def _generate(self, request: dict[str, Any], cancel: threading.Event) -> None:
         # The whole pipeline (rdflib, NumPy, the embedder, llama.cpp) loads here.
         from skillwright.pipeline import GenerationRequest, run_generation
-        from skillwright.pipeline.events import Event
+        from skillwright.pipeline.events import ChunkBatcher
 
-        def on_event(event: Event) -> None:
+        def post(event: object) -> None:
             self.post_message(GenerationEvent(event))
 
+        batcher = ChunkBatcher(post)
         try:
-            outcome = run_generation(GenerationRequest(**request), on_event=on_event, cancel=cancel)
+            outcome = run_generation(GenerationRequest(**request), on_event=batcher, cancel=cancel)
         except SkillwrightError as error:
+            batcher.flush()
             self.fail(str(error), cancelled=cancel.is_set())
             return
+        batcher.flush()
         self.post_message(GenerationFinished(outcome))
 
     @on(Button.Pressed, "#generation-cancel")
