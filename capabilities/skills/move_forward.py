@@ -26,6 +26,7 @@ class MoveForwardSkill(ROS2Skill):
     LINEAR_VELOCITY_MAX = 0.8  # resource requirement: linearVelocity <= 0.8 m/s
     FINAL_APPROACH = 0.1  # m: the last stretch is driven slowly so the stop is precise
     FINAL_SPEED = 0.1  # m/s
+    DECELERATION = 0.8  # m/s^2: below what the base can brake, so the profile is always kept
 
     def __init__(self) -> None:
         super().__init__("move_forward")
@@ -96,7 +97,9 @@ class MoveForwardSkill(ROS2Skill):
         self.moving = True
         while self.moving and self._travelled() < self.in_distance:
             remaining = self.in_distance - self._travelled()
-            command.linear.x = min(speed, self.FINAL_SPEED) if remaining < self.FINAL_APPROACH else speed
+            # Brake early enough for the base to reach the final speed by the last stretch.
+            braking = math.sqrt(2.0 * self.DECELERATION * max(remaining - self.FINAL_APPROACH, 0.0))
+            command.linear.x = min(speed, max(braking, self.FINAL_SPEED))
             self.cmd_vel_publisher.publish(command)
             time.sleep(0.05)
         self._publish_zero()

@@ -70,13 +70,7 @@ MUTANTS: tuple[BehaviourMutant, ...] = (
         "move_forward",
         "wrong sign",
         "straight_ahead",
-        (
-            ("command.linear.x = min(speed", "command.linear.x = -min(speed"),
-            (
-                "self.FINAL_SPEED) if remaining < self.FINAL_APPROACH else speed",
-                "self.FINAL_SPEED) if remaining < self.FINAL_APPROACH else -speed",
-            ),
-        ),
+        (("command.linear.x = min(speed", "command.linear.x = -min(speed"),),
         ("truth:distanceCovered", "output:outDistance"),
     ),
     BehaviourMutant(
