@@ -208,3 +208,16 @@ def test_a_local_variable_that_hides_a_module_the_method_uses_is_an_error(
         "hides it in the whole method: name the variable differently"
     ]
     assert source.splitlines()[found[0].line - 1].strip() == "time = 0.5"
+
+
+def test_a_module_level_function_parameter_is_not_an_undefined_name(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "\n\n@skill(",
+        "\n\ndef _wrap(angle: float) -> float:\n    return math.atan2(math.sin(angle), "
+        "math.cos(angle))\n\n\n@skill(",
+        1,
+    )
+    assert "def _wrap(angle" in source
+    assert not [f for f in _check(source, move_forward).findings if f.check == "names"]

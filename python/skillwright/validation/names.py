@@ -237,9 +237,12 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
     known = _module_names(source, tree)
     table = symtable.symtable(source, "skill.py", "exec")
     uses = [(name, child) for name, child in _global_uses(table) if name not in known]
+    # Names a class body reads (its decorators' arguments, constants); a module-level
+    # function's parameters are its own.
     class_level = {
         s.get_name()
         for child in table.get_children()
+        if str(child.get_type()) == "class"
         for s in child.get_symbols()
         if s.is_referenced() and not s.is_assigned() and s.get_name() not in known
     } - {c.get_name() for c in table.get_children()}
