@@ -409,15 +409,10 @@ def test_an_error_ignored_where_the_spec_does_not_say_abort_is_a_warning(
     ]
 
 
-def test_a_zero_twist_made_of_numbers_is_pointed_to_the_stop_helper(
+def test_a_zero_twist_made_of_numbers_is_pointed_to_twist_and_its_publish_suggested(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    helper = (
-        "    def _stop_base(self) -> None:\n"
-        "        self.cmd_vel_publisher.publish(Twist())\n\n"
-        "    @starting\n"
-    )
-    source = GOOD.replace("    @starting\n", helper, 1).replace(
+    source = GOOD.replace(
         '        """Halt the base."""\n        self.cmd_vel_publisher.publish(Twist())',
         '        """Halt the base."""\n'
         "        self.cmd_vel_publisher.publish(Twist(angular=0.0, linear=0.0))",
@@ -425,5 +420,7 @@ def test_a_zero_twist_made_of_numbers_is_pointed_to_the_stop_helper(
     assert "Twist(angular=0.0, linear=0.0)" in source
     found = [f for f in run(source, move_forward).findings if "is a message" in f.message]
     assert len(found) == 2
-    assert all(f.message.endswith("; to stand still call self._stop_base()") for f in found)
-    assert {f.replacement for f in found} == {"self._stop_base()"}
+    assert all(
+        f.message.endswith("; a zero command is Twist(), every field of it is 0") for f in found
+    )
+    assert {f.replacement for f in found} == {"self.cmd_vel_publisher.publish(Twist())"}

@@ -626,9 +626,16 @@ def _check_fields(
     bindings = _message_bindings(cls, uses, catalog, imports)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         _FieldVisitor(ctx, catalog, bindings.get(method.name, {})).visit(method)
-    stops = any(isinstance(n, ast.FunctionDef) and n.name == "_stop_base" for n in cls.body)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         numbers = _numeric_names(method)
+        published = {
+            id(call.args[0]): ast.unparse(call.func)
+            for call in ast.walk(method)
+            if isinstance(call, ast.Call)
+            and isinstance(call.func, ast.Attribute)
+            and call.func.attr == "publish"
+            and len(call.args) == 1
+        }
         for node in ast.walk(method):
             if not isinstance(node, ast.Call):
                 continue
@@ -640,11 +647,10 @@ def _check_fields(
             tree = catalog.fields.get(key)
             if tree is None:
                 continue
-            # Twist(linear=0.0, angular=0.0) means "stand still", which the skeleton's
-            # helper says in one call.
-            zero = (
-                stops and key.endswith("/Twist") and all(_is_zero(k.value) for k in node.keywords)
-            )
+            # Twist(linear=0.0, angular=0.0) means "stand still", and Twist() says it: every
+            # field of a new message is zero.
+            zero = key.endswith("/Twist") and all(_is_zero(k.value) for k in node.keywords)
+            publish = published.get(id(node))
             for keyword in node.keywords:
                 if keyword.arg is None:
                     continue
@@ -658,8 +664,8 @@ def _check_fields(
                         f"{key}'s field {keyword.arg!r} is a message (fields "
                         f"{', '.join(sorted(nested))}), not a number: make the message first and "
                         f"set its fields, e.g. msg.{keyword.arg}.{sorted(nested)[0]} = ..."
-                        + ("; to stand still call self._stop_base()" if zero else ""),
-                        "self._stop_base()" if zero else None,
+                        + ("; a zero command is Twist(), every field of it is 0" if zero else ""),
+                        f"{publish}(Twist())" if zero and publish is not None else None,
                     )
 
 
