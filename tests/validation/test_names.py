@@ -6,7 +6,7 @@ import pytest
 
 from skillwright.capability import Capability, load_capability
 from skillwright.spec import SkillSpec, load_spec
-from skillwright.validation.model import CheckReport
+from skillwright.validation.model import CheckReport, Finding
 from skillwright.validation.static import check_skill
 from tests.conftest import SHIPPED_CAPABILITIES
 from tests.validation.test_static import CATALOG, GOOD
@@ -21,6 +21,11 @@ def move_forward() -> tuple[Capability, SkillSpec]:
 def _check(source: str, inputs: tuple[Capability, SkillSpec]) -> CheckReport:
     capability, spec = inputs
     return check_skill(source, capability=capability, spec=spec, catalog=CATALOG)
+
+
+def _names(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:
+    """The findings of the names check."""
+    return [f for f in _check(source, inputs).findings if f.check == "names"]
 
 
 @pytest.mark.parametrize(
@@ -86,8 +91,7 @@ def test_names_nothing_defines_are_errors_located_at_their_use(
 ) -> None:
     assert old in GOOD
     source = GOOD.replace(old, new, 1)
-    report = _check(source, move_forward)
-    found = [f for f in report.findings if f.check == "names"]
+    found = _names(source, move_forward)
     assert any(expected in f.message for f in found), found
     finding = next(f for f in found if expected in f.message)
     assert finding.severity == "error"
@@ -107,7 +111,7 @@ def test_a_local_variable_other_methods_read_from_the_skill_is_found_where_it_is
         '        """Halt the base."""\n        self.timer.cancel()\n',
         1,
     )
-    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    found = _names(source, move_forward)
     assert [f.message for f in found] == [
         "timer is a local variable of execute, but stopping read self.timer: "
         "assign it as self.timer = ... here"
@@ -121,7 +125,7 @@ def test_a_local_variable_of_another_method_is_found_where_it_is_used(
     source = GOOD.replace(
         '{self.out_distance} m done")', '{self.out_distance} m done at {speed} m/s")', 1
     )
-    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    found = _names(source, move_forward)
     assert [f.message for f in found] == [
         "speed is a local variable of execute and does not exist here: use what execute "
         "stored on the skill (it keeps self.start_x, self.start_y, self.out_distance, "
@@ -138,7 +142,7 @@ def test_an_invented_attribute_with_no_close_name_points_to_the_latest_messages(
         '{self.out_distance} m done, {self.measured_speed_now} m/s")',
         1,
     )
-    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    found = _names(source, move_forward)
     assert [f.message for f in found] == [
         "self.measured_speed_now is never set in this class; the latest messages are in "
         "self.odom_msg (Odometry): read the field from there"
@@ -151,7 +155,7 @@ def test_an_attribute_close_to_a_method_name_suggests_calling_the_method(
     source = GOOD.replace(
         '{self.out_distance} m done")', '{self.out_distance} m done, {self._travelled_m}")', 1
     )
-    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    found = _names(source, move_forward)
     assert [f.message for f in found] == [
         "self._travelled_m is never set in this class; did you mean the method "
         "self._travelled(...)?"
@@ -159,7 +163,7 @@ def test_an_attribute_close_to_a_method_name_suggests_calling_the_method(
 
 
 def test_the_good_skill_uses_no_undefined_name(move_forward: tuple[Capability, SkillSpec]) -> None:
-    assert not [f for f in _check(GOOD, move_forward).findings if f.check == "names"]
+    assert not _names(GOOD, move_forward)
 
 
 def test_pyskillup_decorators_builtins_and_locals_are_known(
@@ -172,7 +176,7 @@ def test_pyskillup_decorators_builtins_and_locals_are_known(
         "        for index, value in enumerate(values):\n"
         "            self.node.get_logger().debug(f'{index}: {value}')",
     )
-    assert not [f for f in _check(source, move_forward).findings if f.check == "names"]
+    assert not _names(source, move_forward)
 
 
 def test_a_goal_handle_method_asked_of_the_action_client_gets_the_goal_handle_statement(
@@ -185,7 +189,7 @@ def test_a_goal_handle_method_asked_of_the_action_client_gets_the_goal_handle_st
         "        self.nav_client.cancel_goal_async()\n",
         1,
     )
-    found = [f.message for f in _check(source, move_forward).findings if f.check == "names"]
+    found = [f.message for f in _names(source, move_forward)]
     assert (
         "self.nav_client is an ActionClient, which has no 'cancel_goal_async' in rclpy; it "
         "belongs to the goal handle that sending the goal gives: self.goal_handle = "
@@ -202,7 +206,7 @@ def test_a_local_variable_that_hides_a_module_the_method_uses_is_an_error(
         '        """Halt the base."""\n        time = 0.5\n        time.sleep(time)\n',
         1,
     )
-    found = [f for f in _check(source, move_forward).findings if f.check == "names"]
+    found = _names(source, move_forward)
     assert [f.message for f in found] == [
         "time is the module time, which stopping also uses; a local variable of that name "
         "hides it in the whole method: name the variable differently"
@@ -220,4 +224,4 @@ def test_a_module_level_function_parameter_is_not_an_undefined_name(
         1,
     )
     assert "def _wrap(angle" in source
-    assert not [f for f in _check(source, move_forward).findings if f.check == "names"]
+    assert not _names(source, move_forward)
