@@ -52,6 +52,7 @@ from skillwright.generation.model import Attempt, AttemptFinish, InterfaceRef, S
 from skillwright.llm.base import GenerationOptions, TextGenerator
 from skillwright.spec.model import SkillSpec
 from skillwright.validation.model import Finding
+from skillwright.validation.names import self_attribute
 
 __all__ = [
     "AttemptFinished",
@@ -277,16 +278,6 @@ def _syntax_note(text: str, name: str) -> str:
 _CALL = re.compile(r"self\.(_?[A-Za-z]\w*)\(")
 
 
-def _self_member(node: ast.AST) -> str | None:
-    if (
-        isinstance(node, ast.Attribute)
-        and isinstance(node.value, ast.Name)
-        and node.value.id == "self"
-    ):
-        return node.attr
-    return None
-
-
 _TAKES_CALLBACK = frozenset(
     {"create_timer", "create_subscription", "create_service", "add_done_callback"}
 )
@@ -316,11 +307,11 @@ def _missing_helpers(
         for node in ast.walk(method):
             if not isinstance(node, ast.Call):
                 continue
-            uses = [(_self_member(node.func), False)]
+            uses = [(self_attribute(node.func), False)]
             if isinstance(node.func, ast.Attribute) and node.func.attr in _TAKES_CALLBACK:
-                uses += [(_self_member(arg), True) for arg in node.args]
+                uses += [(self_attribute(arg), True) for arg in node.args]
             uses += [
-                (_self_member(keyword.value), True)
+                (self_attribute(keyword.value), True)
                 for keyword in node.keywords
                 if keyword.arg in {"callback", "target"}
             ]

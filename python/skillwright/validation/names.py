@@ -24,7 +24,7 @@ from collections.abc import Iterator
 from skillwright.spec.model import PACKML_STATES
 from skillwright.validation.model import Finding
 
-__all__ = ["RCLPY_API", "check_names"]
+__all__ = ["RCLPY_API", "check_names", "self_attribute"]
 
 PYSKILLUP_NAMES = frozenset({"skill", "skill_parameter", "skill_output", *PACKML_STATES})
 """What ``from pyskillup.decorators.decorators import *`` provides."""
@@ -204,7 +204,7 @@ def _stores_of(method: ast.FunctionDef | ast.AsyncFunctionDef) -> list[str]:
     names = []
     for node in ast.walk(method):
         if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store):
-            name = _self_attribute(node)
+            name = self_attribute(node)
             if name is not None and f"self.{name}" not in names:
                 names.append(f"self.{name}")
     return names
@@ -260,7 +260,8 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
     return findings
 
 
-def _self_attribute(node: ast.AST) -> str | None:
+def self_attribute(node: ast.AST) -> str | None:
+    """``x`` for the expression ``self.x``, else ``None``."""
     if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
         return node.attr if node.value.id == "self" else None
     return None
@@ -282,12 +283,12 @@ def _class_facts(cls: ast.ClassDef) -> tuple[set[str], dict[str, str]]:
             targets = node.targets if isinstance(node, ast.Assign) else [node.target]
             for target in targets:
                 for part in ast.walk(target):
-                    name = _self_attribute(part)
+                    name = self_attribute(part)
                     if name is not None:
                         defined.add(name)
             value = node.value
             if isinstance(value, ast.Call) and len(targets) == 1:
-                name = _self_attribute(targets[0])
+                name = self_attribute(targets[0])
                 maker = (
                     value.func.attr
                     if isinstance(value.func, ast.Attribute)
@@ -298,7 +299,7 @@ def _class_facts(cls: ast.ClassDef) -> tuple[set[str], dict[str, str]]:
         elif isinstance(node, ast.For | ast.With):
             for part in ast.walk(node.target if isinstance(node, ast.For) else node):
                 if isinstance(part, ast.Attribute) and isinstance(part.ctx, ast.Store):
-                    name = _self_attribute(part)
+                    name = self_attribute(part)
                     if name is not None:
                         defined.add(name)
     return defined, kinds
@@ -310,7 +311,7 @@ def _latest_messages(cls: ast.ClassDef) -> list[str]:
     found = []
     for node in ast.walk(cls):
         if isinstance(node, ast.AnnAssign):
-            name = _self_attribute(node.target)
+            name = self_attribute(node.target)
             if name is not None and name.endswith("_msg"):
                 annotation = node.annotation
                 if isinstance(annotation, ast.BinOp):  # Odometry | None
@@ -355,7 +356,7 @@ def _readers(cls: ast.ClassDef, name: str) -> list[str]:
         for member in cls.body
         if isinstance(member, ast.FunctionDef | ast.AsyncFunctionDef)
         and any(
-            _self_attribute(node) == name and isinstance(node.ctx, ast.Load)
+            self_attribute(node) == name and isinstance(node.ctx, ast.Load)
             for node in ast.walk(member)
             if isinstance(node, ast.Attribute)
         )
@@ -370,7 +371,7 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
     findings = []
     seen: set[str] = set()
     for node in ast.walk(cls):
-        name = _self_attribute(node)
+        name = self_attribute(node)
         if (
             name is None
             or not isinstance(node, ast.Attribute)
@@ -404,7 +405,7 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
 
 def _receiver_kind(node: ast.expr, kinds: dict[str, str]) -> str | None:
     """The rclpy kind of the object ``node`` evaluates to, where the code makes it plain."""
-    name = _self_attribute(node)
+    name = self_attribute(node)
     if name is not None:
         return kinds.get(name)
     if (
@@ -432,7 +433,7 @@ def _latest_message_wait(receiver: ast.expr, defined: set[str]) -> tuple[str, st
     """For ``self.X_subscription`` whose callback keeps ``self.X_msg`` (the skeleton's way):
     a hint and the statement that waits for the first message, which a small model copies
     more readily than advice."""
-    name = _self_attribute(receiver)
+    name = self_attribute(receiver)
     if name is None or not name.endswith("_subscription"):
         return None
     latest = name.removesuffix("_subscription") + "_msg"
