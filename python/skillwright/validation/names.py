@@ -215,12 +215,8 @@ def _undefined_message(name: str, tree: ast.Module) -> str:
         if isinstance(cls, ast.ClassDef):
             local = _locals_by_method(cls)
             if name in local:
-                owner, _ = local[name]
-                method = next(
-                    m
-                    for m in cls.body
-                    if isinstance(m, ast.FunctionDef | ast.AsyncFunctionDef) and m.name == owner
-                )
+                method, _ = local[name]
+                owner = method.name
                 stored = _stores_of(method)
                 kept = f" (it keeps {', '.join(stored[:6])})" if stored else ""
                 return (
@@ -336,9 +332,12 @@ def _hint(name: str, defined: set[str], methods: set[str], latest: list[str]) ->
     return ""
 
 
-def _locals_by_method(cls: ast.ClassDef) -> dict[str, tuple[str, ast.AST]]:
+_Method = ast.FunctionDef | ast.AsyncFunctionDef
+
+
+def _locals_by_method(cls: ast.ClassDef) -> dict[str, tuple[_Method, ast.AST]]:
     """Local variable name -> (the method, its first assignment) over the class's methods."""
-    found: dict[str, tuple[str, ast.AST]] = {}
+    found: dict[str, tuple[_Method, ast.AST]] = {}
     for member in cls.body:
         if not isinstance(member, ast.FunctionDef | ast.AsyncFunctionDef):
             continue
@@ -346,7 +345,7 @@ def _locals_by_method(cls: ast.ClassDef) -> dict[str, tuple[str, ast.AST]]:
             if isinstance(node, ast.Assign):
                 for target in node.targets:
                     if isinstance(target, ast.Name):
-                        found.setdefault(target.id, (member.name, node))
+                        found.setdefault(target.id, (member, node))
     return found
 
 
@@ -384,12 +383,12 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
         if name in local:
             # One method keeps in a local variable what others read from the skill: the fix
             # is where it is made, so the finding goes there.
-            owner, assignment = local[name]
+            method, assignment = local[name]
             readers = " and ".join(_readers(cls, name))
             findings.append(
                 _finding(
                     assignment,
-                    f"{name} is a local variable of {owner}, but {readers} read self.{name}: "
+                    f"{name} is a local variable of {method.name}, but {readers} read self.{name}: "
                     f"assign it as self.{name} = ... here",
                 )
             )
