@@ -289,9 +289,9 @@ _ABORT = re.compile(r"\babort", re.IGNORECASE)
 def _check_swallowed_errors(
     ctx: _Context, methods: dict[str, ast.FunctionDef], spec: SkillSpec
 ) -> None:
-    """An ``except`` in a state that neither raises nor returns after logging keeps the skill
-    going; where the specification says to abort, that hides the failure from the operator
-    (pySkillUp aborts the skill when a state raises)."""
+    """An ``except`` in a state that does not raise again lets the state end as if nothing
+    failed (logging or returning included); where the specification says to abort, that hides
+    the failure from the operator (pySkillUp aborts the skill when a state raises)."""
     for state, method in methods.items():
         text = spec.states.get(state, "")
         for node in ast.walk(method):
