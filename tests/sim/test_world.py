@@ -257,3 +257,34 @@ def test_the_same_seed_and_commands_give_the_same_run(mr1_inventory: Inventory) 
         return [(s.t, s.x, s.y, s.yaw) for s in world.truth.samples] + [tuple(odometry)]
 
     assert run() == run()
+
+
+def test_worlds_from_one_file_share_its_compilation_but_not_their_model(
+    mr1_inventory: Inventory,
+) -> None:
+    first, _ = _world(mr1_inventory, "corridor")
+    second, _ = _world(mr1_inventory, "corridor")
+    assert second.model is not first.model
+    assert second.model.nsensor == first.model.nsensor == 360
+    first.model.opt.timestep = 0.5
+    assert second.model.opt.timestep == pytest.approx(0.01)
+
+
+def test_a_world_file_changed_on_disk_is_compiled_again(
+    mr1_inventory: Inventory, tmp_path: Path
+) -> None:
+    folder = tmp_path / "worlds"
+    folder.mkdir()
+    (tmp_path / "mr1.xml").write_bytes(
+        (resolve_world("open_floor").parent.parent / "mr1.xml").read_bytes()
+    )
+    world_file = folder / "room.xml"
+    original = resolve_world("open_floor").read_text(encoding="utf-8")
+    world_file.write_text(original, encoding="utf-8")
+    bindings = bind_interfaces(mr1_inventory)
+    facts = recorded_facts(mr1_inventory, bindings)
+    empty = MujocoWorld(WorldConfig(world_file), bindings, facts)
+    box = '<geom name="box" type="box" size="0.2 0.2 0.2" pos="2 0 0.2"/>\n  </worldbody>'
+    world_file.write_text(original.replace("</worldbody>", box), encoding="utf-8")
+    boxed = MujocoWorld(WorldConfig(world_file), bindings, facts)
+    assert boxed.model.ngeom == empty.model.ngeom + 1

@@ -21,6 +21,7 @@ pose.
 
 from __future__ import annotations
 
+import copy
 import math
 import time
 from collections.abc import Callable
@@ -105,6 +106,37 @@ def _covariance(diagonal: tuple[float, float, float, float, float, float]) -> li
     return values
 
 
+_COMPILED: dict[
+    tuple[Any, ...], tuple[Any, dict[str, tuple[int, ScanGeometry]], tuple[str, ...]]
+] = {}
+"""Compiled models by MJCF text and scan geometry (see :meth:`MujocoWorld._model`)."""
+_COMPILED_SIZE = 8
+
+
+def _mjcf_texts(path: Path) -> tuple[tuple[str, bytes], ...] | None:
+    """The bytes of an MJCF file and of the files it includes (MuJoCo resolves includes
+    from the top file's folder), or ``None`` when one cannot be read (nothing is cached;
+    loading reports the problem)."""
+    from xml.etree import ElementTree
+
+    texts: list[tuple[str, bytes]] = []
+    pending = [path]
+    try:
+        while pending:
+            current = pending.pop()
+            data = current.read_bytes()
+            texts.append((str(current.resolve()), data))
+            if len(texts) > 64:
+                return None
+            for element in ElementTree.fromstring(data).iter("include"):
+                name = element.get("file")
+                if name:
+                    pending.append(path.parent / name)
+    except (OSError, ElementTree.ParseError):
+        return None
+    return tuple(texts)
+
+
 @dataclass
 class _Stream:
     """Something published periodically."""
@@ -130,7 +162,7 @@ class MujocoWorld:
         self._mj = mujoco
         self._np = np
         self._rng = np.random.default_rng(config.seed)
-        self.model, self._beams = self._load(config.world_file)
+        self.model, self._beams = self._model(config.world_file)
         self.data = mujoco.MjData(self.model)
         self.dt = float(self.model.opt.timestep)
         # The base driver runs at 50 Hz (several physics steps per period), as a motor
@@ -203,6 +235,31 @@ class MujocoWorld:
         return kinematics, driver, nav
 
     # --- model -------------------------------------------------------------------------
+    def _model(self, path: Path) -> tuple[Any, dict[str, tuple[int, ScanGeometry]]]:
+        """A private copy of the compiled model of ``path`` with this robot's lidar beams.
+
+        Compiling the beams' sites and sensors costs more than a short run; a validation
+        makes a world per run from the same few files, so compiled models are kept, keyed
+        by the MJCF text (with its includes) and the scan geometry, and copied per world.
+        """
+        scans = tuple(
+            (t, self.facts.scans.get(t, ScanGeometry())) for t in self.bindings.scan_topics
+        )
+        key = (_mjcf_texts(path), scans)
+        cached = _COMPILED.get(key) if key[0] is not None else None
+        if cached is None:
+            notes_before = len(self.notes)
+            model, beams = self._load(path)
+            cached = (model, beams, tuple(self.notes[notes_before:]))
+            if key[0] is not None:
+                if len(_COMPILED) >= _COMPILED_SIZE:
+                    _COMPILED.pop(next(iter(_COMPILED)))
+                _COMPILED[key] = cached
+        else:
+            self.notes.extend(cached[2])
+        model, beams, _notes = cached
+        return copy.copy(model), dict(beams)
+
     def _load(self, path: Path) -> tuple[Any, dict[str, tuple[int, ScanGeometry]]]:
         """The world's model with one rangefinder per lidar beam of every scan topic."""
         mujoco = self._mj
