@@ -349,3 +349,39 @@ def test_world_messages_must_fit_the_topics_type(mr1_inventory: Inventory) -> No
     with pytest.raises(ValueError, match="no topic /odometry"):
         graph.publish("/odometry", {})
     assert graph.stamp(1.5) == {"sec": 1768471201, "nanosec": 501000000}
+
+
+def _odometry_times(inventory: Inventory, traffic: str, subscribe_at: float) -> list[float]:
+    graph, _ = make_graph(inventory, traffic=traffic)
+    deliveries_until(graph, subscribe_at)
+    odom = endpoint(graph, "subscription", "/odom", "nav_msgs/msg/Odometry", reliability="reliable")
+    seen = deliveries_until(graph, 7.0)
+    return [t for t, d in seen if d["id"] == odom]
+
+
+@pytest.mark.parametrize("subscribe_at", [0.0, 1.3, 4.05])
+def test_a_topic_subscribed_late_is_replayed_from_where_the_recording_is_then(
+    mr1_inventory: Inventory, subscribe_at: float
+) -> None:
+    # `all` replays every recorded topic from the start, as the robot publishes them;
+    # `subscribed` starts reading a topic only when someone subscribes to it.
+    everything = _odometry_times(mr1_inventory, "all", subscribe_at)
+    subscribed = _odometry_times(mr1_inventory, "subscribed", subscribe_at)
+    assert subscribed == everything
+    assert subscribed[0] >= subscribe_at
+    assert len(subscribed) == pytest.approx((7.0 - subscribe_at) * 50, abs=2)
+
+
+def test_a_topic_is_wanted_while_someone_subscribes_and_always_when_latched(
+    mr1_inventory: Inventory,
+) -> None:
+    graph, _ = make_graph(mr1_inventory)
+    assert not graph.wants("/odom")
+    assert graph.wants("/tf_static"), "latched: its last message waits for later subscribers"
+    assert graph.wants("/no_such_topic"), "publishing there must still be refused"
+    odom = endpoint(graph, "subscription", "/odom", "nav_msgs/msg/Odometry", reliability="reliable")
+    assert graph.wants("/odom")
+    graph.child_destroy(odom)
+    assert not graph.wants("/odom")
+    everything, _ = make_graph(mr1_inventory, traffic="all")
+    assert everything.wants("/odom")

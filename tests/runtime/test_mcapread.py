@@ -55,3 +55,27 @@ def test_a_chunk_cut_short_fails_naming_where_it_breaks(tmp_path: Path) -> None:
     path.write_bytes(data[: chunk + 100])
     with pytest.raises(McapReadError, match=f"record at byte {chunk} is cut short"):
         list(read_messages(path))
+
+
+def test_a_recording_read_again_is_not_decompressed_again(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.runtime import mcapread
+
+    copy = tmp_path / "copy.mcap"
+    copy.write_bytes(MCAP.read_bytes())
+    calls: list[int] = []
+    real = mcapread._decompress
+
+    def counting(compression: str, data: bytes, size: int) -> bytes:
+        calls.append(size)
+        return real(compression, data, size)
+
+    monkeypatch.setattr(mcapread, "_decompress", counting)
+    first = list(read_messages(copy, {"/odom"}))
+    chunks = len(calls)
+    assert chunks > 0
+    assert list(read_messages(copy, {"/odom"})) == first
+    assert len(calls) == chunks
+    assert len(list(read_messages(copy))) == 897
+    assert len(calls) == chunks, "the kept chunks hold every topic's messages"

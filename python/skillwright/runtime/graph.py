@@ -36,7 +36,7 @@ from skillwright.runtime.api import (
     WorldPlugin,
 )
 from skillwright.runtime.cdr import CdrDecoder, CdrError
-from skillwright.runtime.mcapread import McapReadError, merged_messages
+from skillwright.runtime.mcapread import MAGIC, McapReadError, merged_messages
 from skillwright.runtime.responders import ScriptedAction, ScriptedService
 from skillwright.runtime.scenario import ActionScript, RunScenario, ServiceScript
 
@@ -122,16 +122,25 @@ def _shift_stamps(value: Any, offset_ns: int) -> Any:
 
 
 class Replay:
-    """The recorded messages of some topics, in virtual time, looped if asked.
+    """The recorded messages of the topics someone listens to, in virtual time, looped if
+    asked.
 
-    Reads lazily (one chunk at a time); payloads stay CDR until someone needs them.
+    Only topics asked for with :meth:`want` are replayed: a topic nobody subscribes to
+    costs nothing, and a topic asked for later starts where its recording is at that
+    time, as if it had been replayed all along. Reads lazily (one chunk at a time);
+    payloads stay CDR until someone needs them.
     """
 
     def __init__(
         self, files: list[Path], topics: set[str], start_ns: int, end_ns: int, loop: bool
     ) -> None:
+        for path in files:
+            with path.open("rb") as stream:
+                if stream.read(len(MAGIC)) != MAGIC:
+                    raise McapReadError(f"{path}: not an MCAP file (wrong magic bytes)")
         self._files = files
         self._topics = topics
+        self._wanted: frozenset[str] = frozenset()
         self._start_ns = start_ns
         duration = max(0.0, (end_ns - start_ns) / 1e9)
         # The loop restarts on the next tenth of a second, so periodic topics keep
@@ -140,12 +149,28 @@ class Replay:
         self._loop = loop
         self._round = 0
         self.damage: str | None = None
-        """Where the recording broke, when it did (replay stops there)."""
+        """Where the recording broke, when replay got there (replay stops there)."""
+        self._messages: Iterator[tuple[int, str, bytes]] = iter(())
+        self._head: tuple[float, str, bytes, int] | None = None
+
+    def want(self, topic: str, after: float | None) -> None:
+        """Replays ``topic`` from now on, with the others wanted so far: the messages later
+        than ``after`` (``None``: from the start), the earlier ones being gone already."""
+        if topic not in self._topics or topic in self._wanted:
+            return
+        self._wanted = self._wanted | {topic}
+        # Start again in the loop round before the one holding `after` (a margin for the
+        # rounding of the times) and skip what the wanted topics have had already.
+        looping = self._loop and self.span > 0
+        self._round = max(0, math.floor(after / self.span) - 1) if after and looping else 0
         self._messages = self._open()
-        self._head = self._pull()
+        head = self._pull()
+        while head is not None and after is not None and max(0.0, head[0]) <= after:
+            head = self._pull()
+        self._head = head
 
     def _open(self) -> Iterator[tuple[int, str, bytes]]:
-        return merged_messages(self._files, self._topics)
+        return merged_messages(self._files, set(self._wanted))
 
     def _pull(self) -> tuple[float, str, bytes, int] | None:
         for _ in range(2):
@@ -252,9 +277,16 @@ class GraphHost:
         for name, type_name in self._actions.items():
             action_script = scenario.actions.get(name, ActionScript())
             self._action_handlers[name] = ScriptedAction(self, registry, type_name, action_script)
-        self._replay: Replay | None = None
-        if recording and scenario.replay != "off":
-            self._replay = self._open_replay(recording, inventory)
+        self._replay = (
+            self._open_replay(recording, inventory)
+            if recording and scenario.replay != "off"
+            else None
+        )
+        self._replay_started = False
+        self._traffic_all = scenario.traffic == "all"
+        self._listening: dict[str, list[Endpoint]] = {}
+        # Virtual time up to which everything due has run (None: nothing has yet).
+        self._consumed: float | None = None
 
     def _open_replay(self, files: list[Path], inventory: Inventory) -> Replay | None:
         source = next((s for s in inventory.sources if s.start_time_ns is not None), None)
@@ -292,6 +324,22 @@ class GraphHost:
     def own_topic(self, topic: str) -> None:
         """The world publishes ``topic`` from now on; replay and defaults on it stop."""
         self._owned.add(topic)
+
+    def wants(self, topic: str) -> bool:
+        """Whether a message published on ``topic`` now would reach anyone: a subscription
+        of the skill, or the last-message slot of a latched (transient-local) topic.
+
+        A world may skip making messages nobody wants (its own state must still advance).
+        Unknown topics are wanted, so that :meth:`publish` reports them. With the scenario's
+        ``traffic: all`` every topic is wanted.
+        """
+        info = self._topics.get(topic)
+        return (
+            info is None
+            or self._traffic_all
+            or bool(self._listening.get(topic))
+            or info.durability == "transient_local"
+        )
 
     def publish(self, topic: str, message: Message) -> None:
         """Delivers ``message`` on ``topic`` to the skill's subscriptions at ``now``.
@@ -424,12 +472,15 @@ class GraphHost:
         """
         if self._outbox:
             return self._take()
+        if not self._replay_started:
+            self._start_replay()
         target = cap if until is None else min(until, cap)
         target = max(target, self._now)
         for _ in range(_MAX_STEPS):
             due = self._next_time()
             if due is None or due > target:
                 self._move_to(target)
+                self._consumed = self._now
                 return self._take()
             self._move_to(due)
             self._run_due()
@@ -442,6 +493,19 @@ class GraphHost:
             "(a world whose next_event() does not advance)"
         )
 
+    def _start_replay(self) -> None:
+        """Replays the latched topics the world does not own from the start (their last
+        message waits for transient-local subscriptions made later); with ``traffic: all``,
+        every recorded topic."""
+        self._replay_started = True
+        if self._replay is None:
+            return
+        for name, info in self._topics.items():
+            if self._traffic_all or (
+                info.durability == "transient_local" and name not in self._owned
+            ):
+                self._replay.want(name, None)
+
     def _out(self, delivery: Message) -> None:
         delivery["t"] = self._now
         self._outbox.append(delivery)
@@ -453,11 +517,7 @@ class GraphHost:
     # --- topics ---------------------------------------------------------------------
 
     def _subscribers(self, topic: str) -> list[Endpoint]:
-        return [
-            e
-            for e in self.endpoints.values()
-            if e.kind == "subscription" and e.name == topic and e.connected and e.destroyed is None
-        ]
+        return self._listening.get(topic, [])
 
     def _deliver_topic(self, topic: str, data: Message | bytes, round_: int = 0) -> None:
         info = self._topics.get(topic)
@@ -576,6 +636,9 @@ class GraphHost:
             line=int(frame.get("line") or 0),
             created=self._now,
         )
+        replaced = self.endpoints.get(endpoint.id)
+        if replaced is not None and replaced in self._listening.get(replaced.name, []):
+            self._listening[replaced.name].remove(replaced)
         self.endpoints[endpoint.id] = endpoint
         self._recorder.record(
             "endpoint",
@@ -591,6 +654,10 @@ class GraphHost:
         elif endpoint.kind == "action_client":
             self._check_named(endpoint, "action", self._actions)
         if endpoint.kind == "subscription" and endpoint.connected:
+            # Kept in creation order: deliveries go out in that order.
+            self._listening.setdefault(endpoint.name, []).append(endpoint)
+            if self._replay is not None and endpoint.name not in self._owned:
+                self._replay.want(endpoint.name, self._consumed)
             self._start_publisher(endpoint.name)
             self._deliver_latched(endpoint)
         return endpoint
@@ -689,6 +756,9 @@ class GraphHost:
         endpoint = self.endpoints.get(handle)
         if endpoint is not None and endpoint.destroyed is None:
             endpoint.destroyed = self._now
+            listening = self._listening.get(endpoint.name, [])
+            if endpoint in listening:
+                listening.remove(endpoint)
             self._recorder.record("destroy", endpoint=endpoint.kind, name=endpoint.name)
 
     def _endpoint(self, handle: Any, kind: str) -> Endpoint:

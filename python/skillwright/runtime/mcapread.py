@@ -6,17 +6,32 @@ about one chunk. Messages of a chunk are yielded in log-time order; the chunks o
 recording follow each other in time, as rosbag2 writes them. Several files (a split
 rosbag2 recording) are merged by time. Discovery's own reader (the Rust core) reads
 summaries and indexes; it does not hand out message payloads.
+
+Replay reads the same recording again for every run and every loop of it, so decoded
+chunks are kept (up to :data:`CHUNK_MEMORY` bytes of payload, the least recently read
+dropped first), keyed by file, size, modification time and offset: a short recording is
+decompressed once per process, a long one streams as before.
 """
 
 from __future__ import annotations
 
 import heapq
+import os
 import struct
+import threading
+from collections import OrderedDict
 from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import BinaryIO, Final
+from typing import BinaryIO, Final, NamedTuple
 
-__all__ = ["McapMessage", "McapReadError", "merged_messages", "read_messages"]
+__all__ = [
+    "CHUNK_MEMORY",
+    "MAGIC",
+    "McapMessage",
+    "McapReadError",
+    "merged_messages",
+    "read_messages",
+]
 
 MAGIC: Final = b"\x89MCAP0\r\n"
 _OP_SCHEMA, _OP_CHANNEL, _OP_MESSAGE, _OP_CHUNK = 0x03, 0x04, 0x05, 0x06
@@ -27,6 +42,48 @@ _CHUNK = struct.Struct("<QQQI")
 
 McapMessage = tuple[int, str, bytes]
 """``(log time in ns, topic, CDR payload)``."""
+
+CHUNK_MEMORY: Final = 64 * 1024 * 1024
+"""Bytes of message payload kept from decoded chunks."""
+
+
+class _Decoded(NamedTuple):
+    """A chunk as replay needs it: the channels it defines and its messages in time order
+    (their topics resolved with the channels known where the chunk starts)."""
+
+    channels: tuple[tuple[int, str], ...]
+    messages: tuple[McapMessage, ...]
+    size: int
+
+
+class _ChunkMemory:
+    """Decoded chunks, least recently read dropped first beyond :data:`CHUNK_MEMORY`."""
+
+    def __init__(self) -> None:
+        self._chunks: OrderedDict[tuple[str, int, int, int], _Decoded] = OrderedDict()
+        self._size = 0
+        # Validations may run in worker threads side by side.
+        self._lock = threading.Lock()
+
+    def get(self, key: tuple[str, int, int, int]) -> _Decoded | None:
+        with self._lock:
+            found = self._chunks.get(key)
+            if found is not None:
+                self._chunks.move_to_end(key)
+            return found
+
+    def put(self, key: tuple[str, int, int, int], decoded: _Decoded) -> None:
+        with self._lock:
+            if key in self._chunks or decoded.size > CHUNK_MEMORY:
+                return
+            self._chunks[key] = decoded
+            self._size += decoded.size
+            while self._size > CHUNK_MEMORY:
+                _, dropped = self._chunks.popitem(last=False)
+                self._size -= dropped.size
+
+
+_MEMORY = _ChunkMemory()
 
 
 class McapReadError(ValueError):
@@ -69,6 +126,7 @@ def read_messages(path: Path, topics: set[str] | None = None) -> Iterator[McapMe
     """The messages of one MCAP file (of ``topics`` only, if given), chunk by chunk."""
     channels: dict[int, str] = {}
     with path.open("rb") as stream:
+        status = os.fstat(stream.fileno())
         if stream.read(len(MAGIC)) != MAGIC:
             raise McapReadError(f"{path}: not an MCAP file (wrong magic bytes)")
         while True:
@@ -82,10 +140,21 @@ def read_messages(path: Path, topics: set[str] | None = None) -> Iterator[McapMe
             if op not in (_OP_CHANNEL, _OP_MESSAGE, _OP_CHUNK):
                 stream.seek(length, 1)
                 continue
-            body = _read_exact(stream, length, path, offset)
             if op == _OP_CHUNK:
-                yield from _chunk(body, channels, topics, path, offset)
+                key = (str(path), status.st_size, status.st_mtime_ns, offset)
+                decoded = _MEMORY.get(key)
+                if decoded is None:
+                    body = _read_exact(stream, length, path, offset)
+                    decoded = _chunk(body, channels, path, offset)
+                    _MEMORY.put(key, decoded)
+                else:
+                    stream.seek(length, 1)
+                channels.update(decoded.channels)
+                for chunked in decoded.messages:
+                    if topics is None or chunked[1] in topics:
+                        yield chunked
             else:
+                body = _read_exact(stream, length, path, offset)
                 message = _record(op, memoryview(body), channels, topics)
                 if message is not None:
                     yield message
@@ -115,9 +184,7 @@ def _record(
     return None
 
 
-def _chunk(
-    body: bytes, channels: dict[int, str], topics: set[str] | None, path: Path, offset: int
-) -> Iterator[McapMessage]:
+def _chunk(body: bytes, channels: dict[int, str], path: Path, offset: int) -> _Decoded:
     try:
         _, _, size, _ = _CHUNK.unpack_from(body, 0)
         compression, position = _string(body, _CHUNK.size)
@@ -132,13 +199,15 @@ def _chunk(
         raise McapReadError(
             f"{path}: chunk at byte {offset} does not decompress ({error})"
         ) from None
+    known = dict(channels)
     messages = []
     for op, record in _records(records):
-        message = _record(op, record, channels, topics)
+        message = _record(op, record, known, None)
         if message is not None:
             messages.append(message)
     messages.sort(key=lambda m: m[0])
-    yield from messages
+    defined = tuple((k, v) for k, v in known.items() if channels.get(k) != v)
+    return _Decoded(defined, tuple(messages), sum(len(m[2]) for m in messages))
 
 
 def merged_messages(paths: Iterable[Path], topics: set[str] | None = None) -> Iterator[McapMessage]:

@@ -146,6 +146,12 @@ class RunScenario(_Model):
         default="complete", description="How the normal run should end."
     )
     settle: float = Field(default=0.5, ge=0, description="Virtual seconds watched after resetting.")
+    traffic: Literal["subscribed", "all"] = Field(
+        default="subscribed",
+        description="`subscribed`: a world makes, and the replay reads, only the messages "
+        "someone receives (the run is the same, faster); `all`: every sensor and recorded "
+        "message is produced whether or not anyone listens, as on the robot (for comparison).",
+    )
     lookahead: float = Field(
         default=0.02,
         ge=0,
