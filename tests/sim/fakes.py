@@ -70,6 +70,8 @@ class FakeHost:
         self._later: list[tuple[float, int, Callable[[], None]]] = []
         self._ids = itertools.count(1)
         self.world: Any = None
+        self.listening: set[str] | None = None
+        """Topics someone receives (``None``: all); the world makes no other messages."""
 
     # --- the API a world uses ---------------------------------------------------------
     def stamp(self, t: float | None = None) -> Message:
@@ -79,6 +81,9 @@ class FakeHost:
 
     def own_topic(self, topic: str) -> None:
         self.owned.add(topic)
+
+    def wants(self, topic: str) -> bool:
+        return self.listening is None or topic in self.listening
 
     def publish(self, topic: str, message: Message) -> None:
         self.published.append((self.now, topic, message))

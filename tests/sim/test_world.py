@@ -288,3 +288,22 @@ def test_a_world_file_changed_on_disk_is_compiled_again(
     world_file.write_text(original.replace("</worldbody>", box), encoding="utf-8")
     boxed = MujocoWorld(WorldConfig(world_file), bindings, facts)
     assert boxed.model.ngeom == empty.model.ngeom + 1
+
+
+def test_messages_nobody_receives_are_not_made_but_the_world_runs_the_same(
+    mr1_inventory: Inventory,
+) -> None:
+    def run(listening: set[str] | None) -> tuple[MujocoWorld, FakeHost]:
+        world, host = _world(mr1_inventory, "corridor", (2.0, 0.2, 0.1), seed=9)
+        host.listening = listening
+        host.skill_publishes("/cmd_vel", FORWARD)
+        host.run_until(2.0)
+        return world, host
+
+    everything, all_host = run(None)
+    odometry_only, host = run({"/odom"})
+    assert {topic for _, topic, _ in host.published} == {"/odom"}
+    assert host.messages("/odom") == all_host.messages("/odom")
+    # The lidar still measured (ground truth, map) and drew its noise at every scan.
+    assert odometry_only.truth.nearest == everything.truth.nearest
+    assert odometry_only.truth.samples == everything.truth.samples

@@ -13,6 +13,11 @@ scans (the lidar's rangefinders are evaluated only when a scan is due, not at ev
 which makes the world about twice as fast), IMU, the localisation pose with
 ``map -> odom``, the occupancy map and the static transforms.
 
+A message nobody would receive (no subscription, not latched) is not made: the host says
+so (``host.wants``). What the world computes for itself still happens at the same times — the
+lidar's ranges for the ground truth and the map, the noise drawn for every sensor — so a run
+is the same whoever listens.
+
 Noise is Gaussian, seeded: odometry integrates noisy wheel speeds, so it drifts a little and
 slips when the chassis is pushed against something; scans, IMU and the localisation pose get
 their own noise. The map frame is the world frame; the odometry frame starts at the start
@@ -632,9 +637,18 @@ class MujocoWorld:
             static = self._tf_static_message()
             topic = b.tf_static_topic
             period = 1.0 / b.rates[topic]
+
+            def publish_static(_t: float) -> None:
+                if self._wanted(topic):
+                    self._publish(topic, static)
+
             # Once at once, so a listener started at the beginning has the robot's frames.
-            streams.append(_Stream(topic, period, 0.012, lambda _t: self._publish(topic, static)))
+            streams.append(_Stream(topic, period, 0.012, publish_static))
         self.streams = streams
+
+    def _wanted(self, topic: str) -> bool:
+        """Whether a message on ``topic`` would reach anyone now (else it is not made)."""
+        return self.host is not None and self.host.wants(topic)
 
     def _publish(self, topic: str, message: Message) -> None:
         assert self.host is not None
@@ -666,26 +680,30 @@ class MujocoWorld:
         covariance = _covariance((1e-3, 1e-3, 1e6, 1e6, 1e6, 2e-3))
 
         def emit(t: float) -> None:
-            x, y, yaw = self.odom
-            twist = self._odom_twist
-            self._publish(
-                topic,
-                {
-                    "header": self._header(t, self.odom_frame),
-                    "child_frame_id": self.base_frame,
-                    "pose": {
-                        "pose": {"position": _vector(x, y, 0.0), "orientation": quaternion(yaw)},
-                        "covariance": covariance,
-                    },
-                    "twist": {
-                        "twist": {
-                            "linear": _vector(twist.vx, twist.vy),
-                            "angular": _vector(z=twist.wz),
+            if self._wanted(topic):
+                x, y, yaw = self.odom
+                twist = self._odom_twist
+                self._publish(
+                    topic,
+                    {
+                        "header": self._header(t, self.odom_frame),
+                        "child_frame_id": self.base_frame,
+                        "pose": {
+                            "pose": {
+                                "position": _vector(x, y, 0.0),
+                                "orientation": quaternion(yaw),
+                            },
+                            "covariance": covariance,
                         },
-                        "covariance": covariance,
+                        "twist": {
+                            "twist": {
+                                "linear": _vector(twist.vx, twist.vy),
+                                "angular": _vector(z=twist.wz),
+                            },
+                            "covariance": covariance,
+                        },
                     },
-                },
-            )
+                )
             if with_tf:
                 self._publish_base_tf(t)
 
@@ -693,6 +711,8 @@ class MujocoWorld:
 
     def _publish_base_tf(self, t: float) -> None:
         assert self.bindings.tf_topic is not None
+        if not self._wanted(self.bindings.tf_topic):
+            return
         x, y, yaw = self.odom
         transforms = [self._transform(t, self.odom_frame, self.base_frame, x, y, 0.0, yaw)]
         if self.arm is not None:
@@ -713,6 +733,8 @@ class MujocoWorld:
                 sx += self._rng.normal(0.0, sigma)
                 sy += self._rng.normal(0.0, sigma)
                 syaw += self._rng.normal(0.0, sigma / 10.0)
+            if not self._wanted(self.bindings.tf_topic):
+                return
             message = {
                 "transforms": [
                     self._transform(t, self.map_frame, self.odom_frame, sx, sy, 0.0, syaw)
@@ -730,6 +752,8 @@ class MujocoWorld:
                 x += self._rng.normal(0.0, sigma)
                 y += self._rng.normal(0.0, sigma)
                 yaw += self._rng.normal(0.0, sigma / 10.0)
+            if not self._wanted(topic):
+                return
             self._publish(
                 topic,
                 {
@@ -754,6 +778,8 @@ class MujocoWorld:
             self._last_velocity = velocity
             sigma = self.config.noise.imu
             wz = velocity.wz + (self._rng.normal(0.0, sigma) if sigma else 0.0)
+            if not self._wanted(topic):
+                return
             self._publish(
                 topic,
                 {
@@ -808,10 +834,16 @@ class MujocoWorld:
                 self.truth.nearest.append((t, math.inf, 0.0))
             if self.bindings.map_topic and topic == self.bindings.scan_topics[0]:
                 self._integrate_map(geometry, angles, ranges, t)
-            noisy = ranges.copy()
             sigma = self.config.noise.scan
-            if sigma and finite.any():
-                noisy[finite] += self._rng.normal(0.0, sigma, int(finite.sum()))
+            # Drawn whether or not the scan is sent: the noise of later messages stays the same.
+            noise = (
+                self._rng.normal(0.0, sigma, int(finite.sum())) if sigma and finite.any() else None
+            )
+            if not self._wanted(topic):
+                return
+            noisy = ranges.copy()
+            if noise is not None:
+                noisy[finite] += noise
             noisy[finite & (noisy < geometry.range_min)] = np.inf
             self._publish(
                 topic,
@@ -908,11 +940,18 @@ class MujocoWorld:
             if self._map_published == self._map_updates and self._map_updates:
                 return
             self._map_published = self._map_updates
-            grid, info = self._map_message(t)
             assert self.bindings.map_topic is not None
-            self._publish(self.bindings.map_topic, grid)
-            if self.bindings.map_metadata_topic:
-                self._publish(self.bindings.map_metadata_topic, info)
+            metadata = self.bindings.map_metadata_topic
+            send_grid = self._wanted(self.bindings.map_topic)
+            send_info = metadata is not None and self._wanted(metadata)
+            if not (send_grid or send_info):
+                return
+            grid, info = self._map_message(t)
+            if send_grid:
+                self._publish(self.bindings.map_topic, grid)
+            if send_info:
+                assert metadata is not None
+                self._publish(metadata, info)
 
         return emit
 
