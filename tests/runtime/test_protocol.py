@@ -6,6 +6,7 @@ import json
 import socket
 import struct
 from collections.abc import Iterator
+from typing import Any
 
 import pytest
 
@@ -87,3 +88,44 @@ def test_a_closed_child_is_end_of_file(pair: tuple[Wire, socket.socket]) -> None
     child.close()
     with pytest.raises(EOFError):
         wire.receive()
+
+
+def _child_wire() -> Any:
+    """The child's end of the wire (its module has only the standard library)."""
+    import importlib.util
+
+    from skillwright.runtime.sandbox import CHILD_ROOT
+
+    spec = importlib.util.spec_from_file_location(
+        "child_wire", CHILD_ROOT / "_skillwright_child" / "wire.py"
+    )
+    assert spec is not None
+    assert spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_childs_publishes_wait_for_its_next_request_and_arrive_in_order() -> None:
+    child_end, host_end = socket.socketpair()
+    child = _child_wire().Wire(child_end)
+    host = Wire(host_end)
+    host_end.setblocking(False)
+    for step in range(3):
+        child.notify("publish", id=1, msg={"x": step}, line=9)
+    with pytest.raises(BlockingIOError):
+        host_end.recv(1)
+    host_end.setblocking(True)
+    host.send({"now": 0.1, "deliveries": []})
+    assert child.request("advance", until=0.1) == {"now": 0.1, "deliveries": []}
+    frames = [host.receive() for _ in range(4)]
+    assert [(f["op"], f.get("msg")) for f in frames] == [
+        ("publish", {"x": 0}),
+        ("publish", {"x": 1}),
+        ("publish", {"x": 2}),
+        ("advance", None),
+    ]
+    child.notify("state", name="execute", phase="end", outcome="done")
+    assert host.receive() == {"op": "state", "name": "execute", "phase": "end", "outcome": "done"}
+    child_end.close()
+    host_end.close()

@@ -19,6 +19,7 @@ __all__ = ["MAX_FRAME", "ProtocolError", "Wire"]
 _HEADER: Final = struct.Struct(">I")
 MAX_FRAME: Final = 32 * 1024 * 1024
 """Largest frame the host accepts from the child (a big map plus room)."""
+_CHUNK: Final = 64 * 1024
 
 
 class ProtocolError(Exception):
@@ -31,6 +32,9 @@ class Wire:
     def __init__(self, sock: socket.socket) -> None:
         self._sock = sock
         self._buffer = bytearray()
+        # Read into one reused buffer: recv(n) allocates n bytes per call, and a large n
+        # costs a fresh mapping of memory for every frame.
+        self._chunk = memoryview(bytearray(_CHUNK))
 
     @property
     def sock(self) -> socket.socket:
@@ -51,10 +55,10 @@ class Wire:
         frame = self._take()
         if frame is not None:
             return frame
-        chunk = self._sock.recv(1 << 20)
-        if not chunk:
+        size = self._sock.recv_into(self._chunk)
+        if not size:
             raise EOFError("the child closed the connection")
-        self._buffer += chunk
+        self._buffer += self._chunk[:size]
         return self._take()
 
     def pending(self) -> bool:
