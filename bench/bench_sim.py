@@ -7,12 +7,16 @@
    the machine runs). Compared with the alternative of evaluating the lidar's rangefinders at every
    physics step (MuJoCo's default for sensors) instead of only when a scan is due.
 2. Whole validations of the nine shipped skills (``capabilities/skills``) in their
-   scenarios: the skill runs in the sandboxed child in lockstep with the world. Per scenario:
-   virtual seconds of both runs, wall seconds, CPU seconds of this process and of the child,
-   and real time factors in wall time and in CPU time (wall time on a shared machine depends
-   on what else runs). Compared with the alternative of starting each run's child when the
-   run starts (``ChildPool(ahead=False)``) instead of while the previous run goes on; the
-   oracles' verdicts of both must be the same.
+   scenarios: the skill runs in the sandboxed child in lockstep with the world. Per
+   scenario: virtual seconds of its runs, wall seconds of those runs, and real time
+   factors in wall time and in CPU time (this process, the children and the fork server;
+   wall time on a shared machine depends on what else runs); per skill, the whole
+   validation time (``validate_skill`` from its start to the verdicts: scenarios read,
+   worlds built, children started, runs, oracles). Compared, skill by skill in the same
+   run, with the previous behaviour: every sensor message made and every recorded topic
+   replayed whether or not the skill subscribes (the scenario setting ``traffic: all``)
+   and each child a fresh interpreter (``ChildPool(fork=False)``) instead of a fork of the
+   pool's fork server. Both must reach the same verdicts.
 
     python bench/bench_sim.py [--worlds-only]
 """
@@ -22,6 +26,7 @@ from __future__ import annotations
 import math
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -82,77 +87,131 @@ def part_one() -> None:
         print(f"   {name:14s} {lazy:19.1f}x {eager:23.1f}x {lazy / eager:6.2f}x")
 
 
-def _validate_all(
-    ahead: bool, pattern: str = "*.py"
-) -> dict[str, tuple[float, float, float, list[str], bool]]:
-    """Scenario -> (virtual s, wall s, CPU s of both processes, verdicts, passed) of every
-    shipped skill, validated with children booted ahead or on demand."""
+@dataclass
+class _Validation:
+    """One skill's validation: per scenario (virtual s, wall s of its runs, CPU s, verdicts),
+    and the whole validation's wall and CPU seconds."""
+
+    scenarios: dict[str, tuple[float, float, float, list[str]]]
+    wall: float
+    cpu: float
+
+
+def _validate(skill: Path, inventory: object, previous: bool) -> _Validation:
     from skillwright.capability.reader import load_capability
-    from skillwright.interfaces.load import discover_path
     from skillwright.runtime.sandbox import ChildPool
+    from skillwright.sim.scenario import scenarios_for
     from skillwright.sim.validate import validate_skill
 
-    inventory = discover_path(ROOT / "capabilities" / "recordings" / "mr1")
-    rows: dict[str, tuple[float, float, float, list[str], bool]] = {}
-    for skill in sorted((ROOT / "capabilities" / "skills").glob(pattern)):
-        model = ROOT / "capabilities" / f"{skill.stem.replace('_', '-')}.ttl"
-        capability = load_capability(model).capability
-        with ChildPool(ahead=ahead) as children:
-            report = validate_skill(skill, capability, inventory, plot=False, children=children)
-        for scenario in report.scenarios:
-            virtual = sum(e.virtual_seconds for e in scenario.episodes)
-            # Per scenario, the wall time of its runs (the child's start-up and the world's
-            # making included); what the validation does around them is shared by all.
-            wall = sum(e.wall_seconds for e in scenario.episodes)
-            cpu = scenario.host_cpu_seconds + sum(e.child_cpu_seconds for e in scenario.episodes)
-            verdicts = [
-                f"{e.episode}/{v.oracle}/{v.passed}" for e in scenario.episodes for v in e.verdicts
-            ]
-            rows[f"{skill.stem} / {scenario.name}"] = (
-                virtual,
-                wall,
-                cpu,
-                verdicts,
-                report.passed,
-            )
-    return rows
+    model = ROOT / "capabilities" / f"{skill.stem.replace('_', '-')}.ttl"
+    capability = load_capability(model).capability
+    chosen = None
+    if previous:
+        shipped = scenarios_for(capability)
+        chosen = shipped.model_copy(
+            update={
+                "scenarios": [
+                    s.model_copy(update={"runtime": {**s.runtime, "traffic": "all"}})
+                    for s in shipped.scenarios
+                ]
+            }
+        )
+    cpu_started = time.process_time()
+    with ChildPool(fork=not previous) as children:
+        report = validate_skill(
+            skill,
+            capability,
+            inventory,  # type: ignore[arg-type]
+            scenarios=chosen,
+            plot=False,
+            children=children,
+        )
+        server = children.server
+        server_cpu = (server.cpu_seconds() or 0.0) if server is not None else 0.0
+    host_cpu = time.process_time() - cpu_started
+    rows: dict[str, tuple[float, float, float, list[str]]] = {}
+    children_cpu = 0.0
+    for scenario in report.scenarios:
+        virtual = sum(e.virtual_seconds for e in scenario.episodes)
+        wall = sum(e.wall_seconds for e in scenario.episodes)
+        child = sum(e.child_cpu_seconds for e in scenario.episodes)
+        children_cpu += child
+        verdicts = [
+            f"{e.episode}/{v.oracle}/{v.passed}" for e in scenario.episodes for v in e.verdicts
+        ]
+        rows[f"{skill.stem} / {scenario.name}"] = (
+            virtual,
+            wall,
+            scenario.host_cpu_seconds + child,
+            verdicts,
+        )
+    return _Validation(rows, report.wall_seconds, host_cpu + children_cpu + server_cpu)
 
 
 def part_two() -> None:
+    from skillwright.interfaces.load import discover_path
+
     print(
-        "\n2. whole validations of the nine MR-1 skills (both runs of each scenario): each run's "
-        "child\n   booted while the previous run goes on (ahead) against booted when the run "
-        "starts (on demand)"
+        "\n2. whole validations of the nine MR-1 skills: this build (messages made only for "
+        "subscribers,\n   children forked from a fork server) against the previous behaviour "
+        "(traffic: all, a fresh\n   interpreter per child), skill by skill in the same run"
     )
-    # The first validation in a process also imports MuJoCo and reads the recording: warm up.
-    _validate_all(True, "get_position.py")
-    on_demand = _validate_all(False)
-    ahead = _validate_all(True)
+    inventory = discover_path(ROOT / "capabilities" / "recordings" / "mr1")
+    skills = sorted((ROOT / "capabilities" / "skills").glob("*.py"))
+    # The first validation in a process imports MuJoCo and reads the recording: warm up.
+    _validate(skills[0], inventory, previous=False)
+    _validate(skills[0], inventory, previous=True)
+    now: dict[str, _Validation] = {}
+    before: dict[str, _Validation] = {}
+    for skill in skills:
+        before[skill.stem] = _validate(skill, inventory, previous=True)
+        now[skill.stem] = _validate(skill, inventory, previous=False)
     print(
-        f"   {'skill / scenario':46s} {'virtual':>8s} {'wall':>7s} {'x wall':>7s} {'cpu':>6s} "
-        f"{'x cpu':>6s} | {'on demand':>9s} {'x wall':>7s} {'x cpu':>6s} | {'ratio':>6s} same"
+        f"   {'skill / scenario':46s} {'virtual':>8s} {'wall':>7s} {'x wall':>7s} "
+        f"{'x cpu':>6s} | {'previous':>8s} {'x wall':>7s} {'x cpu':>6s} | {'ratio':>6s} same"
     )
     sums = [0.0] * 5
-    for name, (virtual, wall, cpu, verdicts, _) in ahead.items():
-        _, old_wall, old_cpu, old_verdicts, _ = on_demand[name]
-        same = "yes" if verdicts == old_verdicts else "NO"
-        print(
-            f"   {name:46s} {virtual:7.2f}s {wall:6.2f}s {virtual / wall:6.1f}x {cpu:5.2f}s "
-            f"{virtual / cpu:5.1f}x | {old_wall:8.2f}s {virtual / old_wall:6.1f}x "
-            f"{virtual / old_cpu:5.1f}x | {old_wall / wall:5.2f}x {same}"
-        )
-        for index, value in enumerate((virtual, wall, cpu, old_wall, old_cpu)):
-            sums[index] += value
+    for skill in skills:
+        for name, (virtual, wall, cpu, verdicts) in now[skill.stem].scenarios.items():
+            _, old_wall, old_cpu, old_verdicts = before[skill.stem].scenarios[name]
+            same = "yes" if verdicts == old_verdicts else "NO"
+            print(
+                f"   {name:46s} {virtual:7.2f}s {wall:6.2f}s {virtual / wall:6.1f}x "
+                f"{virtual / cpu:5.1f}x | {old_wall:7.2f}s {virtual / old_wall:6.1f}x "
+                f"{virtual / old_cpu:5.1f}x | {old_wall / wall:5.2f}x {same}"
+            )
+            for index, value in enumerate((virtual, wall, cpu, old_wall, old_cpu)):
+                sums[index] += value
     virtual, wall, cpu, old_wall, old_cpu = sums
     print(
-        f"\n   all: {virtual:.1f} s virtual; ahead {wall:.1f} s wall ({virtual / wall:.1f}x real "
-        f"time), {cpu:.1f} s CPU ({virtual / cpu:.1f}x); on demand {old_wall:.1f} s wall "
-        f"({virtual / old_wall:.1f}x), {old_cpu:.1f} s CPU ({virtual / old_cpu:.1f}x); "
-        f"wall ratio {old_wall / wall:.2f}x"
+        f"\n   all scenarios: {virtual:.1f} s virtual; {wall:.2f} s wall ({virtual / wall:.1f}x "
+        f"real time), {cpu:.2f} s CPU ({virtual / cpu:.1f}x); previous {old_wall:.2f} s wall "
+        f"({virtual / old_wall:.1f}x), {old_cpu:.2f} s CPU ({virtual / old_cpu:.1f}x); wall "
+        f"ratio {old_wall / wall:.2f}x"
+    )
+    print(
+        "\n   validation time per skill (validate_skill from start to verdicts; CPU of all "
+        "processes)"
+    )
+    print(f"   {'skill':32s} {'wall':>7s} {'cpu':>7s} | {'previous':>8s} {'cpu':>7s} | ratio")
+    totals = [0.0] * 4
+    for skill in skills:
+        new, old = now[skill.stem], before[skill.stem]
+        print(
+            f"   {skill.stem:32s} {new.wall:6.2f}s {new.cpu:6.2f}s | {old.wall:7.2f}s "
+            f"{old.cpu:6.2f}s | {old.wall / new.wall:5.2f}x"
+        )
+        for index, value in enumerate((new.wall, new.cpu, old.wall, old.cpu)):
+            totals[index] += value
+    new_wall, new_cpu, old_wall, old_cpu = totals
+    print(
+        f"   {'all nine':32s} {new_wall:6.2f}s {new_cpu:6.2f}s | {old_wall:7.2f}s "
+        f"{old_cpu:6.2f}s | {old_wall / new_wall:5.2f}x"
     )
     print(
         "   (the lockstep keeps one core busy at a time, so on a quiet machine the wall time of "
-        "a run\n   is close to the CPU time of both processes; x cpu is what a quiet machine shows)"
+        "a run\n   is close to the CPU time of host and child; x cpu is what a quiet machine "
+        "shows)"
     )
 
 

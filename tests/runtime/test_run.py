@@ -13,7 +13,7 @@ from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime import sandbox
 from skillwright.runtime.report import RunProgress
 from skillwright.runtime.run import run_skill
-from skillwright.runtime.sandbox import SandboxProcess, start_child
+from skillwright.runtime.sandbox import SandboxProcess
 from skillwright.runtime.scenario import ActionScript, load_scenario
 from tests.runtime.conftest import SKILLS, quick, skill_path
 
@@ -152,16 +152,17 @@ def test_cancelling_kills_the_run_and_leaves_nothing(
 ) -> None:
     cancel = threading.Event()
     children: list[SandboxProcess] = []
+    real_fork = sandbox.ForkServer.fork
 
-    def start() -> SandboxProcess:
-        children.append(start_child())
+    def fork(server: sandbox.ForkServer) -> SandboxProcess:
+        children.append(real_fork(server))
         return children[-1]
 
     def on_progress(progress: RunProgress) -> None:
         if progress.event == "state-start" and progress.state == "execute":
             cancel.set()
 
-    monkeypatch.setattr(sandbox, "start_child", start)
+    monkeypatch.setattr(sandbox.ForkServer, "fork", fork)
     with pytest.raises(GenerationCancelledError):
         run_skill(
             skill_path("navigate_to_point"),
@@ -174,5 +175,8 @@ def test_cancelling_kills_the_run_and_leaves_nothing(
         )
     assert children, "the run started a child"
     for child in children:  # the run's own and the spare booted for its Stop run
-        assert child.process.returncode is not None
+        assert child.exit_status is not None
+        assert not child.running()
         assert not child.temp.exists()
+        assert child.server is not None
+        assert not child.server.alive(), "the run's own pool ends its fork server"

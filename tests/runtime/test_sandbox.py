@@ -14,7 +14,7 @@ import pytest
 
 from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime.run import run_skill
-from skillwright.runtime.sandbox import CHILD_ROOT, MARKER_VARIABLE
+from skillwright.runtime.sandbox import CHILD_ROOT, MARKER_VARIABLE, ChildPool
 from tests.conftest import REPO_ROOT
 from tests.runtime.conftest import quick
 
@@ -140,3 +140,60 @@ def test_processes_started_past_the_audit_hook_die_with_the_sandbox(tmp_path: Pa
     while _processes_with(marker) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert _processes_with(marker) == []
+
+
+FRESH = """
+import rclpy
+from pyskillup.decorators.decorators import *
+from pyskillup.decorator_check.decorator_check import ROS2Skill
+from pyskillup.decorators.skill_interface import SkillInterface
+
+
+@skill(skill_interface=SkillInterface.REST, skill_iri="urn:a", module_iri="urn:b",
+       capability_iri="urn:c", description="marks the stand-ins")
+class Marker(ROS2Skill):
+    def __init__(self) -> None:
+        super().__init__("marker")
+
+    @execute
+    def execute(self) -> None:
+        self.node.get_logger().info("marked" if hasattr(rclpy, "left_behind") else "fresh")
+        rclpy.left_behind = True
+"""
+
+
+def test_children_of_one_fork_server_start_from_untouched_modules(
+    mr1_inventory: Inventory, tmp_path: Path
+) -> None:
+    skill = tmp_path / "marker.py"
+    skill.write_text(FRESH, encoding="utf-8")
+    with ChildPool() as children:
+        reports = [
+            run_skill(skill, mr1_inventory, scenario=quick(), children=children) for _ in range(2)
+        ]
+        server = children.server
+        assert server is not None
+        marker = server.marker
+        assert _processes_with(marker) != []
+    logs = [e["text"] for r in reports for e in r.trace.episodes[0].events if e["kind"] == "log"]
+    assert logs == ["fresh", "fresh"]
+    folders = {r.trace.episodes[0].isolation["folder"] for r in reports}
+    assert len(folders) == 2, "each child has a folder of its own"
+    assert _processes_with(marker) == [], "closing the pool ends the fork server and its children"
+
+
+def test_a_fork_server_killed_from_outside_is_replaced(
+    mr1_inventory: Inventory, tmp_path: Path
+) -> None:
+    skill = tmp_path / "marker.py"
+    skill.write_text(FRESH, encoding="utf-8")
+    with ChildPool(ahead=False) as children:
+        first = run_skill(skill, mr1_inventory, scenario=quick(), children=children)
+        server = children.server
+        assert server is not None
+        os.killpg(server.process.pid, signal.SIGKILL)
+        server.process.wait(timeout=10)
+        second = run_skill(skill, mr1_inventory, scenario=quick(), children=children)
+        assert children.server is not server
+    assert first.findings == second.findings == []
+    assert _processes_with(server.marker) == []

@@ -14,6 +14,15 @@ Before any code of the skill runs, this sets up the sandbox, strongest first:
 
 FD is the child's end of the host's socketpair; TEMP its private temporary folder
 (the working directory, ``HOME`` and ``TMPDIR``).
+
+``python -I -S -B boot.py --zygote FD`` is a fork server instead: it imports the child's
+modules and the stand-ins once, then on each request (a temporary folder, with the new
+child's end of a socketpair passed along) forks a child that starts its own session,
+moves into that folder and goes on exactly as above. No skill code ever runs in the fork
+server itself, so every child starts from the same untouched modules; a child costs a
+fork instead of an interpreter and its imports. The server also reaps its children on
+request and reports how they ended and what they used. FD is its end of a
+``SOCK_SEQPACKET`` socketpair with the host.
 """
 
 from __future__ import annotations
@@ -119,9 +128,15 @@ def _allow_packages(allowed: dict) -> None:
 
 
 def main() -> None:
-    fd, temp = int(sys.argv[1]), sys.argv[2]
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     sys.path[:] = [root, *(p for p in sys.path[1:] if p)]
+    if sys.argv[1] == "--zygote":
+        _zygote(int(sys.argv[2]))
+    _child(int(sys.argv[1]), sys.argv[2])
+
+
+def _child(fd: int, temp: str) -> None:
+    """Isolates this process, talks to the host, runs the skill; never returns."""
     sock = socket.socket(fileno=fd)
     isolation = _isolate()
     if isolation["pid_namespace"]:
@@ -164,7 +179,7 @@ def main() -> None:
     signal.signal(signal.SIGUSR1, interrupted)
     signal.signal(signal.SIGXCPU, interrupted)
     end = os._exit
-    guard.install(temp, config["read_roots"], fd)
+    guard.install(temp, config["read_roots"], sock.fileno())
     try:
         driver.run(core, config)
     except HostGone:
@@ -174,6 +189,99 @@ def main() -> None:
         os.write(2, traceback_text().encode("utf-8", "replace"))
         end(4)
     end(0)
+
+
+_PRELOAD = (
+    "ctypes",
+    "json",
+    "traceback",
+    "_skillwright_child.core",
+    "_skillwright_child.driver",
+    "_skillwright_child.guard",
+    "_skillwright_child.messages",
+    "_skillwright_child.patches",
+    "_skillwright_child.wire",
+    "rclpy",
+    "rclpy.action",
+    "rclpy.callback_groups",
+    "rclpy.executors",
+    "rclpy.qos",
+    "rclpy.wait_for_message",
+    "tf2_ros",
+    "pyskillup.decorators.decorators",
+    "pyskillup.decorator_check.decorator_check",
+    "pyskillup.decorators.skill_interface",
+)
+"""What every child imports (its machinery, the stand-ins). The stand-ins read the clock
+only when called, never at import, so importing them before the virtual clock is
+installed changes nothing."""
+
+
+def _zygote(control_fd: int) -> None:
+    """Serves fork requests until the host closes the connection; never returns."""
+    import ctypes
+    import importlib
+    import json
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    pr_set_pdeathsig = 1
+    libc.prctl(pr_set_pdeathsig, signal.SIGKILL, 0, 0, 0)
+    for name in _PRELOAD:
+        importlib.import_module(name)
+    control = socket.socket(fileno=control_fd)
+    while True:
+        try:
+            data, fds, _, _ = socket.recv_fds(control, 65536, 1)
+        except OSError:
+            os._exit(0)
+        if not data:
+            os._exit(0)
+        request = json.loads(data)
+        if request.get("op") == "fork" and len(fds) == 1:
+            pid = os.fork()
+            if pid == 0:
+                control.close()
+                _forked(fds[0], str(request["temp"]))
+            os.close(fds[0])
+            reply: dict = {"pid": pid}
+        elif request.get("op") == "reap":
+            reply = _reap(int(request["pid"]))
+        else:
+            for fd in fds:
+                os.close(fd)
+            reply = {"error": "unknown request"}
+        control.sendall(json.dumps(reply).encode("utf-8"))
+
+
+def _forked(fd: int, temp: str) -> None:
+    """A child of the fork server: its own session, folder and output; never returns."""
+    try:
+        os.setsid()
+        os.chdir(temp)
+        output = os.open(os.path.join(temp, "child-output.txt"), os.O_WRONLY | os.O_CREAT, 0o600)
+        os.dup2(output, 1)
+        os.dup2(output, 2)
+        os.close(output)
+        os.environ["HOME"] = temp
+        os.environ["TMPDIR"] = temp
+        # The same command line as a child the host starts itself.
+        sys.argv[1:] = [str(fd), temp]
+        _child(fd, temp)
+    finally:
+        os._exit(4)
+
+
+def _reap(pid: int) -> dict:
+    """Waits for a child (the host has killed it) and says how it ended."""
+    try:
+        _, status, usage = os.wait4(pid, 0)
+    except ChildProcessError:
+        return {"status": None}
+    return {
+        "status": os.waitstatus_to_exitcode(status),
+        "cpu_seconds": usage.ru_utime + usage.ru_stime,
+        "max_rss_kb": usage.ru_maxrss,
+    }
 
 
 def traceback_text() -> str:
