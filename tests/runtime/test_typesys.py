@@ -84,6 +84,22 @@ def test_conform_checks_array_sizes(registry: TypeRegistry) -> None:
         registry.conform("geometry_msgs/msg/PoseWithCovariance", {"covariance": [0.0, 1.0]})
 
 
+def test_conform_takes_a_large_array_whole_and_still_names_a_bad_element(
+    registry: TypeRegistry,
+) -> None:
+    cells = [-1, 0, 100] * 40_000
+    grid = registry.conform("nav_msgs/msg/OccupancyGrid", {"data": cells})
+    assert grid["data"] == cells
+    assert grid["data"] is not cells
+    scan = registry.conform("sensor_msgs/msg/LaserScan", {"ranges": [1, 2.5, float("inf")]})
+    assert scan["ranges"] == [1.0, 2.5, float("inf")]
+    assert all(isinstance(r, float) for r in scan["ranges"])
+    with pytest.raises(ValueError, match=r"data\[5\]: expected an integer \(int8\), got bool"):
+        registry.conform("nav_msgs/msg/OccupancyGrid", {"data": [0, 0, 0, 0, 0, True]})
+    with pytest.raises(ValueError, match=r"ranges\[1\]: expected a number \(float32\), got str"):
+        registry.conform("sensor_msgs/msg/LaserScan", {"ranges": [1.0, "far"]})
+
+
 @pytest.mark.parametrize(
     ("message", "zero"),
     [

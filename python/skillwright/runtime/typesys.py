@@ -19,6 +19,7 @@ import json
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, Final
 
 from skillwright.interfaces.inventory import Constant, Inventory, MessageDefinition, MessageField
@@ -57,7 +58,7 @@ class FieldDef:
     string_bound: int | None
     default: Any
 
-    @property
+    @cached_property
     def builtin(self) -> bool:
         """Whether the element type is a ROS 2 builtin."""
         return self.base in BUILTIN_TYPES
@@ -272,14 +273,18 @@ class TypeRegistry:
             raise ValueError(f"{where}: {name} has no field {unknown[0]!r} (it has {fields})")
         out: dict[str, Any] = {}
         for field in message.fields:
-            path = f"{where}.{field.name}"
             if field.name not in value:
                 out[field.name] = self._field_default(field)
                 continue
             item = value[field.name]
             if field.array == "none":
-                out[field.name] = self._conform_one(field, item, path, budget)
+                if field.builtin and _fits(field.base, item):
+                    out[field.name] = item
+                else:
+                    path = f"{where}.{field.name}"
+                    out[field.name] = self._conform_one(field, item, path, budget)
                 continue
+            path = f"{where}.{field.name}"
             if not isinstance(item, list):
                 raise ValueError(f"{path}: expected a list, got {type(item).__name__}")
             if field.array == "fixed" and len(item) != field.size:
@@ -289,6 +294,10 @@ class TypeRegistry:
             budget[0] -= len(item)
             if budget[0] < 0:
                 raise ValueError(f"{path}: the message is larger than {MAX_ELEMENTS} elements")
+            plain = _builtin_list(field.base, item) if field.builtin else None
+            if plain is not None:
+                out[field.name] = plain
+                continue
             out[field.name] = [
                 self._conform_one(field, element, f"{path}[{i}]", budget)
                 for i, element in enumerate(item)
@@ -316,6 +325,37 @@ class TypeRegistry:
         if len(item) > 1_000_000:
             raise ValueError(f"{path}: string longer than 1000000 characters")
         return item
+
+
+def _fits(base: str, item: Any) -> bool:
+    """Whether a builtin value is already what :meth:`TypeRegistry._conform_one` makes of it
+    (the common case, checked without building the field's path)."""
+    kind = type(item)
+    if kind is float:
+        return base in _FLOATS
+    if kind is int:
+        return base in _INTEGERS
+    if kind is bool:
+        return base == "bool"
+    return kind is str and base in _STRINGS and len(item) <= 1_000_000
+
+
+def _builtin_list(base: str, items: list[Any]) -> list[Any] | None:
+    """A builtin array as :meth:`TypeRegistry._conform_one` would make it element by
+    element, from the set of its elements' types; ``None`` when an element needs that
+    look (to convert it, or to name it in the error)."""
+    kinds = set(map(type, items))
+    if base in _FLOATS:
+        if kinds <= {float}:
+            return list(items)
+        if kinds <= {float, int}:
+            return [float(x) for x in items]
+    elif base in _INTEGERS:
+        if kinds <= {int}:
+            return list(items)
+    elif base == "bool" and kinds <= {bool}:
+        return list(items)
+    return None
 
 
 def _zero(base: str) -> Any:
