@@ -12,6 +12,7 @@ true, and a nested code message with a ``SUCCESS`` constant (MoveIt's
 
 from __future__ import annotations
 
+from functools import cached_property
 from typing import TYPE_CHECKING, Any, Final
 
 from skillwright.runtime.api import ActionGoal, ServiceReply
@@ -65,8 +66,14 @@ class ScriptedService:
 
     def __init__(self, registry: TypeRegistry, type_name: str, script: ServiceScript) -> None:
         self._script = script
-        response = success_message(registry, type_name + "_Response")
-        self._response = _merge(response, script.response)
+        self._registry = registry
+        self._type_name = type_name
+
+    @cached_property
+    def _response(self) -> dict[str, Any]:
+        # Made on the first call: a robot has dozens of services, a run calls a few.
+        response = success_message(self._registry, self._type_name + "_Response")
+        return _merge(response, self._script.response)
 
     def __call__(self, request: dict[str, Any]) -> ServiceReply:
         if not self._script.respond:
@@ -82,8 +89,18 @@ class ScriptedAction:
     ) -> None:
         self._host = host
         self._script = script
-        self._result = _merge(success_message(registry, type_name + "_Result"), script.result)
-        self._feedback = _merge(registry.default(type_name + "_Feedback"), script.feedback)
+        self._registry = registry
+        self._type_name = type_name
+
+    @cached_property
+    def _result(self) -> dict[str, Any]:
+        result = success_message(self._registry, self._type_name + "_Result")
+        return _merge(result, self._script.result)
+
+    @cached_property
+    def _feedback(self) -> dict[str, Any]:
+        feedback = self._registry.default(self._type_name + "_Feedback")
+        return _merge(feedback, self._script.feedback)
 
     def on_goal(self, goal: ActionGoal) -> None:
         script = self._script

@@ -23,7 +23,7 @@ from skillwright.runtime.sandbox import ChildPool
 from skillwright.runtime.scenario import RunScenario
 from skillwright.runtime.session import Episode, EpisodePlan, EpisodeResult
 from skillwright.runtime.skillinfo import SkillInfo, SkillSourceError, read_skill
-from skillwright.runtime.typesys import TypeRegistry, is_zero_motion
+from skillwright.runtime.typesys import is_zero_motion, registry_for
 from skillwright.validation.model import Finding
 
 __all__ = ["MOTION_TYPES", "WorldSpec", "recording_files", "run_skill"]
@@ -199,7 +199,7 @@ def run_skill(
     setup = Recorder()
     resolved, shown = _inputs(info, given, str(path), setup)
     trace.inputs = shown
-    registry = TypeRegistry(inventory)
+    registry = registry_for(inventory)
     files = recording_files(recording) if recording is not None else _default_recording(inventory)
     start = next((s.start_time_ns for s in inventory.sources if s.start_time_ns is not None), None)
     pool = children if children is not None else ChildPool()

@@ -19,13 +19,20 @@ import json
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cache, cached_property
 from typing import Any, Final
 
 from skillwright.interfaces.inventory import Constant, Inventory, MessageDefinition, MessageField
 from skillwright.interfaces.ros2msg import BUILTIN_TYPES, definition_from_text
 
-__all__ = ["FieldDef", "TypeDef", "TypeRegistry", "is_zero_motion", "standard_texts"]
+__all__ = [
+    "FieldDef",
+    "TypeDef",
+    "TypeRegistry",
+    "is_zero_motion",
+    "registry_for",
+    "standard_texts",
+]
 
 _FLOATS: Final = frozenset({"float32", "float64"})
 _INTEGERS: Final = frozenset(
@@ -106,6 +113,7 @@ def _collect(
             _collect(field.base_type, field.fields, field.constants, into)
 
 
+@cache
 def _rosbags_version() -> str:
     try:
         return importlib.metadata.version("rosbags")
@@ -113,15 +121,24 @@ def _rosbags_version() -> str:
         return "none"
 
 
+_READ: dict[str, dict[str, str]] = {}
+"""Standard texts already read in this process, by cache file (every run asks again)."""
+
+
 def standard_texts(distro: str) -> dict[str, str]:
-    """The standard message texts of ``distro`` by type name, cached on disk."""
+    """The standard message texts of ``distro`` by type name, cached on disk (and kept in
+    memory once read; the caller must not change the mapping)."""
     from skillwright.fileio import write_atomic
     from skillwright.paths import cache_dir
 
     path = cache_dir() / "runtime" / f"types-{distro}-rosbags-{_rosbags_version()}.json"
+    known = _READ.get(str(path))
+    if known is not None:
+        return known
     try:
         cached = json.loads(path.read_text(encoding="utf-8"))
         if isinstance(cached, dict) and all(isinstance(v, str) for v in cached.values()):
+            _READ[str(path)] = cached
             return cached
     except (OSError, ValueError):
         pass
@@ -129,6 +146,7 @@ def standard_texts(distro: str) -> dict[str, str]:
 
     texts = store_texts(distro)
     if texts:
+        _READ[str(path)] = texts
         # The cache only saves time; a read-only cache folder must not stop a run.
         with contextlib.suppress(OSError):
             write_atomic(path, json.dumps(texts, sort_keys=True))
@@ -356,6 +374,23 @@ def _builtin_list(base: str, items: list[Any]) -> list[Any] | None:
     elif base == "bool" and kinds <= {bool}:
         return list(items)
     return None
+
+
+_REGISTRIES: list[tuple[Inventory, tuple[tuple[str, str, str], ...], TypeRegistry]] = []
+"""Type registries of recent inventories (a validation runs one inventory many times)."""
+
+
+def registry_for(inventory: Inventory) -> TypeRegistry:
+    """The type registry of ``inventory``, made once for the runs of the same inventory
+    (the same object with the same interfaces)."""
+    shape = tuple((i.kind, i.name, i.type_name) for i in inventory.interfaces)
+    for known, known_shape, registry in _REGISTRIES:
+        if known is inventory and known_shape == shape:
+            return registry
+    registry = TypeRegistry(inventory)
+    _REGISTRIES.append((inventory, shape, registry))
+    del _REGISTRIES[:-4]
+    return registry
 
 
 def _zero(base: str) -> Any:

@@ -248,9 +248,9 @@ def _first_messages(
     """The first message on each of ``topics`` (name -> type), decoded to a dict."""
     from skillwright.runtime.cdr import CdrDecoder
     from skillwright.runtime.mcapread import read_messages
-    from skillwright.runtime.typesys import TypeRegistry
+    from skillwright.runtime.typesys import registry_for
 
-    decoder = CdrDecoder(TypeRegistry(inventory))
+    decoder = CdrDecoder(registry_for(inventory))
     found: dict[str, dict[str, Any]] = {}
     for _time, topic, payload in read_messages(path, set(topics)):
         if topic in found:
