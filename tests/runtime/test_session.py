@@ -4,6 +4,7 @@ and a child that breaks the protocol."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -112,3 +113,24 @@ def test_a_skill_that_writes_garbage_to_the_runtimes_socket_is_a_protocol_findin
 
     assert [f.check for f in report.findings] == ["run.protocol"]
     assert report.trace.episodes[0].ended == "protocol"
+
+
+def test_importing_types_costs_one_exchange_per_imported_type(
+    mr1_inventory: Inventory, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.runtime.session import Episode
+
+    asked: list[str] = []
+    real_dispatch = Episode._dispatch
+
+    def dispatch(episode: Episode, frame: dict[str, Any]) -> dict[str, Any] | None:
+        if frame["op"] in {"type", "package"}:
+            asked.append(f"{frame['op']} {frame['name']}")
+        return real_dispatch(episode, frame)
+
+    monkeypatch.setattr(Episode, "_dispatch", dispatch)
+    body = "        goal = MoveGroup.Goal()\n        self.messages.append(goal.request.group_name)"
+    report, _ = run(mr1_inventory, body, "from moveit_msgs.action import MoveGroup")
+
+    assert report.findings == []
+    assert asked == ["type moveit_msgs/action/MoveGroup"]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from skillwright.interfaces.inventory import Inventory
+from skillwright.interfaces.ros2msg import BUILTIN_TYPES
 from skillwright.runtime.typesys import TypeRegistry, is_zero_motion
 
 
@@ -50,6 +51,26 @@ def test_defaults_fill_every_field(registry: TypeRegistry) -> None:
     assert odom["header"] == {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}
     assert odom["pose"]["covariance"] == [0.0] * 36
     assert odom["twist"]["twist"]["angular"] == {"x": 0.0, "y": 0.0, "z": 0.0}
+
+
+def test_a_type_is_described_with_every_type_it_is_made_of(registry: TypeRegistry) -> None:
+    action = registry.describe_with_nested("moveit_msgs/action/MoveGroup")
+    nested = action["nested"]
+    assert {"moveit_msgs/action/MoveGroup_Goal", "moveit_msgs/msg/MotionPlanRequest"} <= set(nested)
+    assert "std_msgs/msg/Header" in nested
+    assert all(answer["ok"] for answer in nested.values())
+    for answer in nested.values():
+        for spec in answer.get("fields", []):
+            assert spec[1] in nested or spec[1] in BUILTIN_TYPES, spec
+    assert "nested" not in registry.describe_with_nested("std_msgs/msg/String")
+    assert registry.describe_with_nested("acme_msgs/msg/Nothing")["ok"] is False
+
+
+def test_packages_are_those_of_known_types(registry: TypeRegistry) -> None:
+    packages = registry.packages()
+    assert {"geometry_msgs", "nav2_msgs", "moveit_msgs", "std_msgs"} <= set(packages)
+    assert "rclpy" not in packages
+    assert all(registry.has_package(p) for p in packages)
 
 
 def test_conform_fills_missing_fields_and_turns_integers_into_floats(

@@ -90,6 +90,11 @@ def allowed_packages() -> tuple[tuple[str, str], ...]:
 
 def read_roots() -> list[str]:
     """Folders the child may read: the standard library, its own code, allowed packages."""
+    return list(_read_roots())
+
+
+@cache
+def _read_roots() -> tuple[str, ...]:
     paths = sysconfig.get_paths()
     roots = {paths["stdlib"], paths["platstdlib"], str(CHILD_ROOT)}
     for name, folder in allowed_packages():
@@ -97,7 +102,7 @@ def read_roots() -> list[str]:
         roots.update(str(p) for p in Path(folder).glob(f"{name}.libs"))
         roots.update(str(p) for p in Path(folder).glob(f"{name}-*.dist-info"))
     roots.update({"/dev/null", "/dev/urandom"})
-    return sorted(roots)
+    return tuple(sorted(roots))
 
 
 @dataclass

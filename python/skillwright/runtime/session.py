@@ -318,6 +318,7 @@ class Episode:
             "limits": limits,
             "read_roots": read_roots(),
             "packages": dict(allowed_packages()),
+            "message_packages": self._registry.packages(),
             "settle": self._scenario.settle,
             "stop_at_complete": self._plan.stop_at_complete,
         }
@@ -352,7 +353,7 @@ class Episode:
         if op == "package":
             return {"ok": self._registry.has_package(str(frame["name"]))}
         if op == "type":
-            return self._registry.describe(str(frame["name"]))
+            return self._registry.describe_with_nested(str(frame["name"]))
         if op == "exists":
             return {"ok": graph.exists(str(frame["kind"]), str(frame["name"]))}
         if op == "count":

@@ -168,6 +168,7 @@ class TypeRegistry:
                 if part is not None and interface.kind != "topic":
                     self._parts.setdefault(interface.type_name, {})[part] = definition.type_name
         self._standard: dict[str, str] | None = None
+        self._package_names: list[str] | None = None
 
     def _add_definition(self, definition: MessageDefinition) -> None:
         if definition.fields is not None:
@@ -217,6 +218,38 @@ class TypeRegistry:
         ):
             return True
         return any(n.startswith(prefix) for n in self._standard_texts())
+
+    def packages(self) -> list[str]:
+        """Every package that holds a known type (the inventory's and the standard ones)."""
+        if self._package_names is None:
+            names = [*self._messages, *self._parts, *self._standard_texts()]
+            self._package_names = sorted({n.split("/", 1)[0] for n in names})
+        return list(self._package_names)
+
+    def describe_with_nested(self, name: str) -> dict[str, Any]:
+        """:meth:`describe` of ``name`` with ``nested``: the answers for every type it is made
+        of (nested messages, a service's or an action's parts, and theirs), so the child
+        asks once per type it imports."""
+        answer = self.describe(name)
+        if not answer.get("ok"):
+            return answer
+        nested: dict[str, dict[str, Any]] = {}
+        pending = self._made_of(answer)
+        while pending:
+            part = pending.pop()
+            if part in nested or part == name:
+                continue
+            described = self.describe(part)
+            nested[part] = described
+            if described.get("ok"):
+                pending.extend(self._made_of(described))
+        return {**answer, "nested": nested} if nested else answer
+
+    @staticmethod
+    def _made_of(answer: dict[str, Any]) -> list[str]:
+        if answer.get("kind") == "message":
+            return [spec[1] for spec in answer["fields"] if spec[1] not in BUILTIN_TYPES]
+        return list(answer.get("parts", {}).values())
 
     def describe(self, name: str) -> dict[str, Any]:
         """The child's answer about ``name``: ``ok`` with the type, or ``ok: false`` and why."""

@@ -158,6 +158,8 @@ def _child(fd: int, temp: str) -> None:
     _limit(config["limits"])
     core = core_module.Core(wire, config["skill"], int(config["epoch_ns"]))
     core_module.CORE = core
+    if isinstance(config.get("message_packages"), list):
+        core.catalog.know_packages(config["message_packages"])
     messages.install(core.catalog)
     _allow_packages(config.get("packages", {}))
     patches.install(core)

@@ -316,16 +316,30 @@ def from_dict(cls: type[Message], data: dict) -> Message:
 
 
 class TypeCatalog:
-    """The classes built so far, and the host's answers about types and packages."""
+    """The classes built so far, and the host's answers about types and packages.
+
+    The host answers a type with the types it is made of (nested messages, a service's
+    or an action's parts) in the same reply, and names the robot's message packages in
+    its answer to ``hello``, so a skill's imports cost one exchange per imported type.
+    """
 
     def __init__(self, ask: object) -> None:
         self._ask = ask  # callable(op, **fields) -> dict
         self._classes: dict[str, object] = {}
         self._packages: dict[str, bool] = {}
+        self._all_packages = False
+        self._answers: dict[str, dict] = {}
+
+    def know_packages(self, packages: list) -> None:
+        """The robot's message packages, all of them (no need to ask about others)."""
+        self._packages = {str(p): True for p in packages}
+        self._all_packages = True
 
     def has_package(self, package: str) -> bool:
         """Whether the robot has message package ``package``."""
         if package not in self._packages:
+            if self._all_packages:
+                return False
             reply = self._ask("package", name=package)
             self._packages[package] = bool(reply.get("ok"))
         return self._packages[package]
@@ -335,7 +349,12 @@ class TypeCatalog:
         found = self._classes.get(type_name)
         if found is not None:
             return found
-        reply = self._ask("type", name=type_name)
+        reply = self._answers.pop(type_name, None)
+        if reply is None:
+            reply = self._ask("type", name=type_name)
+            nested = reply.pop("nested", None)
+            if isinstance(nested, dict):
+                self._answers.update(nested)
         if not reply.get("ok"):
             raise UnknownTypeError(str(reply.get("error") or f"no type {type_name}"))
         package, namespace, name = type_name.split("/")
