@@ -315,6 +315,18 @@ def from_dict(cls: type[Message], data: dict) -> Message:
     return message
 
 
+def _reader(name: str) -> property:
+    """Reading field ``name``: a property, because falling through to ``__getattr__`` first
+    raises (and drops) an AttributeError, which made every field access cost microseconds
+    (a skill reads fields in its loops and callbacks). Writes go through ``__setattr__``."""
+
+    def read(message: Message) -> object:
+        return message._values[name]
+
+    read.__name__ = name
+    return property(read)
+
+
 class TypeCatalog:
     """The classes built so far, and the host's answers about types and packages.
 
@@ -379,6 +391,8 @@ class TypeCatalog:
             "_fields": fields,
             "_by_name": {field.name: field for field in fields},
         }
+        for field in fields:
+            attributes[field.name] = _reader(field.name)
         for constant, value in reply.get("constants", []):
             attributes[constant] = value
         cls = type(name, (Message,), attributes)
