@@ -180,3 +180,30 @@ def test_cancelling_kills_the_run_and_leaves_nothing(
         assert not child.temp.exists()
         assert child.server is not None
         assert not child.server.alive(), "the run's own pool ends its fork server"
+
+
+@pytest.mark.parametrize("hooked", [False, True], ids=["plain", "own-setattr"])
+def test_inputs_never_read_are_found_whatever_the_class_does_with_attributes(
+    mr1_inventory: Inventory, hooked: bool
+) -> None:
+    skill = skill_path("move_forward")
+    source = skill.read_text(encoding="utf-8")
+    if hooked:
+        source = source.replace(
+            "    def __init__(self) -> None:",
+            "    def __setattr__(self, name, value) -> None:\n"
+            "        super().__setattr__(name, value)\n\n"
+            "    def __init__(self) -> None:",
+        )
+    hard_coded = source.replace("speed = abs(self.in_linear_velocity)", "speed = 0.3")
+    scenario = load_scenario(skill.with_suffix(".scenario.yaml")).model_copy(
+        update={"stop_run": "never"}
+    )
+
+    faithful = run_skill(skill, mr1_inventory, source=source, scenario=scenario)
+    careless = run_skill(skill, mr1_inventory, source=hard_coded, scenario=scenario)
+
+    assert faithful.findings == []
+    assert [f.check for f in careless.findings] == ["run.input"]
+    assert "inLinearVelocity" in careless.findings[0].message
+    assert careless.trace.episodes[0].outputs["outDistance"] > 0.4

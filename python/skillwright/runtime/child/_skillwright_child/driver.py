@@ -91,6 +91,18 @@ def _plain(value: Any) -> Any:
         return f"<{type(value).__name__}>"
 
 
+def _watchable(instance: Any, names: set) -> bool:
+    """Whether ``instance`` keeps ``names`` in its ``__dict__`` with nothing in its class
+    that handles them or attribute access in general (then properties can watch them)."""
+    if not isinstance(getattr(instance, "__dict__", None), dict):
+        return False
+    cls = type(instance)
+    hooks = ("__getattribute__", "__setattr__", "__delattr__")
+    if any(getattr(cls, hook) is not getattr(object, hook) for hook in hooks):
+        return False
+    return not any(name in vars(klass) for klass in cls.__mro__ for name in names)
+
+
 class Driver:
     """Loads the skill and runs its states."""
 
@@ -200,8 +212,59 @@ class Driver:
         writes made while a state runs."""
         inputs = {entry["attr"] for entry in self.config["inputs"]}
         outputs = {entry["attr"] for entry in self.config["outputs"] if entry.get("attr")}
-        driver = self
         base = type(self.instance)
+        if _watchable(self.instance, inputs | outputs):
+            watched = self._watched_by_properties(base, inputs, outputs)
+        else:
+            watched = self._watched_by_hooks(base, inputs, outputs)
+        watched.__name__ = base.__name__
+        watched.__qualname__ = base.__qualname__
+        watched.__module__ = base.__module__
+        # A class whose layout forbids the swap (C base, __slots__ clash) is run unwatched.
+        with contextlib.suppress(TypeError):
+            self.instance.__class__ = watched
+        return True
+
+    def _watched_by_properties(self, base: type, inputs: set, outputs: set) -> type:
+        """Watches through one property per watched attribute (kept in the instance's
+        ``__dict__`` as before), so reading any other attribute costs nothing extra: the
+        skill's loops read ``self.<x>`` thousands of times."""
+        driver = self
+
+        def watched(name: str) -> property:
+            def get(instance: Any) -> Any:
+                if driver.in_state and name in inputs:
+                    driver.reads.add(name)
+                try:
+                    return instance.__dict__[name]
+                except KeyError:
+                    message = f"'{type(instance).__name__}' object has no attribute '{name}'"
+                    raise AttributeError(message, name=name, obj=instance) from None
+
+            def set_(instance: Any, value: Any) -> None:
+                if driver.in_state and name in outputs:
+                    driver.writes.add(name)
+                instance.__dict__[name] = value
+
+            def delete(instance: Any) -> None:
+                try:
+                    del instance.__dict__[name]
+                except KeyError:
+                    raise AttributeError(name) from None
+
+            return property(get, set_, delete)
+
+        class Watched(base):  # type: ignore[misc, valid-type]
+            __slots__ = ()
+
+        for name in inputs | outputs:
+            setattr(Watched, name, watched(name))
+        return Watched
+
+    def _watched_by_hooks(self, base: type, inputs: set, outputs: set) -> type:
+        """Watches through ``__getattribute__`` and ``__setattr__``, for classes that define
+        the watched names themselves or hook attribute access."""
+        driver = self
 
         class Watched(base):  # type: ignore[misc, valid-type]
             __slots__ = ()
@@ -216,13 +279,7 @@ class Driver:
                     driver.writes.add(name)
                 super().__setattr__(name, value)
 
-        Watched.__name__ = base.__name__
-        Watched.__qualname__ = base.__qualname__
-        Watched.__module__ = base.__module__
-        # A class whose layout forbids the swap (C base, __slots__ clash) is run unwatched.
-        with contextlib.suppress(TypeError):
-            self.instance.__class__ = Watched
-        return True
+        return Watched
 
     # --- states --------------------------------------------------------------------
 
