@@ -447,13 +447,13 @@ class MujocoWorld:
 
     def base_pose(self) -> tuple[float, float, float]:
         """True pose of the base in the map frame."""
-        x, y, yaw = (float(self.data.qpos[i]) for i in self._qpos)
+        x, y, yaw = self.data.qpos[self._qpos].tolist()
         return x, y, yaw
 
     def base_velocity(self) -> Command:
         """True velocity of the base in its own frame."""
-        vx, vy, wz = (float(self.data.qvel[i]) for i in self._dof)
-        yaw = float(self.data.qpos[self._qpos[2]])
+        vx, vy, wz = self.data.qvel[self._dof].tolist()
+        yaw = self.data.qpos.item(self._qpos[2])
         c, s = math.cos(yaw), math.sin(yaw)
         return Command(vx=c * vx + s * vy, vy=-s * vx + c * vy, wz=wz)
 
@@ -503,11 +503,16 @@ class MujocoWorld:
 
     # --- physics ------------------------------------------------------------------------
     def _step_to(self, t: float) -> None:
-        mujoco, model, data = self._mj, self.model, self.data
-        while data.time + self.dt / 2.0 <= t:
-            if data.time + self.dt / 2.0 >= self._next_control:
+        step, model, data = self._mj.mj_step, self.model, self.data
+        half = self.dt / 2.0
+        while True:
+            # Reading MjData's fields is a call into the bindings: read each once per step.
+            ahead = data.time + half
+            if ahead > t:
+                break
+            if ahead >= self._next_control:
                 self._control()
-            mujoco.mj_step(model, data)
+            step(model, data)
             if data.ncon:
                 self._contacts()
             elif self._touching:
@@ -519,12 +524,12 @@ class MujocoWorld:
         now = float(data.time)
         self._next_control = now + self.control_period
         wheels = self.driver.step(now, self.control_period)
-        measured = tuple(float(v) for v in data.qvel[self._wheel_dof])
-        body = self.kinematics.body_velocity(measured)  # type: ignore[arg-type]
+        measured = tuple(data.qvel[self._wheel_dof].tolist())
+        body = self.kinematics.body_velocity(measured)
         self._integrate_odometry(body)
         for actuator, speed in zip(self._wheel_act, wheels, strict=True):
             data.ctrl[actuator] = speed
-        yaw = float(data.qpos[self._qpos[2]])
+        yaw = data.qpos.item(self._qpos[2])
         c, s = math.cos(yaw), math.sin(yaw)
         data.ctrl[self._traction[0]] = c * body.vx - s * body.vy
         data.ctrl[self._traction[1]] = s * body.vx + c * body.vy
