@@ -20,6 +20,8 @@ _HEADER: Final = struct.Struct(">I")
 MAX_FRAME: Final = 32 * 1024 * 1024
 """Largest frame the host accepts from the child (a big map plus room)."""
 _CHUNK: Final = 64 * 1024
+_ENCODE: Final = json.JSONEncoder(separators=(",", ":")).encode
+"""``json.dumps`` with these options makes a new encoder for every frame."""
 
 
 class ProtocolError(Exception):
@@ -43,7 +45,7 @@ class Wire:
 
     def send(self, frame: dict[str, Any]) -> None:
         """Writes one frame."""
-        data = json.dumps(frame, separators=(",", ":")).encode("utf-8")
+        data = _ENCODE(frame).encode("utf-8")
         self._sock.sendall(_HEADER.pack(len(data)) + data)
 
     def receive(self) -> dict[str, Any] | None:

@@ -21,6 +21,7 @@ import threading
 _HEADER = struct.Struct(">I")
 MAX_REPLY = 64 * 1024 * 1024
 HELD = frozenset({"publish", "log", "output"})
+_ENCODE = json.JSONEncoder(separators=(",", ":")).encode
 _HOLD_BYTES = 256 * 1024
 
 
@@ -38,7 +39,7 @@ class Wire:
         self._held_bytes = 0
 
     def _send(self, frame: dict, hold: bool = False) -> None:
-        data = json.dumps(frame, separators=(",", ":")).encode("utf-8")
+        data = _ENCODE(frame).encode("utf-8")
         self._held.append(_HEADER.pack(len(data)) + data)
         self._held_bytes += len(data)
         if hold and self._held_bytes < _HOLD_BYTES:
