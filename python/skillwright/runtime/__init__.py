@@ -64,6 +64,11 @@ event, or to the time the skill waits for), and ``close`` at the end of the epis
     Deliver ``message`` (a dict) to the skill's subscribers of ``topic`` at ``now``.
     Missing fields take their defaults; the first messages on each topic are checked,
     and a field the type does not have raises ``ValueError`` naming it.
+``host.wants(topic) -> bool``
+    Whether a message on ``topic`` would reach anyone now (a subscription of the skill,
+    or the last-message slot of a latched topic; every topic with the scenario's
+    ``traffic: all``). A world may skip making messages nobody wants; what it computes
+    for itself (state, noise, ground truth) must go on the same.
 ``host.on_publish(topic, callback)``
     ``callback(time, message)`` for every message the skill publishes on ``topic``
     (``message`` a complete dict of the topic's type), called as it happens.
