@@ -307,3 +307,22 @@ def test_messages_nobody_receives_are_not_made_but_the_world_runs_the_same(
     # The lidar still measured (ground truth, map) and drew its noise at every scan.
     assert odometry_only.truth.nearest == everything.truth.nearest
     assert odometry_only.truth.samples == everything.truth.samples
+
+
+def test_the_map_is_traced_only_when_someone_needs_it_and_comes_out_the_same(
+    mr1_inventory: Inventory,
+) -> None:
+    def run(listening: set[str] | None) -> MujocoWorld:
+        world, host = _world(mr1_inventory, "walled_room", (0.0, 0.3, 0.0), seed=4)
+        host.listening = listening
+        host.skill_publishes("/cmd_vel", FORWARD)
+        host.run_until(3.0)
+        return world
+
+    published = run(None)
+    unwatched = run({"/odom"})
+    assert published.truth.extents, "publishing the map traced it"
+    assert unwatched.truth.extents == [], "nobody asked for the map yet"
+    assert unwatched.truth.extent_at(3.0) == published.truth.extent_at(3.0)
+    assert len(unwatched.truth.extents) >= 3
+    assert unwatched.truth.extents == published.truth.extents

@@ -12,6 +12,7 @@ from __future__ import annotations
 import bisect
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -94,6 +95,8 @@ class GroundTruth:
     """The base driver's deceleration [m/s^2]."""
     reaction: float = 0.1
     """The lidar's scan period [s]: how late a skill can know of an obstacle."""
+    catch_up: Callable[[], None] | None = field(default=None, repr=False, compare=False)
+    """Brings :attr:`extents` up to date (the world traces its map only when asked)."""
     _times: list[float] = field(default_factory=list, repr=False)
 
     def add(self, sample: Sample) -> None:
@@ -186,6 +189,8 @@ class GroundTruth:
 
     def extent_at(self, t: float) -> tuple[float, float] | None:
         """Mapped extent (along, across the start heading) at or before ``t``."""
+        if self.catch_up is not None:
+            self.catch_up()
         found = None
         for when, along, across in self.extents:
             if when > t + 1e-9:

@@ -195,6 +195,8 @@ class MujocoWorld:
         self._touching: set[int] = set()
         self._blocked: tuple[Any, Any] | None = None
         self._map: Any = None
+        self._map_scans: list[tuple[ScanGeometry, tuple[float, float, float], Any, Any, float]] = []
+        self.truth.catch_up = self._catch_up_map
         self._map_pose: tuple[float, float, float] | None = None
         self._map_updates = 0
         self._map_published = -1
@@ -870,26 +872,38 @@ class MujocoWorld:
 
     # --- the map ------------------------------------------------------------------------
     def _integrate_map(self, geometry: ScanGeometry, angles: Any, ranges: Any, t: float) -> None:
-        from skillwright.sim.grid import GridFrame, OccupancyMap
+        """Takes a scan into the map when the base has moved enough since the last one.
 
+        The tracing itself waits until someone needs the map (its topic, a map saver, the
+        oracles asking for its extent; see :meth:`_catch_up_map`): it is the dearest
+        thing the world does, and most runs never look at the map.
+        """
         pose = self._laser_pose(geometry)
-        if self._map is None:
-            resolution = self.facts.map_resolution or 0.05
-            x0, y0, x1, y1 = self._world_bounds(margin=geometry.range_max)
-            self._map = OccupancyMap(
-                GridFrame.covering(x0, y0, x1, y1, resolution), reference=self.config.start
-            )
-        elif self._map_pose is not None:
+        if self._map_pose is not None:
             moved = math.hypot(pose[0] - self._map_pose[0], pose[1] - self._map_pose[1])
             turned = abs(math.remainder(pose[2] - self._map_pose[2], 2 * math.pi))
             # slam_toolbox's defaults: a scan joins the map after 0.5 m or 0.5 rad of motion.
             if moved < 0.5 and turned < 0.5:
                 return
         self._map_pose = pose
-        self._map.integrate(*pose, angles, ranges, geometry.range_max)
         self._map_updates += 1
-        along, across = self._map.extent
-        self.truth.extents.append((t, along, across))
+        self._map_scans.append((geometry, pose, angles, ranges, t))
+
+    def _catch_up_map(self) -> None:
+        """Traces the scans taken into the map since the last time, in order."""
+        from skillwright.sim.grid import GridFrame, OccupancyMap
+
+        for geometry, pose, angles, ranges, t in self._map_scans:
+            if self._map is None:
+                resolution = self.facts.map_resolution or 0.05
+                x0, y0, x1, y1 = self._world_bounds(margin=geometry.range_max)
+                self._map = OccupancyMap(
+                    GridFrame.covering(x0, y0, x1, y1, resolution), reference=self.config.start
+                )
+            self._map.integrate(*pose, angles, ranges, geometry.range_max)
+            along, across = self._map.extent
+            self.truth.extents.append((t, along, across))
+        self._map_scans.clear()
 
     def _world_bounds(self, margin: float) -> tuple[float, float, float, float]:
         """A rectangle around the start and every static obstacle."""
@@ -916,6 +930,7 @@ class MujocoWorld:
     def _map_message(self, t: float) -> tuple[Message, Message]:
         from skillwright.sim.grid import GridFrame
 
+        self._catch_up_map()
         if self._map is None:
             resolution = self.facts.map_resolution or 0.05
             sx, sy, _ = self.config.start
@@ -983,6 +998,7 @@ class MujocoWorld:
                 url = str(name.get("data", "") if isinstance(name, dict) else name)
             template = self.message(f"{type_name}_Response")
             saved = None
+            self._catch_up_map()
             if self._map is not None and url:
                 saved = save_map(self._map, url, self.config.output_dir, self.map_frame)
             if saved is not None:
