@@ -430,6 +430,12 @@ class ChildPool:
         """The pool's fork server, once it has started one."""
         return self._server
 
+    def warm(self) -> None:
+        """Starts the fork server without waiting for it, so that it boots (on another
+        core) while the caller prepares its first run."""
+        if self.fork and self._server is None:
+            self._server = ForkServer()
+
     def _start(self) -> SandboxProcess:
         if not self.fork:
             return start_child()

@@ -401,52 +401,57 @@ def validate_skill(
     from skillwright.runtime.skillinfo import SkillSourceError, read_skill
 
     started = time.perf_counter()
-    chosen = scenarios or scenarios_for(capability, scenario_file)
-    selected = [s for s in chosen.scenarios if not only or s.name in only]
-    bindings = bind_interfaces(inventory)
-    try:
-        text = source if source is not None else skill.read_text(encoding="utf-8")
-        info = read_skill(text, str(skill))
-        lines, fallback = dict(info.states), info.class_line
-    except (OSError, UnicodeDecodeError, SkillSourceError):
-        lines, fallback = {}, 0
-    setup = _Setup(
-        skill=skill,
-        source=source,
-        capability=capability,
-        inventory=inventory,
-        bindings=bindings,
-        facts=recorded_facts(inventory, bindings, recording),
-        recording=recording,
-        output_dir=_staging(output_dir),
-        folder=Path(chosen.folder) if chosen.folder else None,
-        plot=plot,
-        lines=lines,
-        fallback_line=fallback,
-        cancel=cancel,
-        children=children if children is not None else ChildPool(),
-    )
-    report = ValidationReport(
-        skill=str(skill),
-        capability=capability.iri,
-        scenario_source=chosen.source,
-        notes=list(chosen.notes),
-    )
-
+    pool = children if children is not None else ChildPool()
+    # The fork server boots on another core while the scenarios are read and the first
+    # world is built.
+    pool.warm()
     findings: list[Finding] = []
     try:
-        for index, scenario in enumerate(selected):
-            progress = _Progress(on_progress, scenario.name, index, len(selected))
-            progress.scenario("scenario-start")
-            report.scenarios.append(_run_scenario(setup, scenario, progress.run, findings))
-            progress.scenario("scenario-end")
-        if setup.output_dir is not None and output_dir is not None:
-            _publish(setup.output_dir, output_dir, report)
+        chosen = scenarios or scenarios_for(capability, scenario_file)
+        selected = [s for s in chosen.scenarios if not only or s.name in only]
+        bindings = bind_interfaces(inventory)
+        try:
+            text = source if source is not None else skill.read_text(encoding="utf-8")
+            info = read_skill(text, str(skill))
+            lines, fallback = dict(info.states), info.class_line
+        except (OSError, UnicodeDecodeError, SkillSourceError):
+            lines, fallback = {}, 0
+        setup = _Setup(
+            skill=skill,
+            source=source,
+            capability=capability,
+            inventory=inventory,
+            bindings=bindings,
+            facts=recorded_facts(inventory, bindings, recording),
+            recording=recording,
+            output_dir=_staging(output_dir),
+            folder=Path(chosen.folder) if chosen.folder else None,
+            plot=plot,
+            lines=lines,
+            fallback_line=fallback,
+            cancel=cancel,
+            children=pool,
+        )
+        report = ValidationReport(
+            skill=str(skill),
+            capability=capability.iri,
+            scenario_source=chosen.source,
+            notes=list(chosen.notes),
+        )
+        try:
+            for index, scenario in enumerate(selected):
+                progress = _Progress(on_progress, scenario.name, index, len(selected))
+                progress.scenario("scenario-start")
+                report.scenarios.append(_run_scenario(setup, scenario, progress.run, findings))
+                progress.scenario("scenario-end")
+            if setup.output_dir is not None and output_dir is not None:
+                _publish(setup.output_dir, output_dir, report)
+        finally:
+            if setup.output_dir is not None:
+                shutil.rmtree(setup.output_dir, ignore_errors=True)
     finally:
         if children is None:
-            setup.children.close()
-        if setup.output_dir is not None:
-            shutil.rmtree(setup.output_dir, ignore_errors=True)
+            pool.close()
     report.findings = sorted(dict.fromkeys(findings), key=lambda f: (f.line, f.check, f.message))
     report.wall_seconds = time.perf_counter() - started
     return report

@@ -94,6 +94,48 @@ def _enter_pid_namespace(sock: socket.socket) -> None:
         os._exit(os.waitstatus_to_exitcode(status) & 0xFF)
 
 
+def _looping_line(frame: object) -> int:
+    """The line a frame interrupted by a signal is running. A loop that calls nothing is
+    interrupted at its jump back, which belongs to the loop's header; the line of its body
+    that ran last says better where it spins."""
+    import dis
+
+    line = frame.f_lineno  # type: ignore[attr-defined]
+    here = frame.f_lasti  # type: ignore[attr-defined]
+    before = None
+    for instruction in dis.get_instructions(frame.f_code):  # type: ignore[attr-defined]
+        if instruction.offset == here:
+            if "JUMP_BACKWARD" in instruction.opname and before is not None:
+                return before
+            return line
+        if instruction.positions is not None and instruction.positions.lineno not in (None, line):
+            before = instruction.positions.lineno
+    return line
+
+
+def _interrupt_handler(core: object, core_module: object) -> object:
+    """The handler of the host's interrupt (SIGUSR1) and of the CPU limit (SIGXCPU): it
+    reports where the skill was and ends the state, or defers that while the child talks
+    to the host."""
+
+    def interrupted(signum: int, frame: object) -> None:
+        reason = "busy" if signum == signal.SIGUSR1 else "cpu"
+        stack = []
+        walk = frame
+        while walk is not None:
+            if walk.f_code.co_filename == core.skill_file:  # type: ignore[attr-defined]
+                line = _looping_line(walk) if walk is frame else walk.f_lineno  # type: ignore[attr-defined]
+                stack.append([line, walk.f_code.co_name])  # type: ignore[attr-defined]
+            walk = walk.f_back  # type: ignore[attr-defined]
+        if core.in_io:  # type: ignore[attr-defined]
+            core.deferred_interrupt = reason  # type: ignore[attr-defined]
+            return
+        core.notify("stack", reason=reason, frames=stack[::-1])  # type: ignore[attr-defined]
+        raise core_module.Interrupted(reason)  # type: ignore[attr-defined]
+
+    return interrupted
+
+
 def _limit(limits: dict) -> None:
     import resource
 
@@ -164,20 +206,7 @@ def _child(fd: int, temp: str) -> None:
     _allow_packages(config.get("packages", {}))
     patches.install(core)
 
-    def interrupted(signum: int, frame: object) -> None:
-        reason = "busy" if signum == signal.SIGUSR1 else "cpu"
-        stack = []
-        walk = frame
-        while walk is not None:
-            if walk.f_code.co_filename == core.skill_file:  # type: ignore[attr-defined]
-                stack.append([walk.f_lineno, walk.f_code.co_name])  # type: ignore[attr-defined]
-            walk = walk.f_back  # type: ignore[attr-defined]
-        if core.in_io:
-            core.deferred_interrupt = reason
-            return
-        core.notify("stack", reason=reason, frames=stack[::-1])
-        raise core_module.Interrupted(reason)
-
+    interrupted = _interrupt_handler(core, core_module)
     signal.signal(signal.SIGUSR1, interrupted)
     signal.signal(signal.SIGXCPU, interrupted)
     end = os._exit
@@ -195,6 +224,7 @@ def _child(fd: int, temp: str) -> None:
 
 _PRELOAD = (
     "ctypes",
+    "dis",
     "json",
     "traceback",
     "_skillwright_child.core",
