@@ -3,6 +3,9 @@ and a child that breaks the protocol."""
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -11,6 +14,7 @@ import pytest
 from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime.report import RunReport
 from skillwright.runtime.run import run_skill
+from skillwright.runtime.sandbox import CHILD_ROOT
 from tests.runtime.conftest import quick
 
 HEAD = """import os
@@ -134,3 +138,118 @@ def test_importing_types_costs_one_exchange_per_imported_type(
 
     assert report.findings == []
     assert asked == ["type moveit_msgs/action/MoveGroup"]
+
+
+QUIET_BODY = """        self.node.create_subscription(Odometry, '/odom', self.{callback}, 10)
+        for _ in range(10):
+            time.sleep(0.1)
+        stamp = self.last.header.stamp
+        self.node.get_logger().info(f'last odometry {{stamp.sec}}.{{stamp.nanosec:09d}}')
+"""
+CALLBACKS = {
+    # Only stores what it gets: nothing it does can reach the host before the sleep ends.
+    "_store": "    def _store(self, msg) -> None:\n        self.last = msg\n",
+    # Logs (a call): it could as well publish, so every delivery is answered in lockstep.
+    "_log": (
+        "    def _log(self, msg) -> None:\n"
+        "        self.last = msg\n"
+        "        self.node.get_logger().debug('odometry')\n"
+    ),
+}
+
+
+def test_waits_whose_callbacks_only_store_take_one_exchange_and_see_the_same(
+    mr1_inventory: Inventory, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.runtime.session import Episode
+
+    batches: list[bool] = []
+    real_dispatch = Episode._dispatch
+
+    def dispatch(episode: Episode, frame: dict[str, Any]) -> dict[str, Any] | None:
+        if frame["op"] == "advance" and frame.get("reason") == "sleep":
+            batches.append(frame.get("batch") is True)
+        return real_dispatch(episode, frame)
+
+    monkeypatch.setattr(Episode, "_dispatch", dispatch)
+    seen: dict[str, list[str]] = {}
+    exchanges: dict[str, list[bool]] = {}
+    for callback, method in CALLBACKS.items():
+        batches.clear()
+        source = HEAD.format(
+            imports="from nav_msgs.msg import Odometry", body=QUIET_BODY.format(callback=callback)
+        ).replace("    @execute", method + "\n    @execute")
+        report = run_skill(Path("subject.py"), mr1_inventory, source=source, scenario=quick())
+        assert report.findings == []
+        events = report.trace.episodes[0].events
+        seen[callback] = [e["text"] for e in events if e["kind"] == "log" and e["level"] == "info"]
+        exchanges[callback] = list(batches)
+
+    assert seen["_store"] == seen["_log"]
+    assert seen["_store"][0].startswith("last odometry ")
+    assert exchanges["_store"] == [True] * 10
+    assert not any(exchanges["_log"])
+    assert len(exchanges["_log"]) > 20, "lockstep: about one exchange per two odometry messages"
+
+
+QUIET_CASES = """
+import json, sys
+sys.path.insert(0, sys.argv[1])
+from _skillwright_child.core import quiet
+
+class Skill:
+    def store(self, msg):
+        self.last = msg
+    def store_constant(self, msg):
+        self.seen = True
+    def count(self, msg):
+        self.count += 1
+    def call(self, msg):
+        self.last = msg
+        print(msg)
+    def store_elsewhere(self, msg):
+        msg.seen = self
+
+class Setter(Skill):
+    def __setattr__(self, name, value):
+        object.__setattr__(self, name, value)
+
+class Property(Skill):
+    @property
+    def last(self):
+        return 0
+    @last.setter
+    def last(self, value):
+        print(value)
+
+def function(msg):
+    return None
+
+skill, setter, prop = Skill(), Setter(), Property()
+print(json.dumps([
+    quiet(skill.store), quiet(skill.store_constant), quiet(skill.count), quiet(skill.call),
+    quiet(skill.store_elsewhere), quiet(setter.store), quiet(prop.store), quiet(function),
+    quiet(lambda msg: None), quiet(print),
+]))
+"""
+
+
+def test_only_callbacks_that_store_on_their_own_object_are_quiet() -> None:
+    found = subprocess.run(
+        [sys.executable, "-I", "-S", "-c", QUIET_CASES, str(CHILD_ROOT)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert json.loads(found.stdout) == [
+        True,  # self.last = msg
+        True,  # self.seen = True
+        False,  # self.count += 1 reads an attribute (could be a property)
+        False,  # calls something
+        False,  # stores on the message, not on its own object
+        False,  # its class has its own __setattr__
+        False,  # the attribute is a property of the skill
+        False,  # not a method
+        False,  # a lambda is not a method
+        False,  # a builtin
+    ]

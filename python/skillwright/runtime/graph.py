@@ -51,6 +51,8 @@ Message = dict[str, Any]
 _DEFAULT_RATE_HZ: Final = 10.0
 _WORLD_CHECKS: Final = 5
 """Messages per topic of a world that are checked against the topic's type."""
+_BATCH: Final = 64
+"""Deliveries one batched advance gathers before it stops as a lockstep one would."""
 _MAX_STEPS: Final = 200_000
 """Events one advance may process before the graph calls a world broken (a world whose
 ``next_event`` never moves on)."""
@@ -461,14 +463,16 @@ class GraphHost:
             topic, payload, round_ = self._replay.pop()
             self._replayed(topic, payload, round_)
 
-    def advance(self, until: float | None, cap: float) -> list[Message]:
+    def advance(self, until: float | None, cap: float, *, batch: bool = False) -> list[Message]:
         """Steps the graph towards ``until`` (``None``: the next event, whenever it is),
         never beyond ``cap``, and returns the deliveries on the way, each with its time
         ``t``, in time order.
 
         The graph stops :attr:`lookahead` after the first delivery, so that the skill's
         reaction to it comes back in time; deliveries waiting from the skill's own calls
-        (an immediate service answer) come back at once without moving time.
+        (an immediate service answer) come back at once without moving time. With
+        ``batch`` (the skill cannot react before ``until``) it goes on to ``until``,
+        stopping early only once :data:`_BATCH` deliveries are waiting.
         """
         if self._outbox:
             return self._take()
@@ -484,7 +488,7 @@ class GraphHost:
                 return self._take()
             self._move_to(due)
             self._run_due()
-            if self._outbox:
+            if self._outbox and (not batch or len(self._outbox) >= _BATCH):
                 # Run ahead of the skill by at most the lookahead: what it does in reply to
                 # these deliveries reaches the graph that much later at most.
                 target = min(target, self._now + self.lookahead)

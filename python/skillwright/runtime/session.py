@@ -546,7 +546,13 @@ class Episode:
         ):
             stop_cap = self._execute_start + self._plan.stop_after
             cap = min(cap, stop_cap)
-        deliveries = self._graph.advance(float(until) if until is not None else None, cap)
+        # The child says when nothing it runs can reply before `until` (plain sleeps, callbacks
+        # that only store): then everything up to `until` goes out in one exchange. A child
+        # that claims so wrongly only makes its own replies late.
+        batch = frame.get("batch") is True
+        deliveries = self._graph.advance(
+            float(until) if until is not None else None, cap, batch=batch
+        )
         reply: dict[str, Any] = {"now": self._graph.now, "deliveries": deliveries}
         if not deliveries and self._graph.now >= cap and (until is None or until > cap):
             if stop_cap is not None and cap >= stop_cap:

@@ -9,16 +9,24 @@ returns when the skill's condition holds or its time is up.
 Threads the skill starts may sleep too (:meth:`Core.side_wait`): they wake when the
 main thread's advance passes their time. Their interleaving with the main thread follows
 the real scheduler, so runs with threads are not bit-for-bit reproducible.
+
+The host stops a lockstep advance shortly after the first delivery, so that whatever the
+skill does in reply reaches the world in time. When nothing the skill runs before its wait
+ends can reply (a plain sleep, and every callback that may be called in it only stores
+what it gets: see :func:`quiet`), the child says so and the host delivers up to the end
+of the wait in one exchange; the run is the same, with fewer exchanges.
 """
 
 from __future__ import annotations
 
 import collections
+import dis
 import heapq
 import itertools
 import sys
 import threading
 import time as _time
+import types
 
 from _skillwright_child.messages import TypeCatalog, from_dict, to_dict
 from _skillwright_child.wire import Wire
@@ -30,6 +38,54 @@ if TYPE_CHECKING:
 
 _real_sleep = _time.sleep
 _real_monotonic = _time.monotonic
+
+
+_QUIET_OPS = frozenset(
+    {"RESUME", "NOP", "LOAD_FAST", "LOAD_CONST", "STORE_ATTR", "POP_TOP", "RETURN_VALUE"}
+)
+_NOT_PLAIN = 0x04 | 0x08 | 0x20 | 0x80 | 0x100 | 0x200
+"""Code flags of *args, **kwargs, generators and coroutines."""
+
+
+def quiet(callback: object) -> bool:
+    """Whether ``callback(message)`` can do nothing but store values on its own object:
+    a method whose code loads its arguments and constants and stores them as plain
+    attributes of ``self`` (``self.odom = msg``), nothing else (no call, no read of an
+    attribute, which could run a property). Anything else may reply to the host."""
+    function = getattr(callback, "__func__", None)
+    owner = getattr(callback, "__self__", None)
+    if type(function) is not types.FunctionType or owner is None:
+        return False
+    code = function.__code__
+    if code.co_argcount != 2 or code.co_kwonlyargcount or code.co_flags & _NOT_PLAIN:
+        return False
+    cls = type(owner)
+    previous = None
+    for instruction in dis.get_instructions(code):
+        if instruction.opname not in _QUIET_OPS:
+            return False
+        if instruction.opname == "STORE_ATTR":
+            on_self = (
+                previous is not None
+                and previous.opname == "LOAD_FAST"
+                and previous.argval == code.co_varnames[0]
+            )
+            if not on_self or not _plain_store(cls, instruction.argval):
+                return False
+        previous = instruction
+    return True
+
+
+def _plain_store(cls: type, name: str) -> bool:
+    """Whether storing attribute ``name`` on an instance of ``cls`` runs no code of the
+    skill (no ``__setattr__`` of its own, no property; the runtime's own watches store)."""
+    if cls.__setattr__ is not object.__setattr__:
+        return False
+    for klass in cls.__mro__:
+        if name in vars(klass):
+            found = vars(klass)[name]
+            return not hasattr(type(found), "__set__") or getattr(found, "quiet", False)
+    return True
 
 
 class Interrupted(BaseException):
@@ -153,7 +209,8 @@ class Core:
                     continue
                 if target is None or candidate < target:
                     target = candidate
-            reply = self.request("advance", until=target, line=line, reason=reason)
+            batch = ready is None and self._quiet()
+            reply = self.request("advance", until=target, line=line, reason=reason, batch=batch)
             self.horizon = float(reply["now"])
             self.pending.extend(reply.get("deliveries", ()))
             self._wake_side_threads()
@@ -161,6 +218,13 @@ class Core:
             if stop:
                 self._set_now(self.horizon)
                 raise Interrupted(str(stop))
+
+    def _quiet(self) -> bool:
+        """Whether nothing that deliveries may call can reply before the main thread's
+        wait ends (no other thread runs; every handle's callbacks only store)."""
+        if threading.active_count() != 1:
+            return False
+        return all(getattr(h, "quiet", _loud)() for h in self.handles.values())
 
     def side_wait(self, until: float | None, ready: Callable[[], bool] | None = None) -> bool:
         """A wait on a thread the skill started: woken by the main thread's advances."""
@@ -233,6 +297,10 @@ class Core:
     def ros_time_ns(self) -> int:
         """The ROS time of the current virtual time, in nanoseconds."""
         return self.epoch_ns + round(self.now * 1e9)
+
+
+def _loud() -> bool:
+    return False
 
 
 CORE: Core | None = None

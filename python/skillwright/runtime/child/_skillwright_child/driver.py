@@ -91,6 +91,12 @@ def _plain(value: Any) -> Any:
         return f"<{type(value).__name__}>"
 
 
+class _Watch(property):
+    """The runtime's property on a watched attribute: storing through it runs no skill code."""
+
+    quiet = True
+
+
 def _watchable(instance: Any, names: set) -> bool:
     """Whether ``instance`` keeps ``names`` in its ``__dict__`` with nothing in its class
     that handles them or attribute access in general (then properties can watch them)."""
@@ -252,7 +258,7 @@ class Driver:
                 except KeyError:
                     raise AttributeError(name) from None
 
-            return property(get, set_, delete)
+            return _Watch(get, set_, delete)
 
         class Watched(base):  # type: ignore[misc, valid-type]
             __slots__ = ()

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 
-from _skillwright_child.core import core
+from _skillwright_child.core import core, quiet
 
 from rclpy.clock import Clock, ROSClock
 from rclpy.exceptions import (
@@ -103,6 +103,9 @@ class Publisher:
     def deliver(self, delivery: dict) -> None:
         return None
 
+    def quiet(self) -> bool:
+        return True
+
     def destroy(self) -> None:
         self._node.destroy_publisher(self)
 
@@ -128,6 +131,9 @@ class Subscription:
         self.id = c.new_id()
         self._node = node
         self._type_name = _type_name(msg_type, "msg_type")
+        self.quiet_callback: Callable[[], bool] | None = None
+        """Set by the runtime's own stand-ins whose callbacks only store."""
+        self._quiet: tuple[type, bool] | None = None
         c.handles[self.id] = self
         c.notify(
             "endpoint",
@@ -145,6 +151,15 @@ class Subscription:
 
     def deliver(self, delivery: dict) -> None:
         self.callback(core().message(self._type_name, delivery["data"]))
+
+    def quiet(self) -> bool:
+        if self.quiet_callback is not None:
+            return self.quiet_callback()
+        # The skill's class may change after the subscription is made (the driver's watch).
+        owner = type(getattr(self.callback, "__self__", None))
+        if self._quiet is None or self._quiet[0] is not owner:
+            self._quiet = (owner, quiet(self.callback))
+        return self._quiet[1]
 
     def destroy(self) -> None:
         self._node.destroy_subscription(self)
@@ -218,6 +233,9 @@ class Client:
         if future is not None and not future.done():
             future.set_result(core().message(self._type_name + "_Response", delivery["data"]))
 
+    def quiet(self) -> bool:
+        return not any(future.has_callbacks() for future in self._pending.values())
+
     def destroy(self) -> None:
         self._node.destroy_client(self)
 
@@ -245,6 +263,9 @@ class Service:
 
     def deliver(self, delivery: dict) -> None:
         return None
+
+    def quiet(self) -> bool:
+        return True
 
     def destroy(self) -> None:
         self._node.destroy_service(self)

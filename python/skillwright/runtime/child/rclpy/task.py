@@ -50,6 +50,10 @@ class Future:
         self._state = "finished"
         self._run_callbacks()
 
+    def has_callbacks(self) -> bool:
+        """Whether finishing this future runs callbacks (the runtime's own question)."""
+        return bool(self._callbacks)
+
     def add_done_callback(self, callback: Callable[[Future], None]) -> None:
         if self.done():
             callback(self)

@@ -44,6 +44,18 @@ class TransformListener:
                 history=HistoryPolicy.KEEP_LAST,
             ),
         )
+        self.tf_sub.quiet_callback = self._stores_only
+        self.tf_static_sub.quiet_callback = self._stores_only
+
+    def _stores_only(self) -> bool:
+        """Its callbacks only store transforms, unless the skill changed them or the buffer."""
+        listener, buffer = type(self), type(self.buffer)
+        return (
+            listener.callback is TransformListener.callback
+            and listener.static_callback is TransformListener.static_callback
+            and buffer.set_transform is Buffer.set_transform
+            and buffer.set_transform_static is Buffer.set_transform_static
+        )
 
     def callback(self, data: Any) -> None:
         for transform in data.transforms:

@@ -228,6 +228,13 @@ class ActionClient:
             for future in self._cancels.pop(sequence, []):
                 future.set_result(response)
 
+    def quiet(self) -> bool:
+        if self._feedback:
+            return False
+        futures = [*self._goal_futures.values(), *self._results.values()]
+        futures += [future for waiting in self._cancels.values() for future in waiting]
+        return not any(future.has_callbacks() for future in futures)
+
     def destroy(self) -> None:
         c = core()
         if c.handles.pop(self.id, None) is not None:
