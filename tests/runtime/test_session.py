@@ -2,8 +2,11 @@
 and a child that breaks the protocol."""
 
 from __future__ import annotations
+import __future__
 
+import base64
 import json
+import marshal
 import subprocess
 import sys
 from pathlib import Path
@@ -15,7 +18,8 @@ from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime.report import RunReport
 from skillwright.runtime.run import run_skill
 from skillwright.runtime.sandbox import CHILD_ROOT
-from tests.runtime.conftest import quick
+from skillwright.runtime.session import compiled
+from tests.runtime.conftest import SKILLS, quick
 
 HEAD = """import os
 import sys
@@ -253,3 +257,15 @@ def test_only_callbacks_that_store_on_their_own_object_are_quiet() -> None:
         False,  # a lambda is not a method
         False,  # a builtin
     ]
+
+
+def test_the_host_compiles_a_skill_once_as_the_child_would() -> None:
+    source = (SKILLS / "move_forward.py").read_text(encoding="utf-8")
+    packed = compiled(source)
+    assert packed is not None
+    assert compiled(source) is packed
+    code = marshal.loads(base64.b64decode(packed))
+    # The child's driver module has `from __future__ import annotations`, which its own
+    # compile() inherits: the host's code must carry it too.
+    assert code.co_flags & __future__.annotations.compiler_flag
+    assert compiled("def broken(:\n") is None

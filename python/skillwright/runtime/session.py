@@ -8,13 +8,18 @@ oversized frames end the episode with a ``run.protocol`` finding.
 """
 
 from __future__ import annotations
+import __future__
 
+import base64
+import marshal
 import re
 import select
 import threading
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -80,6 +85,28 @@ class EpisodeResult:
     """State -> how many messages the skill had published when it ended (or was absent)."""
     goals_after: dict[str, list[tuple[ActionGoal, int]]] = field(default_factory=dict)
     """State -> goals active and not being cancelled when it ended, with their lines."""
+
+
+@lru_cache(maxsize=8)
+def compiled(source: str) -> str | None:
+    """The skill's code as the child compiles it (the child's ``annotations`` future, no
+    optimisation), marshalled and in base64, or ``None`` when it does not compile (the child
+    then compiles it itself and reports why). A validation runs one skill many times; the
+    child then only renames the code to its own copy of the file."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            code = compile(
+                source,
+                "skill.py",
+                "exec",
+                flags=__future__.annotations.compiler_flag,
+                dont_inherit=True,
+                optimize=0,
+            )
+    except (SyntaxError, ValueError, RecursionError, MemoryError, OverflowError):
+        return None
+    return base64.b64encode(marshal.dumps(code)).decode("ascii")
 
 
 class Episode:
@@ -311,6 +338,7 @@ class Episode:
         limits = limits_config(self._scenario.limits)
         return {
             "skill": str(self._child.temp / self._skill_name),
+            "code": compiled(self._source),
             "class": self._info.class_name,
             "inputs": self._inputs,
             "outputs": [{"name": v.name, "attr": v.attr} for v in self._info.outputs],
