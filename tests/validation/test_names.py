@@ -225,3 +225,26 @@ def test_a_module_level_function_parameter_is_not_an_undefined_name(
     )
     assert "def _wrap(angle" in source
     assert not _names(source, move_forward)
+
+
+def test_a_made_up_class_for_a_geometry_field_comes_with_the_statement_using_its_type(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace("command = Twist()", "command = Twist(linear=Twist.Linear(x=0.1))", 1)
+    found = _names(source, move_forward)
+    assert [(f.message, f.replacement) for f in found] == [
+        (
+            "Twist.Linear does not exist: message classes have no classes for their fields; "
+            "linear is a Vector3: use Vector3(...)",
+            "command = Twist(linear=Vector3(x=0.1))",
+        )
+    ]
+
+
+def test_a_made_up_class_with_no_known_type_gets_no_replacement(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace("command = Twist()", "command = Twist(linear=Twist.Velocity(x=0.1))", 1)
+    found = _names(source, move_forward)
+    assert [f.replacement for f in found] == [None]
+    assert "use the field's own type" in found[0].message

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import ast
 import builtins
+import copy
 import difflib
 import symtable
 from collections.abc import Iterator
@@ -504,26 +505,103 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
 _NESTED = frozenset({"Request", "Response", "Goal", "Result", "Feedback", "Event", "Impl"})
 
 
+_FIELD_CLASSES = {
+    ("Twist", "linear"): "Vector3",
+    ("Twist", "angular"): "Vector3",
+    ("Pose", "position"): "Point",
+    ("Pose", "orientation"): "Quaternion",
+    ("Transform", "translation"): "Vector3",
+    ("Transform", "rotation"): "Quaternion",
+    ("PoseStamped", "pose"): "Pose",
+    ("TwistStamped", "twist"): "Twist",
+}
+"""The geometry messages' fields whose type a model turns into a nested class
+(``Twist.Linear`` for a Vector3): every ROS 2 install has these types."""
+
+
+def _nested_class(node: ast.AST, imports: dict[str, str]) -> tuple[str, str] | None:
+    """(class, made-up nested class) for ``Twist.Linear``; ``None`` for anything else."""
+    if (
+        isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id in imports
+        and node.attr[:1].isupper()
+        and not node.attr.isupper()
+        and node.attr not in _NESTED
+    ):
+        return node.value.id, node.attr
+    return None
+
+
+class _FieldClasses(ast.NodeTransformer):
+    """Puts the field's own class in place of made-up nested ones it knows."""
+
+    def __init__(self, imports: dict[str, str]) -> None:
+        self.imports = imports
+        self.unknown = False
+
+    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
+        nested = _nested_class(node, self.imports)
+        if nested is None:
+            return self.generic_visit(node)
+        known = _FIELD_CLASSES.get((nested[0], nested[1].lower()))
+        if known is None:
+            self.unknown = True
+            return node
+        return ast.copy_location(ast.Name(id=known, ctx=node.ctx), node)
+
+
+def _replacement(statement: ast.stmt, imports: dict[str, str]) -> str | None:
+    """The simple ``statement`` with the field classes in place, when all are known."""
+    fixer = _FieldClasses(imports)
+    fixed = fixer.visit(copy.deepcopy(statement))
+    return None if fixer.unknown else ast.unparse(fixed)
+
+
+_COMPOUND = (
+    ast.If,
+    ast.For,
+    ast.While,
+    ast.With,
+    ast.Try,
+    ast.FunctionDef,
+    ast.ClassDef,
+    ast.Match,
+)
+
+
 def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[Finding]:
     """``Odometry.Pose``: message classes have constants and, for services and actions, the
-    request/goal classes, but no classes for their fields."""
+    request/goal classes, but no classes for their fields. Where the field's type is a known
+    geometry message, the finding carries its simple statement with that class in place."""
+    statement_of = {
+        id(node): statement
+        for statement in ast.walk(tree)
+        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+        for node in ast.walk(statement)
+    }
     findings = []
     for node in ast.walk(tree):
-        if (
-            isinstance(node, ast.Attribute)
-            and isinstance(node.value, ast.Name)
-            and node.value.id in imports
-            and node.attr[:1].isupper()
-            and not node.attr.isupper()
-            and node.attr not in _NESTED
-        ):
-            findings.append(
-                _finding(
-                    node,
-                    f"{node.value.id}.{node.attr} does not exist: message classes have no "
-                    "classes for their fields; use the field's own type, or no annotation",
-                )
+        nested = _nested_class(node, imports)
+        if nested is None:
+            continue
+        owner, made_up = nested
+        known = _FIELD_CLASSES.get((owner, made_up.lower()))
+        replacement = None
+        if known is None:
+            hint = "use the field's own type, or no annotation"
+        else:
+            hint = f"{made_up.lower()} is a {known}: use {known}(...)"
+            statement = statement_of.get(id(node))
+            replacement = None if statement is None else _replacement(statement, imports)
+        findings.append(
+            _finding(
+                node,
+                f"{owner}.{made_up} does not exist: message classes have no classes for their "
+                f"fields; {hint}",
+                replacement,
             )
+        )
     return findings
 
 
