@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.spec.model import PACKML_STATES, SkillSpec
+from skillwright.validation.loops import check_waits
 from skillwright.validation.model import Catalog, CheckReport, FieldTree, Finding
 from skillwright.validation.names import check_names
 
@@ -782,6 +783,7 @@ def check_skill(
         _check_swallowed_errors(ctx, methods, spec)
         _check_input_writes(ctx, cls, capability)
         ctx.findings += check_names(source, tree, cls, imports)
+        ctx.findings += check_waits(cls)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
     if catalog is not None:
