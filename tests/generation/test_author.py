@@ -260,6 +260,39 @@ def test_a_guard_that_only_raises_is_replaced_by_the_suggested_statement(case: _
     assert "is_alive" not in authored.code
 
 
+def test_a_loop_that_never_sleeps_is_replaced_by_the_loop_with_a_sleep(case: _Case) -> None:
+    spins = EXECUTE.replace("            time.sleep(0.05)\n", "")
+    model = MethodScript({**GOOD, "execute": [spins, "```"]})
+    authored = case.write(model)
+    assert model.asked[-1] == "execute"
+    assert model.prompts[-1].answer_prefix.endswith(
+        "        while travelled < self.in_distance:\n"
+        "            command.linear.x = speed if self.in_distance - travelled > 0.1 else 0.1\n"
+        "            self.cmd_vel_publisher.publish(command)\n"
+        "            here = self.odom_msg.pose.pose.position\n"
+        "            travelled = math.hypot(here.x - start.x, here.y - start.y)\n"
+        "            time.sleep(0.05)\n"
+    )
+    assert "time.sleep(0.05)" in authored.code
+
+
+def test_a_fix_inside_a_loop_keeps_the_loop_and_replaces_only_its_statement(
+    case: _Case,
+) -> None:
+    made_up = EXECUTE.replace(
+        "            self.cmd_vel_publisher.publish(command)\n",
+        "            self.cmd_vel_publisher.publish(Twist(linear=Twist.Linear(x=speed)))\n",
+    )
+    model = MethodScript({**GOOD, "execute": [made_up, "```"]})
+    case.write(model)
+    repairs = [p for p, asked in zip(model.prompts, model.asked, strict=True) if asked == "execute"]
+    assert repairs[1].answer_prefix.endswith(
+        "        while travelled < self.in_distance:\n"
+        "            command.linear.x = speed if self.in_distance - travelled > 0.1 else 0.1\n"
+        "            self.cmd_vel_publisher.publish(Twist(linear=Vector3(x=speed)))\n"
+    )
+
+
 def test_a_helper_a_repair_calls_is_asked_for(case: _Case) -> None:
     wrong = """        self.logger.info("done")\n```"""
     calls_helper = """        self._report()\n```"""

@@ -331,6 +331,19 @@ def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillS
     assert "self.in_linear_velocity holds the capability input inLinearVelocity" in text
 
 
+def test_a_handle_made_again_in_another_state_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "        self.start_x = self.odom_msg.pose.pose.position.x",
+        '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n'
+        "        self.start_x = self.odom_msg.pose.pose.position.x",
+        1,
+    )
+    (text,) = messages(run(source, move_forward), "handles")
+    assert text.startswith("self.cmd_vel_publisher is made in starting already; use that handle")
+
+
 def test_a_tf2_listener_counts_as_using_the_transform_tree(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import ast
 import re
+import textwrap
 import threading
 import time
 from collections.abc import Callable, Collection, Sequence
@@ -367,23 +368,28 @@ def _problems(
 
 
 def _resume_point(target: _Target, code: str, judgement: _Judgement, error: Finding) -> str:
-    """``code`` (an answer of ``target``) up to the statement of its body that holds the
-    ``error``, followed by the statement the check suggests instead when there is one and
-    the flagged statement is a plain one (or a loop) that it can take the place of; the
-    target's own prefill when the statement cannot be told."""
-    statement = _body_statement_at(judgement, target.name, error.line)
+    """``code`` (an answer of ``target``) up to the statement that holds the ``error`` (in
+    its body, or nested in a loop or branch of it), followed by the statement the check
+    suggests instead when there is one and the flagged statement is a plain one (or a loop)
+    that it can take the place of; the target's own prefill when the statement cannot be
+    told."""
+    found = _statements_at(judgement, target.name, error.line, error.column)
     method = parse_method(code)
-    if statement is None or method is None:
+    if found is None or method is None:
         return target.prefill
-    key = ast.unparse(statement)
-    cut = next((s.lineno for s in method.body if ast.unparse(s) == key), None)
-    if cut is None:
+    top, inner = found
+    key = ast.unparse(top)
+    mine = next((s for s in method.body if ast.unparse(s) == key), None)
+    if mine is None:
         return target.prefill
-    kept = "".join(code.splitlines(keepends=True)[: cut - 1])
+    lines = code.splitlines(keepends=True)
+    cut = mine.lineno + inner.lineno - top.lineno
+    kept = "".join(lines[: cut - 1])
     if len(kept) < len(target.prefill):
         kept = target.prefill
-    if error.replacement is not None and _replaceable(statement):
-        kept += f"        {error.replacement}\n"
+    elif error.replacement is not None and _replaceable(inner):
+        indent = lines[cut - 1][: len(lines[cut - 1]) - len(lines[cut - 1].lstrip())]
+        kept += textwrap.indent(error.replacement, indent) + "\n"
     return kept
 
 
@@ -399,17 +405,28 @@ def _replaceable(statement: ast.stmt) -> bool:
     )
 
 
-def _body_statement_at(judgement: _Judgement, name: str, line: int) -> ast.stmt | None:
+def _statements_at(
+    judgement: _Judgement, name: str, line: int, column: int
+) -> tuple[ast.stmt, ast.stmt] | None:
+    """(statement of the method's body, innermost statement in it) holding the position
+    ``line``:``column`` (1-based column; 0 for anywhere on the line) of the judged file."""
     tree = ast.parse(judgement.assembly.code)
     for cls in tree.body:
         if isinstance(cls, ast.ClassDef) and cls.name == judgement.skeleton.class_name:
             for member in cls.body:
                 if isinstance(member, ast.FunctionDef) and member.name == name:
-                    return next(
-                        (s for s in member.body if s.lineno <= line <= (s.end_lineno or s.lineno)),
-                        None,
-                    )
+                    holding = [s for s in member.body if _holds(s, line, column)]
+                    if not holding:
+                        return None
+                    inner = [s for s in ast.walk(holding[0]) if isinstance(s, ast.stmt)]
+                    return holding[0], [s for s in inner if _holds(s, line, column)][-1]
     return None
+
+
+def _holds(statement: ast.stmt, line: int, column: int) -> bool:
+    start = (statement.lineno, statement.col_offset + 1 if column else 0)
+    end = (statement.end_lineno or statement.lineno, statement.end_col_offset or 10**6)
+    return start <= (line, column) <= end
 
 
 def _score(attempt: Attempt) -> tuple[int, int, int, int]:

@@ -737,6 +737,46 @@ def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability
                     )
 
 
+_MAKES_HANDLE = frozenset(
+    {
+        "create_publisher",
+        "create_subscription",
+        "create_client",
+        "ActionClient",
+        "TransformListener",
+    }
+)
+
+
+def _check_handles(ctx: _Context, cls: ast.ClassDef) -> None:
+    """A handle made in one state and made again in another: the second one leaks the first
+    (a subscription then delivers every message twice)."""
+    made: dict[str, str] = {}
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef):
+            continue
+        for node in ast.walk(method):
+            if not (
+                isinstance(node, ast.Assign)
+                and isinstance(node.value, ast.Call)
+                and _call_name(node.value) in _MAKES_HANDLE
+            ):
+                continue
+            for target in node.targets:
+                if not (isinstance(target, ast.Attribute) and ast.unparse(target.value) == "self"):
+                    continue
+                first = made.setdefault(target.attr, method.name)
+                if first != method.name:
+                    ctx.add(
+                        "handles",
+                        "error",
+                        node,
+                        f"self.{target.attr} is made in {first} already; use that handle here "
+                        "(making it again leaks the first one, and a second subscription "
+                        "delivers every message twice)",
+                    )
+
+
 def check_skill(
     source: str,
     *,
@@ -782,6 +822,7 @@ def check_skill(
         _check_placeholders(ctx, tree, source, methods)
         _check_swallowed_errors(ctx, methods, spec)
         _check_input_writes(ctx, cls, capability)
+        _check_handles(ctx, cls)
         ctx.findings += check_names(source, tree, cls, imports)
         ctx.findings += check_waits(cls)
         if catalog is not None:
