@@ -293,6 +293,16 @@ def test_a_guard_that_only_raises_is_replaced_by_the_suggested_statement(case: _
     )
 
 
+def test_a_guard_on_something_that_does_not_exist_is_taken_out(case: _Case) -> None:
+    guarded = (
+        "        if not self.cmd_vel_publisher.is_alive():\n"
+        '            raise RuntimeError("the publisher is gone")\n' + STOPPING
+    )
+    authored = _fixed_without_the_model(case, "stopping", guarded)
+    assert "is_alive" not in authored.code
+    assert "    def stopping(self) -> None:\n" in authored.code
+
+
 def test_a_loop_that_never_sleeps_is_replaced_by_the_loop_with_a_sleep(case: _Case) -> None:
     spins = EXECUTE.replace("            time.sleep(0.05)\n", "")
     authored = _fixed_without_the_model(case, "execute", spins)

@@ -248,3 +248,33 @@ def test_a_made_up_class_with_no_known_type_gets_no_replacement(
     found = _names(source, move_forward)
     assert [f.replacement for f in found] == [None]
     assert "use the field's own type" in found[0].message
+
+
+@pytest.mark.parametrize(
+    ("guard", "replacement"),
+    [
+        (
+            "        if self.cmd_vel_publisher.is_alive():\n"
+            "            self.cmd_vel_publisher.publish(Twist())\n",
+            "self.cmd_vel_publisher.publish(Twist())",
+        ),
+        (
+            "        if not self.cmd_vel_publisher.is_alive():\n"
+            '            raise RuntimeError("no publisher")\n'
+            "        self.cmd_vel_publisher.publish(Twist())\n",
+            "",
+        ),
+    ],
+    ids=["guards work", "guards nothing"],
+)
+def test_a_guard_on_a_publisher_method_that_does_not_exist_comes_to_what_it_guards(
+    move_forward: tuple[Capability, SkillSpec], guard: str, replacement: str
+) -> None:
+    source = GOOD.replace(
+        '        """Halt the base."""\n        self.cmd_vel_publisher.publish(Twist())\n',
+        '        """Halt the base."""\n' + guard,
+        1,
+    )
+    found = _names(source, move_forward)
+    assert [f.replacement for f in found] == [replacement]
+    assert "a publisher is ready from create_publisher until it is destroyed" in found[0].message

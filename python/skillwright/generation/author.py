@@ -394,9 +394,15 @@ def _resume_point(target: _Target, code: str, judgement: _Judgement, error: Find
     if len(kept) < len(target.prefill):
         kept = target.prefill
     elif error.replacement is not None and _replaceable(inner):
-        indent = lines[cut - 1][: len(lines[cut - 1]) - len(lines[cut - 1].lstrip())]
-        kept += textwrap.indent(error.replacement, indent) + "\n"
+        kept += _indented(error.replacement, lines[cut - 1])
     return kept
+
+
+def _indented(replacement: str, line: str) -> str:
+    """``replacement`` (statements; empty for none) indented as ``line`` is."""
+    if not replacement:
+        return ""
+    return textwrap.indent(replacement, line[: len(line) - len(line.lstrip())]) + "\n"
 
 
 def _apply_replacements(
@@ -426,22 +432,16 @@ def _apply_replacements(
     if any(later[0] <= earlier[1] for later, earlier in itertools.pairwise(ordered)):
         return None  # overlapping statements: one fix would undo another
     for first, last in ordered:
-        indent = lines[first - 1][: len(lines[first - 1]) - len(lines[first - 1].lstrip())]
-        lines[first - 1 : last] = [textwrap.indent(spans[(first, last)], indent) + "\n"]
+        lines[first - 1 : last] = [_indented(spans[(first, last)], lines[first - 1])]
     fixed = "".join(lines)
     return fixed if fixed != code and parse_method(fixed) is not None else None
 
 
 def _replaceable(statement: ast.stmt) -> bool:
-    """Whether a check's suggested statement may take the place of ``statement`` whole: a
-    plain statement, a loop, or a guard that only raises (``if not ...: raise ...``)."""
-    if isinstance(statement, ast.Assign | ast.AnnAssign | ast.Expr | ast.While):
-        return True
-    return (
-        isinstance(statement, ast.If)
-        and not statement.orelse
-        and all(isinstance(s, ast.Raise) for s in statement.body)
-    )
+    """Whether a check's suggested statements may take the place of ``statement`` whole: a
+    plain statement, a loop, or an ``if`` (a guard on something that does not exist, which
+    the suggestion replaces by what it comes to)."""
+    return isinstance(statement, ast.Assign | ast.AnnAssign | ast.Expr | ast.While | ast.If)
 
 
 def _statements_at(

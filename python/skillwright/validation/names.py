@@ -471,6 +471,7 @@ def _goal_handle_hint(receiver: ast.expr) -> str:
 
 def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
     defined, kinds = _class_facts(cls)
+    guards = _guards(cls)
     findings = []
     for node in ast.walk(cls):
         if not isinstance(node, ast.Attribute) or not isinstance(node.ctx, ast.Load):
@@ -491,15 +492,46 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
             hint = wait[0]
         else:
             hint = _KIND_HINTS.get(kind, "")
+        replacement = wait[1] if wait is not None else None
+        guard = guards.get(id(node))
+        if kind == "publisher" and guard is not None:
+            hint = "; a publisher is ready from create_publisher until it is destroyed"
+            replacement = _without_guard(guard, "")
+        elif wait is not None and guard is not None:
+            replacement = _without_guard(guard, wait[1])
         findings.append(
             _finding(
                 node,
                 f"{ast.unparse(node.value)} is {_KIND_WORDS[kind]}, which has no "
                 f"{node.attr!r} in rclpy{hint}",
-                wait[1] if wait is not None else None,
+                replacement,
             )
         )
     return findings
+
+
+def _guards(cls: ast.ClassDef) -> dict[int, ast.If]:
+    """``if X.m():`` and ``if not X.m():`` without ``else``, by the ``X.m`` they test."""
+    out: dict[int, ast.If] = {}
+    for node in ast.walk(cls):
+        if not isinstance(node, ast.If) or node.orelse:
+            continue
+        test = node.test.operand if isinstance(node.test, ast.UnaryOp) else node.test
+        if isinstance(test, ast.Call) and isinstance(test.func, ast.Attribute) and not test.args:
+            out[id(test.func)] = node
+    return out
+
+
+def _without_guard(guard: ast.If, readying: str) -> str | None:
+    """What ``guard`` comes to once ``readying`` (statements; empty when the handle is always
+    ready) has run: those and the body for ``if X.m():``, those alone for ``if not X.m():
+    raise ...``; ``None`` for other guards."""
+    negated = isinstance(guard.test, ast.UnaryOp) and isinstance(guard.test.op, ast.Not)
+    if not negated:
+        return "\n".join([*filter(None, [readying]), *(ast.unparse(s) for s in guard.body)])
+    if all(isinstance(statement, ast.Raise) for statement in guard.body):
+        return readying
+    return None
 
 
 _NESTED = frozenset({"Request", "Response", "Goal", "Result", "Feedback", "Event", "Impl"})
