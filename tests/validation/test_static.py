@@ -9,7 +9,9 @@ import pytest
 from skillwright.capability import Capability, load_capability
 from skillwright.generation.model import InterfaceRef
 from skillwright.generation.skeleton import build_skeleton
+from skillwright.interfaces.load import load_inventory
 from skillwright.spec import SkillSpec, load_spec
+from skillwright.validation.catalog import catalog_from_inventory
 from skillwright.validation.model import Catalog, CatalogEntry, CheckReport, FieldTree
 from skillwright.validation.static import check_skill
 from tests.conftest import SHIPPED_CAPABILITIES
@@ -342,6 +344,31 @@ def test_a_handle_made_again_in_another_state_is_an_error(
     )
     (text,) = messages(run(source, move_forward), "handles")
     assert text.startswith("self.cmd_vel_publisher is made in starting already; use that handle")
+
+
+@pytest.mark.parametrize(
+    "lookup", ["self.tf_buffer.lookup_transform(", "self._transform("], ids=["buffer", "helper"]
+)
+def test_a_transform_lookup_gives_a_transform_stamped_whose_fields_are_checked(
+    lookup: str,
+) -> None:
+    skill = SHIPPED_CAPABILITIES / "skills" / "get_position.py"
+    source = (
+        skill.read_text(encoding="utf-8")
+        .replace("self.tf_buffer.lookup_transform(", lookup, 1)
+        .replace("translation = transform.transform.translation", "translation = transform.pose")
+    )
+    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    report = check_skill(
+        source,
+        capability=load_capability(SHIPPED_CAPABILITIES / "get-position.ttl").capability,
+        spec=load_spec(SHIPPED_CAPABILITIES / "get-position.spec.yaml"),
+        catalog=catalog,
+    )
+    assert messages(report, "grounding") == [
+        "geometry_msgs/msg/TransformStamped has no field 'pose' in the message "
+        "(fields: child_frame_id, header, transform)"
+    ]
 
 
 def test_a_tf2_listener_counts_as_using_the_transform_tree(

@@ -562,7 +562,9 @@ class _FieldVisitor(ast.NodeVisitor):
     def visit_Attribute(self, node: ast.Attribute) -> None:
         root, path = _chain(node)
         key = None
-        if isinstance(root, ast.Name) and root.id in self.bound:
+        if isinstance(root, ast.Call) and _is_transform_lookup(root):
+            key = _TRANSFORM_STAMPED
+        elif isinstance(root, ast.Name) and root.id in self.bound:
             key = self.bound[root.id]
         elif (
             isinstance(root, ast.Name)
@@ -576,6 +578,29 @@ class _FieldVisitor(ast.NodeVisitor):
             _walk_fields(self.ctx, node, self.catalog.fields[key], path, key)
             return
         self.generic_visit(node)
+
+
+_TRANSFORM_STAMPED = "geometry_msgs/msg/TransformStamped"
+_TF_MESSAGE = "tf2_msgs/msg/TFMessage"
+
+
+def _is_transform_lookup(call: ast.Call) -> bool:
+    """``self._transform(...)`` (the skeleton's helper) or ``<buffer>.lookup_transform(...)``:
+    both give a TransformStamped."""
+    func = call.func
+    return isinstance(func, ast.Attribute) and (
+        func.attr == "lookup_transform"
+        or (func.attr == "_transform" and ast.unparse(func.value) == "self")
+    )
+
+
+def _with_transforms(catalog: Catalog) -> Catalog:
+    """The catalog with the fields of a TransformStamped (what a transform lookup gives),
+    taken from the transform tree's type when the robot has one."""
+    transforms = catalog.fields.get(_TF_MESSAGE, {}).get("transforms")
+    if not isinstance(transforms, dict) or _TRANSFORM_STAMPED in catalog.fields:
+        return catalog
+    return catalog.model_copy(update={"fields": {**catalog.fields, _TRANSFORM_STAMPED: transforms}})
 
 
 def _message_bindings(
@@ -597,7 +622,9 @@ def _message_bindings(
             target = node.targets[0]
             value = node.value
             key = None
-            if isinstance(value, ast.Call):
+            if isinstance(value, ast.Call) and _is_transform_lookup(value):
+                key = _TRANSFORM_STAMPED
+            elif isinstance(value, ast.Call):
                 func = ast.unparse(value.func)
                 head, _, tail = func.partition(".")
                 if head in imports and (not tail or tail in _NESTED_TYPES):
@@ -625,8 +652,9 @@ def _check_fields(
     imports: dict[str, str],
 ) -> None:
     bindings = _message_bindings(cls, uses, catalog, imports)
+    known = _with_transforms(catalog)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        _FieldVisitor(ctx, catalog, bindings.get(method.name, {})).visit(method)
+        _FieldVisitor(ctx, known, bindings.get(method.name, {})).visit(method)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         numbers = _numeric_names(method)
         published = {
