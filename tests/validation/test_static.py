@@ -371,6 +371,58 @@ def test_a_transform_lookup_gives_a_transform_stamped_whose_fields_are_checked(
     ]
 
 
+_START = "        self.start_x = self.odom_msg.pose.pose.position.x"
+
+
+@pytest.mark.parametrize(
+    ("made", "cancelled", "expected", "replacement"),
+    [
+        (
+            "        self.node.create_timer(0.05, self._travelled)\n",
+            "",
+            "the timer is not kept on the skill, so nothing cancels it",
+            "self.travelled_timer = self.node.create_timer(0.05, self._travelled)",
+        ),
+        (
+            "        self.timer = self.node.create_timer(0.05, self._travelled)\n",
+            "",
+            "self.timer is never cancelled",
+            None,
+        ),
+        (
+            "        self.timer = self.node.create_timer(0.05, self._travelled)\n",
+            "        self.timer.cancel()\n",
+            None,
+            None,
+        ),
+        (
+            "        timer = self.node.create_timer(0.05, self._travelled)\n"
+            "        timer.cancel()\n",
+            "",
+            None,
+            None,
+        ),
+    ],
+    ids=["not kept", "never cancelled", "cancelled in stopping", "local, cancelled"],
+)
+def test_a_timer_must_be_kept_and_cancelled(
+    move_forward: tuple[Capability, SkillSpec],
+    made: str,
+    cancelled: str,
+    expected: str | None,
+    replacement: str | None,
+) -> None:
+    source = GOOD.replace(_START, made + _START, 1).replace(
+        '        """Halt the base."""\n', '        """Halt the base."""\n' + cancelled, 1
+    )
+    found = [f for f in run(source, move_forward).findings if f.check == "handles"]
+    if expected is None:
+        assert found == []
+    else:
+        assert [f.replacement for f in found] == [replacement]
+        assert found[0].message.startswith(expected)
+
+
 def test_a_tf2_listener_counts_as_using_the_transform_tree(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

@@ -805,6 +805,72 @@ def _check_handles(ctx: _Context, cls: ast.ClassDef) -> None:
                     )
 
 
+def _check_timers(ctx: _Context, cls: ast.ClassDef) -> None:
+    """A timer fires until it is cancelled: one kept only in a local variable (or not kept)
+    goes on firing after its state ended, with handles resetting released; one kept on the
+    skill must be cancelled somewhere."""
+    cancelled = _cancelled(cls)
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        for statement in ast.walk(method):
+            if not isinstance(statement, ast.Assign | ast.Expr):
+                continue
+            call = statement.value
+            if not (isinstance(call, ast.Call) and _call_name(call) == "create_timer"):
+                continue
+            targets = statement.targets if isinstance(statement, ast.Assign) else []
+            kept = [ast.unparse(t) for t in targets if ast.unparse(t).startswith("self.")]
+            if kept:
+                if kept[0] not in cancelled:
+                    ctx.add(
+                        "handles",
+                        "error",
+                        statement,
+                        f"{kept[0]} is never cancelled: the timer fires until it is, also after "
+                        f"the skill stopped; cancel it ({kept[0]}.cancel()) when it is no "
+                        "longer needed, in stopping and in resetting",
+                    )
+                continue
+            local = {ast.unparse(t) for t in targets}
+            if local & _cancelled(method):
+                continue  # a timer for a while of this method, cancelled in it
+            attribute = f"self.{_timer_name(call)}"
+            reads = any(
+                isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load) and n.id in local
+                for n in ast.walk(method)
+            )
+            ctx.add(
+                "handles",
+                "error",
+                statement,
+                "the timer is not kept on the skill, so nothing cancels it: it fires until the "
+                "node ends, also after the skill stopped and released the handles it uses; "
+                f"keep it as {attribute} and cancel it ({attribute}.cancel()) when it is no "
+                "longer needed, in stopping and in resetting",
+                None if reads else f"{attribute} = {ast.unparse(call)}",
+            )
+
+
+def _cancelled(node: ast.AST) -> set[str]:
+    """What ``node`` cancels or destroys as a timer (``x.cancel()``, ``destroy_timer(x)``), as
+    source."""
+    return {
+        ast.unparse(call.func.value) if call.func.attr == "cancel" else ast.unparse(call.args[0])
+        for call in ast.walk(node)
+        if isinstance(call, ast.Call)
+        and isinstance(call.func, ast.Attribute)
+        and (call.func.attr == "cancel" or (call.func.attr == "destroy_timer" and call.args))
+    }
+
+
+def _timer_name(call: ast.Call) -> str:
+    """``timer`` attribute name for a ``create_timer(period, self._hold)`` call:
+    ``hold_timer``."""
+    callback = call.args[1] if len(call.args) > 1 else None
+    if isinstance(callback, ast.Attribute):
+        return f"{callback.attr.strip('_')}_timer"
+    return "timer"
+
+
 def check_skill(
     source: str,
     *,
@@ -851,6 +917,7 @@ def check_skill(
         _check_swallowed_errors(ctx, methods, spec)
         _check_input_writes(ctx, cls, capability)
         _check_handles(ctx, cls)
+        _check_timers(ctx, cls)
         ctx.findings += check_names(source, tree, cls, imports)
         ctx.findings += check_waits(cls)
         if catalog is not None:
