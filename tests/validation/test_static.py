@@ -516,3 +516,20 @@ def test_a_zero_twist_made_of_numbers_is_pointed_to_twist_and_its_publish_sugges
         f.message.endswith("; a zero command is Twist(), every field of it is 0") for f in found
     )
     assert {f.replacement for f in found} == {"self.cmd_vel_publisher.publish(Twist())"}
+
+
+def test_a_constant_a_message_type_does_not_declare_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    capability, spec = move_forward
+    source = GOOD.replace(
+        "        self.cmd_vel_publisher.publish(Twist())\n\n    @resetting",
+        "        self.cmd_vel_publisher.publish(Twist(linear=Twist.STOP))\n\n    @resetting",
+        1,
+    )
+    report = check_skill(source, capability=capability, spec=spec, catalog=catalog)
+    assert messages(report, "grounding") == [
+        "geometry_msgs/msg/Twist has no constant 'STOP' (its constants: none); the skill's "
+        "own: self.LINEAR_VELOCITY_MAX"
+    ]

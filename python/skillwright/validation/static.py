@@ -698,6 +698,40 @@ def _check_fields(
                     )
 
 
+def _check_constants(
+    ctx: _Context, cls: ast.ClassDef, catalog: Catalog, imports: dict[str, str]
+) -> None:
+    """``Twist.YAW_RATE``: an upper-case attribute of a message class whose definition is
+    known must be one of its constants."""
+    own = [
+        f"self.{target.id}"
+        for statement in cls.body
+        if isinstance(statement, ast.Assign)
+        for target in statement.targets
+        if isinstance(target, ast.Name) and target.id.isupper()
+    ]
+    mine = f"; the skill's own: {', '.join(own)}" if own else ""
+    for node in ast.walk(cls):
+        if not (
+            isinstance(node, ast.Attribute)
+            and isinstance(node.value, ast.Name)
+            and node.value.id in imports
+            and node.attr.isupper()
+        ):
+            continue
+        type_name = imports[node.value.id]
+        known = catalog.constants.get(type_name)
+        if known is None or node.attr in known:
+            continue
+        listed = ", ".join(known) or "none"
+        ctx.add(
+            "grounding",
+            "error",
+            node,
+            f"{type_name} has no constant {node.attr!r} (its constants: {listed}){mine}",
+        )
+
+
 def _is_zero(node: ast.expr) -> bool:
     return isinstance(node, ast.Constant) and node.value == 0 and not isinstance(node.value, bool)
 
@@ -922,6 +956,7 @@ def check_skill(
         ctx.findings += check_waits(cls)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
+            _check_constants(ctx, cls, catalog, imports)
     if catalog is not None:
         _check_uses(ctx, uses, catalog)
 
