@@ -481,6 +481,9 @@ def test_a_callback_the_states_hand_to_a_timer_is_asked_for_as_a_helper(case: _C
         "        command = Twist()\n",
         "        command = Twist()\n"
         "        self.hold_timer = self.node.create_timer(0.05, self._hold_command)\n",
+    ).replace(
+        "        self._stop_base()\n",
+        "        self.hold_timer.cancel()\n        self._stop_base()\n",
     )
     helper = """) -> None:
         self.cmd_vel_publisher.publish(Twist())
