@@ -319,8 +319,30 @@ def test_a_message_field_given_a_number_is_an_error(
     )
     assert "command = Twist(linear=" in source
     report = run(source.replace("linear=speed + 0.0", "linear=0.5"), move_forward)
-    (text,) = [m for m in messages(report, "grounding") if "is a message" in m]
-    assert "geometry_msgs/msg/Twist's field 'linear' is a message (fields x, y, z)" in text
+    (found,) = [f for f in report.findings if "is a message" in f.message]
+    assert "geometry_msgs/msg/Twist's field 'linear' is a message (fields x, y, z)" in (
+        found.message
+    )
+    assert found.replacement == "command = Twist(linear=Vector3(x=0.5))"
+
+
+def test_a_field_one_level_further_down_is_named_and_put_in_the_statement(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "self.start_x = self.odom_msg.pose.pose.position.x",
+        "self.start_x = self.odom_msg.pose.position.x + self.odom_msg.pose.position.y",
+    )
+    report = run(source, move_forward)
+    found = [f for f in report.findings if f.check == "grounding"]
+    assert [f.message for f in found] == [
+        "nav_msgs/msg/Odometry has no field 'position' in pose (fields: covariance, pose); "
+        "it is pose.pose.position." + axis
+        for axis in "xy"
+    ]
+    assert {f.replacement for f in found} == {
+        "self.start_x = self.odom_msg.pose.pose.position.x + self.odom_msg.pose.pose.position.y"
+    }
 
 
 def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillSpec]) -> None:

@@ -11,6 +11,7 @@ says to abort; interfaces retrieved but unused, or used but not retrieved.
 from __future__ import annotations
 
 import ast
+import copy
 import io
 import re
 import tokenize
@@ -534,21 +535,63 @@ def _chain(node: ast.expr) -> tuple[ast.expr, list[str]]:
 def _walk_fields(
     ctx: _Context, node: ast.AST, tree: FieldTree, path: Sequence[str], type_name: str
 ) -> None:
+    missing = _missing_field(tree, path, type_name)
+    if missing is not None:
+        ctx.add("grounding", "error", node, missing[0])
+
+
+_SAME_AS = {
+    ("geometry_msgs/msg/TransformStamped", "pose", "position"): ("transform", "translation"),
+    ("geometry_msgs/msg/TransformStamped", "pose", "orientation"): ("transform", "rotation"),
+}
+"""Paths a model takes from a pose into a transform, which carries the same quantities."""
+
+
+def _missing_field(
+    tree: FieldTree, path: Sequence[str], type_name: str
+) -> tuple[str, list[str] | None] | None:
+    """The message for the first field of ``path`` the type does not have, and the path
+    that exists when it is clear which one was meant (a field one level further down, as
+    ``transform.translation`` for ``translation``); ``None`` when the path exists."""
     current: FieldTree | None = tree
     for index, part in enumerate(path):
         if current is None:
-            return  # attribute of a primitive or a list (e.g. .append): not a message field
+            return None  # attribute of a primitive or a list (e.g. .append): not a message field
         if part not in current:
             known = ", ".join(sorted(current)) or "none"
             where = ".".join(path[:index]) or "the message"
-            ctx.add(
-                "grounding",
-                "error",
-                node,
-                f"{type_name} has no field {part!r} in {where} (fields: {known})",
-            )
-            return
+            message = f"{type_name} has no field {part!r} in {where} (fields: {known})"
+            fixed = _meant(current, path, index, type_name)
+            if fixed is not None and _exists(tree, fixed):
+                message += f"; it is {'.'.join(fixed)}"
+                return message, fixed
+            return message, None
         current = current[part]
+    return None
+
+
+def _meant(
+    current: dict[str, FieldTree], path: Sequence[str], index: int, type_name: str
+) -> list[str] | None:
+    head, part = list(path[:index]), path[index]
+    same = _SAME_AS.get((type_name, part, path[index + 1] if index + 1 < len(path) else ""))
+    if index == 0 and same is not None:
+        return [*same, *path[2:]]
+    holders = [name for name, sub in current.items() if isinstance(sub, dict) and part in sub]
+    if len(holders) == 1:
+        return [*head, holders[0], *path[index:]]
+    return None
+
+
+def _exists(tree: FieldTree, path: Sequence[str]) -> bool:
+    current: FieldTree | None = tree
+    for part in path:
+        if current is None:
+            return True
+        if part not in current:
+            return False
+        current = current[part]
+    return True
 
 
 class _FieldVisitor(ast.NodeVisitor):
@@ -558,6 +601,34 @@ class _FieldVisitor(ast.NodeVisitor):
         self.ctx = ctx
         self.catalog = catalog
         self.bound = bound  # "name" or "self.attr" -> field-tree key
+        self.statement: ast.stmt | None = None
+        self.found: list[tuple[ast.stmt | None, ast.Attribute, str, str | None]] = []
+        """(simple statement, chain, message, the chain as it should read)"""
+
+    def visit(self, node: ast.AST) -> None:
+        if isinstance(node, ast.stmt) and not isinstance(node, _COMPOUND):
+            outer, self.statement = self.statement, node
+            super().visit(node)
+            self.statement = outer
+            return
+        super().visit(node)
+
+    def report(self) -> None:
+        """Adds the findings; each carries its statement with every chain in it that has a
+        clear fix fixed, when all of them have one."""
+        by_statement: dict[int, list[tuple[ast.Attribute, str | None]]] = {}
+        for statement, chain, _, fixed in self.found:
+            if statement is not None:
+                by_statement.setdefault(id(statement), []).append((chain, fixed))
+        for statement, chain, message, _ in self.found:
+            fixes = by_statement.get(id(statement), []) if statement is not None else []
+            replacement = None
+            if statement is not None and fixes and all(f is not None for _, f in fixes):
+                text = ast.unparse(statement)
+                for wrong, right in fixes:
+                    text = text.replace(ast.unparse(wrong), str(right))
+                replacement = text
+            self.ctx.add("grounding", "error", chain, message, replacement)
 
     def visit_Attribute(self, node: ast.Attribute) -> None:
         root, path = _chain(node)
@@ -575,10 +646,24 @@ class _FieldVisitor(ast.NodeVisitor):
             key = self.bound[f"self.{path[0]}"]
             path = path[1:]
         if key is not None and path and key in self.catalog.fields:
-            _walk_fields(self.ctx, node, self.catalog.fields[key], path, key)
+            missing = _missing_field(self.catalog.fields[key], path, key)
+            if missing is not None:
+                message, fixed = missing
+                right = None
+                if fixed is not None and not _has_subscript(node):
+                    whole = _chain(node)[1]
+                    prefix = whole[: len(whole) - len(path)]
+                    right = ".".join([ast.unparse(root), *prefix, *fixed])
+                self.found.append((self.statement, node, message, right))
             return
         self.generic_visit(node)
 
+
+def _has_subscript(node: ast.expr) -> bool:
+    return any(isinstance(n, ast.Subscript) for n in ast.walk(node))
+
+
+_COMPOUND = (ast.If, ast.For, ast.While, ast.With, ast.Try, ast.FunctionDef, ast.ClassDef)
 
 _TRANSFORM_STAMPED = "geometry_msgs/msg/TransformStamped"
 _TF_MESSAGE = "tf2_msgs/msg/TFMessage"
@@ -654,9 +739,17 @@ def _check_fields(
     bindings = _message_bindings(cls, uses, catalog, imports)
     known = _with_transforms(catalog)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        _FieldVisitor(ctx, known, bindings.get(method.name, {})).visit(method)
+        visitor = _FieldVisitor(ctx, known, bindings.get(method.name, {}))
+        visitor.generic_visit(method)
+        visitor.report()
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         numbers = _numeric_names(method)
+        statement_of = {
+            id(node): statement
+            for statement in ast.walk(method)
+            if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+            for node in ast.walk(statement)
+        }
         published = {
             id(call.args[0]): ast.unparse(call.func)
             for call in ast.walk(method)
@@ -680,6 +773,11 @@ def _check_fields(
             # field of a new message is zero.
             zero = key.endswith("/Twist") and all(_is_zero(k.value) for k in node.keywords)
             publish = published.get(id(node))
+            fix: str | None
+            if zero and publish is not None:
+                fix = f"{publish}(Twist())"
+            else:
+                fix = _twist_with_vectors(statement_of.get(id(node)), node, key, numbers)
             for keyword in node.keywords:
                 if keyword.arg is None:
                     continue
@@ -694,8 +792,43 @@ def _check_fields(
                         f"{', '.join(sorted(nested))}), not a number: make the message first and "
                         f"set its fields, e.g. msg.{keyword.arg}.{sorted(nested)[0]} = ..."
                         + ("; a zero command is Twist(), every field of it is 0" if zero else ""),
-                        f"{publish}(Twist())" if zero and publish is not None else None,
+                        fix,
                     )
+
+
+_TWIST_AXES = {"linear": "x", "angular": "z"}
+"""The axis a number given for a whole Twist vector means on a ground robot: forward speed,
+yaw rate."""
+
+
+def _twist_with_vectors(
+    statement: ast.stmt | None, call: ast.Call, key: str, numbers: AbstractSet[str]
+) -> str | None:
+    """``statement`` with ``Twist(linear=v)`` written ``Twist(linear=Vector3(x=v))`` (and
+    ``angular`` about z), when every number the call gives a vector is one of those."""
+    if statement is None or not key.endswith("/Twist"):
+        return None
+    scalars = [k for k in call.keywords if k.arg is not None and _is_scalar(k.value, numbers)]
+    if not scalars or any(k.arg not in _TWIST_AXES for k in scalars):
+        return None
+    fixed = copy.deepcopy(statement)
+    same = [
+        node
+        for node in ast.walk(fixed)
+        if isinstance(node, ast.Call)
+        and (node.lineno, node.col_offset) == (call.lineno, call.col_offset)
+        and ast.unparse(node.func) == ast.unparse(call.func)
+    ]
+    for node in same:
+        for keyword in node.keywords:
+            if keyword.arg in _TWIST_AXES and _is_scalar(keyword.value, numbers):
+                axis = _TWIST_AXES[keyword.arg]
+                keyword.value = ast.Call(
+                    func=ast.Name(id="Vector3", ctx=ast.Load()),
+                    args=[],
+                    keywords=[ast.keyword(arg=axis, value=keyword.value)],
+                )
+    return ast.unparse(ast.fix_missing_locations(fixed))
 
 
 def _check_constants(
