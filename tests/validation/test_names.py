@@ -278,3 +278,27 @@ def test_a_guard_on_a_publisher_method_that_does_not_exist_comes_to_what_it_guar
     found = _names(source, move_forward)
     assert [f.replacement for f in found] == [replacement]
     assert "a publisher is ready from create_publisher until it is destroyed" in found[0].message
+
+
+def test_a_method_of_the_node_or_logger_called_elsewhere_comes_with_its_statement_fixed(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace("self.node.get_logger().info(f", "self.node.info(f", 1)
+    (found,) = _names(source, move_forward)
+    assert found.replacement is not None
+    assert found.replacement.startswith("self.node.get_logger().info(f")
+    source = GOOD.replace(
+        '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n',
+        '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n'
+        "        self.tf_listener = TransformListener(Buffer(), self.node)\n"
+        "        self.started = self.tf_listener.get_clock().now()\n",
+        1,
+    )
+    found = [f for f in _names(source, move_forward) if "self.tf_listener is" in f.message]
+    assert [(f.message, f.replacement) for f in found] == [
+        (
+            "self.tf_listener is a tf2 TransformListener, which has no 'get_clock' in rclpy; "
+            "get_clock belongs to the node: self.node.get_clock(...)",
+            "self.started = self.node.get_clock().now()",
+        )
+    ]

@@ -135,6 +135,7 @@ RCLPY_API: dict[str, frozenset[str]] = {
         }
     ),
     "rate": frozenset({"sleep", "destroy"}),
+    "tf_listener": frozenset({"buffer", "unregister", "node"}),
     "logger": _LOGGER,
 }
 """Attributes of rclpy's objects a skill may use, by the kind of object."""
@@ -146,6 +147,7 @@ _MAKERS = {
     "create_timer": "timer",
     "create_rate": "rate",
     "ActionClient": "action_client",
+    "TransformListener": "tf_listener",
     "get_logger": "logger",
 }
 _KIND_WORDS = {
@@ -156,6 +158,7 @@ _KIND_WORDS = {
     "action_client": "an ActionClient",
     "timer": "a Timer",
     "rate": "a Rate",
+    "tf_listener": "a tf2 TransformListener",
     "logger": "the logger",
 }
 _BASE_ATTRIBUTES = frozenset({"node"})
@@ -426,6 +429,8 @@ _KIND_HINTS = {
     "action_client": "; send a goal with send_goal_async(goal), which gives a future of the goal "
     "handle",
     "client": "; call the service with call_async(request), which gives a future of the response",
+    "tf_listener": "; a TransformListener only fills its buffer: look transforms up in the "
+    "buffer (lookup_transform)",
 }
 
 
@@ -472,6 +477,7 @@ def _goal_handle_hint(receiver: ast.expr) -> str:
 def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
     defined, kinds = _class_facts(cls)
     guards = _guards(cls)
+    statement_of = _simple_statements(cls)
     findings = []
     for node in ast.walk(cls):
         if not isinstance(node, ast.Attribute) or not isinstance(node.ctx, ast.Load):
@@ -499,6 +505,9 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
             replacement = _without_guard(guard, "")
         elif wait is not None and guard is not None:
             replacement = _without_guard(guard, wait[1])
+        elif owner is not None and id(node) in statement_of:
+            right = f"{owner.split(': ', 1)[1]}.{node.attr}"
+            replacement = ast.unparse(statement_of[id(node)]).replace(ast.unparse(node), right)
         findings.append(
             _finding(
                 node,
@@ -508,6 +517,16 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
             )
         )
     return findings
+
+
+def _simple_statements(tree: ast.AST) -> dict[int, ast.stmt]:
+    """The innermost simple (not compound) statement of every node inside one, by node id."""
+    return {
+        id(node): statement
+        for statement in ast.walk(tree)
+        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+        for node in ast.walk(statement)
+    }
 
 
 def _guards(cls: ast.ClassDef) -> dict[int, ast.If]:
@@ -606,12 +625,7 @@ def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[F
     """``Odometry.Pose``: message classes have constants and, for services and actions, the
     request/goal classes, but no classes for their fields. Where the field's type is a known
     geometry message, the finding carries its simple statement with that class in place."""
-    statement_of = {
-        id(node): statement
-        for statement in ast.walk(tree)
-        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
-        for node in ast.walk(statement)
-    }
+    statement_of = _simple_statements(tree)
     findings = []
     for node in ast.walk(tree):
         nested = _nested_class(node, imports)
