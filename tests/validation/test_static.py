@@ -555,3 +555,44 @@ def test_a_constant_a_message_type_does_not_declare_is_an_error(
         "geometry_msgs/msg/Twist has no constant 'STOP' (its constants: none); the skill's "
         "own: self.LINEAR_VELOCITY_MAX"
     ]
+
+
+def test_a_message_of_another_type_handed_to_a_handle_is_an_error_and_wrapped_when_it_fits() -> (
+    None
+):
+    skill = SHIPPED_CAPABILITIES / "skills" / "navigate_to_point.py"
+    source = (
+        skill.read_text(encoding="utf-8")
+        .replace(
+            "from geometry_msgs.msg import Twist",
+            "from geometry_msgs.msg import PoseStamped, Twist",
+        )
+        .replace("send_goal_async(goal, feedback", "send_goal_async(target, feedback")
+        .replace(
+            "        goal = NavigateToPose.Goal()\n",
+            "        goal = NavigateToPose.Goal()\n        target = PoseStamped()\n",
+        )
+        .replace(
+            "self.cmd_vel_publisher.publish(Twist())",
+            "self.cmd_vel_publisher.publish(PoseStamped())",
+        )
+    )
+    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    report = check_skill(
+        source,
+        capability=load_capability(SHIPPED_CAPABILITIES / "navigate-to-point.ttl").capability,
+        spec=load_spec(SHIPPED_CAPABILITIES / "navigate-to-point.spec.yaml"),
+        catalog=catalog,
+    )
+    found = [f for f in report.findings if "takes a" in f.message]
+    assert [f.message for f in found] == [
+        "self.navigate_to_pose_client.send_goal_async takes a "
+        "nav2_msgs/action/NavigateToPose.Goal, not a geometry_msgs/msg/PoseStamped: put it in "
+        "one, NavigateToPose.Goal(pose=target)",
+        "self.cmd_vel_publisher.publish takes a geometry_msgs/msg/Twist, not a "
+        "geometry_msgs/msg/PoseStamped",
+    ]
+    assert found[0].replacement is not None
+    assert "send_goal_async(NavigateToPose.Goal(pose=target), feedback_callback=" in (
+        found[0].replacement
+    )

@@ -737,6 +737,7 @@ def _check_fields(
     imports: dict[str, str],
 ) -> None:
     bindings = _message_bindings(cls, uses, catalog, imports)
+    _check_arguments(ctx, cls, catalog, imports, bindings)
     known = _with_transforms(catalog)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         visitor = _FieldVisitor(ctx, known, bindings.get(method.name, {}))
@@ -829,6 +830,113 @@ def _twist_with_vectors(
                     keywords=[ast.keyword(arg=axis, value=keyword.value)],
                 )
     return ast.unparse(ast.fix_missing_locations(fixed))
+
+
+_TAKES = {"publish": "", "send_goal_async": ".Goal", "call_async": ".Request"}
+"""What a handle's method takes, as the suffix of the handle's type."""
+
+
+def _handle_types(cls: ast.ClassDef, imports: dict[str, str]) -> dict[str, str]:
+    """``self.<attribute>`` -> the type of the interface the handle in it was made for."""
+    out: dict[str, str] = {}
+    for node in ast.walk(cls):
+        if not (
+            isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and isinstance(node.value, ast.Call)
+            and _call_name(node.value) in _HANDLE_CALLS
+        ):
+            continue
+        args = list(node.value.args)
+        if _call_name(node.value) == "ActionClient":
+            args = args[1:]
+        type_name = imports.get(ast.unparse(args[0])) if args else None
+        if type_name is not None:
+            out[ast.unparse(node.targets[0])] = type_name
+    return out
+
+
+def _argument_type(
+    argument: ast.expr, bound: dict[str, str], imports: dict[str, str]
+) -> str | None:
+    if isinstance(argument, ast.Name):
+        return bound.get(argument.id)
+    if isinstance(argument, ast.Call):
+        head, _, tail = ast.unparse(argument.func).partition(".")
+        if head in imports and (not tail or tail in _NESTED_TYPES):
+            return imports[head] + (f".{tail}" if tail else "")
+    return None
+
+
+def _check_arguments(
+    ctx: _Context,
+    cls: ast.ClassDef,
+    catalog: Catalog,
+    imports: dict[str, str],
+    bindings: dict[str, dict[str, str]],
+) -> None:
+    """A message handed to ``publish``, ``send_goal_async``, ``call_async`` or a skeleton's
+    ``_send_<action>_goal`` must be of the type the handle carries (the model sent a
+    PoseStamped as a NavigateToPose goal). When the expected message has a field of the
+    given type, the finding carries the statement that wraps it in one."""
+    handles = _handle_types(cls, imports)
+    classes = {type_name: name for name, type_name in imports.items()}
+    statement_of = {
+        id(node): statement
+        for statement in ast.walk(cls)
+        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+        for node in ast.walk(statement)
+    }
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        bound = bindings.get(method.name, {})
+        for call in ast.walk(method):
+            if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute)):
+                continue
+            receiver, attr = ast.unparse(call.func.value), call.func.attr
+            expected = None
+            if attr in _TAKES and receiver in handles:
+                expected = handles[receiver] + _TAKES[attr]
+            elif receiver == "self" and attr.startswith("_send_") and attr.endswith("_goal"):
+                client = f"self.{attr.removeprefix('_send_').removesuffix('_goal')}_client"
+                expected = handles[client] + ".Goal" if client in handles else None
+            if expected is None or not call.args:
+                continue
+            given = _argument_type(call.args[0], bound, imports)
+            if given is None or given == expected:
+                continue
+            message = f"{ast.unparse(call.func)} takes a {expected}, not a {given}"
+            made = _wrapping(catalog, classes, expected, given, call.args[0])
+            replacement = None
+            if made is not None:
+                message += f": put it in one, {made}"
+                statement = statement_of.get(id(call))
+                text = ast.unparse(statement) if statement is not None else ""
+                if text.count(ast.unparse(call.args[0])) == 1:
+                    replacement = text.replace(ast.unparse(call.args[0]), made)
+            ctx.add("grounding", "error", call.args[0], message, replacement)
+
+
+def _wrapping(
+    catalog: Catalog, classes: dict[str, str], expected: str, given: str, argument: ast.expr
+) -> str | None:
+    """``NavigateToPose.Goal(pose=goal_pose)``: the expected message made around the given
+    one, when exactly one of its fields has the given one's type."""
+    holder = _field_holding(catalog, expected, given)
+    base, _, nested = expected.partition(".")
+    owner = classes.get(base)
+    if holder is None or owner is None:
+        return None
+    cls = f"{owner}.{nested}" if nested else owner
+    return f"{cls}({holder}={ast.unparse(argument)})"
+
+
+def _field_holding(catalog: Catalog, container: str, content: str) -> str | None:
+    """The one top-level field of ``container`` whose type has ``content``'s fields."""
+    tree, wanted = catalog.fields.get(container), catalog.fields.get(content)
+    if not tree or not wanted:
+        return None
+    holders = [name for name, sub in tree.items() if sub == wanted]
+    return holders[0] if len(holders) == 1 else None
 
 
 def _check_constants(
