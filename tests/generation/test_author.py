@@ -293,6 +293,15 @@ def test_a_guard_that_only_raises_is_replaced_by_the_suggested_statement(case: _
     )
 
 
+def test_the_checks_fix_what_they_can_even_when_no_repairs_are_left(case: _Case) -> None:
+    spins = EXECUTE.replace("            time.sleep(0.05)\n", "")
+    model = MethodScript({**GOOD, "execute": [spins]})
+    authored = case.write(model, attempts=1)
+    assert model.asked.count("execute") == 1
+    assert [a.finish for a in authored.attempts if a.target == "execute"] == ["stop", "fixed"]
+    assert not [f for f in authored.findings if f.severity == "error"]
+
+
 def test_a_guard_on_something_that_does_not_exist_is_taken_out(case: _Case) -> None:
     guarded = (
         "        if not self.cmd_vel_publisher.is_alive():\n"

@@ -76,7 +76,7 @@ SkeletonBuilder = Callable[[Sequence[InterfaceRef], Collection[str] | None], Ske
 """Builds the skeleton for these interfaces and helpers (``None``: every helper offered)."""
 
 _MAX_HELPERS = 4
-_MAX_FIX_ROUNDS = 2
+_MAX_FIX_ROUNDS = 3
 """Rounds of the checks' own fixes per skill (they cost no model time, but a fix may meet a
 new finding that suggests the old statement back)."""
 _MAX_PROBLEMS = 6
@@ -670,17 +670,20 @@ def author_skill(
     skill.write_helpers()
     judgement = skill.judge(_latest)
     rounds = fixes = 0
-    while rounds < settings.attempts - 1 and skill.failing(judgement):
+    # The checks' own fixes cost no model time, so they also follow the last repairs.
+    while skill.failing(judgement):
         fixable = skill.fixes(judgement) if fixes < _MAX_FIX_ROUNDS else []
         if fixable:
             fixes += 1
             for target, code, problems in fixable:
                 skill.fix(target, code, problems)
-        else:
+        elif rounds < settings.attempts - 1:
             rounds += 1
             for target, problems, prefill in skill.failing(judgement):
                 skill.repair(target, problems, prefill)
             skill.write_helpers()  # a repair may call a helper nobody has written yet
+        else:
+            break
         judgement = skill.judge(_latest)
     # The final file takes each method's best answer (fewest errors, then warnings), chosen
     # once: judging the final file counts again and may move a score, not the choice.
