@@ -324,6 +324,11 @@ def test_a_message_field_given_a_number_is_an_error(
         found.message
     )
     assert found.replacement == "command = Twist(linear=Vector3(x=0.5))"
+    report = run(
+        source.replace("linear=speed + 0.0", "linear=self.in_linear_velocity"), move_forward
+    )
+    (found,) = [f for f in report.findings if "is a message" in f.message]
+    assert found.replacement == "command = Twist(linear=Vector3(x=self.in_linear_velocity))"
 
 
 def test_a_field_one_level_further_down_is_named_and_put_in_the_statement(

@@ -738,13 +738,14 @@ def _check_fields(
 ) -> None:
     bindings = _message_bindings(cls, uses, catalog, imports)
     _check_arguments(ctx, cls, catalog, imports, bindings)
+    numeric_attributes = _numeric_attributes(cls)
     known = _with_transforms(catalog)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         visitor = _FieldVisitor(ctx, known, bindings.get(method.name, {}))
         visitor.generic_visit(method)
         visitor.report()
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        numbers = _numeric_names(method)
+        numbers = _numeric_names(method) | numeric_attributes
         statement_of = {
             id(node): statement
             for statement in ast.walk(method)
@@ -991,6 +992,29 @@ def _numeric_names(function: ast.FunctionDef) -> set[str]:
     return names
 
 
+def _numeric_attributes(cls: ast.ClassDef) -> set[str]:
+    """``self.<name>`` for the class's upper-case constants and the attributes ``__init__``
+    gives a number (the skill's inputs and outputs): what holds a number, not a message."""
+    out = {
+        f"self.{target.id}"
+        for statement in cls.body
+        if isinstance(statement, ast.Assign) and _is_scalar(statement.value)
+        for target in statement.targets
+        if isinstance(target, ast.Name) and target.id.isupper()
+    }
+    for method in cls.body:
+        if isinstance(method, ast.FunctionDef) and method.name == "__init__":
+            for node in ast.walk(method):
+                if isinstance(node, ast.Assign) and _is_number(node.value):
+                    targets = node.targets
+                elif isinstance(node, ast.AnnAssign) and _is_number(node.value):
+                    targets = [node.target]
+                else:
+                    continue
+                out |= {ast.unparse(t) for t in targets if ast.unparse(t).startswith("self.")}
+    return out
+
+
 def _is_scalar(node: ast.expr, numbers: AbstractSet[str] = frozenset()) -> bool:
     """A number or string: a literal, arithmetic, a numeric builtin or math function, or a
     local name known to hold one (``numbers``); what cannot be a message."""
@@ -998,6 +1022,8 @@ def _is_scalar(node: ast.expr, numbers: AbstractSet[str] = frozenset()) -> bool:
         return node.value is not None
     if isinstance(node, ast.Name):
         return node.id in numbers
+    if isinstance(node, ast.Attribute):
+        return ast.unparse(node) in numbers
     if isinstance(node, ast.UnaryOp):
         return _is_scalar(node.operand, numbers)
     if isinstance(node, ast.BinOp):
