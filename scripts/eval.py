@@ -52,6 +52,7 @@ class Row:
     kinds: dict[str, int] = field(default_factory=dict)
     answers: int = 0
     repairs: int = 0
+    fixes: int = 0
     tokens: int = 0
     seconds: float = 0.0
     generation_seconds: float = 0.0
@@ -122,8 +123,10 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
     row.kinds = dict(Counter(f.check for f in record.checks.findings if f.severity == "error"))
     row.generation_seconds = record.timings.get("generation", 0.0)
     if record.model is not None:
-        row.answers = len(record.model.attempts)
-        row.repairs = sum(a.number > 1 for a in record.model.attempts)
+        answers = [a for a in record.model.attempts if a.finish != "fixed"]
+        row.answers = len(answers)
+        row.repairs = sum(a.number > 1 for a in answers)
+        row.fixes = len(record.model.attempts) - len(answers)
         row.tokens = record.model.completion_tokens or 0
         row.hit_limit = sum(a.finish == "length" for a in record.model.attempts)
         row.looped = sum(a.finish == "repetition" for a in record.model.attempts)
@@ -143,7 +146,7 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
 def table(rows: list[Row]) -> str:
     head = (
         f"{'robot':<10} {'skill':<32} {'checks':<7} {'errors by kind':<28} {'run':<5} "
-        f"{'sim':<9} {'answers':>7} {'repairs':>7} {'tokens':>6} {'seconds':>8}"
+        f"{'sim':<9} {'answers':>7} {'repairs':>7} {'fixes':>5} {'tokens':>6} {'seconds':>8}"
     )
     lines = [head, "-" * len(head)]
     for row in rows:
@@ -151,7 +154,7 @@ def table(rows: list[Row]) -> str:
         verdict = "pass" if row.passed else ("ERROR" if row.failure else "fail")
         lines.append(
             f"{row.robot:<10} {row.name:<32} {verdict:<7} {kinds:<28} {row.ran:<5} "
-            f"{row.behaved:<9} {row.answers:>7} {row.repairs:>7} {row.tokens:>6} "
+            f"{row.behaved:<9} {row.answers:>7} {row.repairs:>7} {row.fixes:>5} {row.tokens:>6} "
             f"{row.seconds:>8.1f}"
         )
         if row.failure:
@@ -165,7 +168,8 @@ def table(rows: list[Row]) -> str:
         f"{sum(r.behaved != '-' and not r.behaved.endswith('fail') for r in rows)}",
         f"answers cut at the token limit: {sum(r.hit_limit for r in rows)}; "
         f"stopped as loops: {sum(r.looped for r in rows)}",
-        f"repairs: {sum(r.repairs for r in rows)} of {sum(r.answers for r in rows)} answers",
+        f"repairs: {sum(r.repairs for r in rows)} of {sum(r.answers for r in rows)} answers; "
+        f"fixed by the checks without the model: {sum(r.fixes for r in rows)}",
         f"seconds per skill: median {statistics.median(seconds):.1f}, "
         f"max {max(seconds):.1f}, total {sum(seconds):.1f}"
         if seconds

@@ -228,9 +228,12 @@ def test_a_repair_continues_the_answer_from_the_statement_with_the_first_error(
 
 
 def test_a_repair_is_prefilled_with_the_statement_the_check_suggests(case: _Case) -> None:
+    # The second error has no suggestion, so the model is asked; its answer starts with the
+    # first error's statement already fixed.
     waits_wrongly = STARTING.replace(
         '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")\n',
-        "        self.odom_subscription.wait_for_message(timeout_sec=2.0)\n",
+        "        self.odom_subscription.wait_for_message(timeout_sec=2.0)\n"
+        "        self.node.spin_forever()\n",
     )
     model = MethodScript({**GOOD, "starting": [waits_wrongly, "```"]})
     authored = case.write(model)
@@ -242,8 +245,39 @@ def test_a_repair_is_prefilled_with_the_statement_the_check_suggests(case: _Case
         '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")\n'
     )
     tries = [a for a in authored.attempts if a.target == "starting"]
+    assert [a.finish for a in tries] == ["stop", "stop"]
     assert tries[1].errors == 0
     assert "wait_for_message" not in authored.code
+
+
+def _fixed_without_the_model(case: _Case, state: str, answer: str) -> Authored:
+    model = MethodScript({**GOOD, state: [answer, "```"]})
+    authored = case.write(model)
+    assert model.asked.count(state) == 1
+    tries = [a for a in authored.attempts if a.target == state]
+    assert [(a.finish, a.errors, a.chosen) for a in tries] == [
+        ("stop", tries[0].errors, False),
+        ("fixed", 0, True),
+    ]
+    assert tries[0].errors
+    assert tries[1].seconds == 0.0
+    assert tries[1].problems
+    assert f"checks' fix of {state}" in authored.transcript
+    return authored
+
+
+def test_a_statement_the_checks_know_the_fix_for_is_fixed_without_the_model(
+    case: _Case,
+) -> None:
+    waits_wrongly = STARTING.replace(
+        '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")\n',
+        "        self.odom_subscription.wait_for_message(timeout_sec=2.0)\n",
+    )
+    authored = _fixed_without_the_model(case, "starting", waits_wrongly)
+    assert "wait_for_message" not in authored.code
+    assert '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")\n' in (
+        authored.code
+    )
 
 
 def test_a_guard_that_only_raises_is_replaced_by_the_suggested_statement(case: _Case) -> None:
@@ -252,12 +286,60 @@ def test_a_guard_that_only_raises_is_replaced_by_the_suggested_statement(case: _
         "        if not self.odom_subscription.is_alive():\n"
         '            raise RuntimeError("no odometry")\n',
     )
-    model = MethodScript({**GOOD, "starting": [guards_wrongly, "```"]})
-    authored = case.write(model)
-    assert model.prompts[-1].answer_prefix.endswith(
-        '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")\n'
-    )
+    authored = _fixed_without_the_model(case, "starting", guards_wrongly)
     assert "is_alive" not in authored.code
+    assert '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")\n' in (
+        authored.code
+    )
+
+
+def test_the_checks_fix_what_they_can_even_when_no_repairs_are_left(case: _Case) -> None:
+    spins = EXECUTE.replace("            time.sleep(0.05)\n", "")
+    model = MethodScript({**GOOD, "execute": [spins]})
+    authored = case.write(model, attempts=1)
+    assert model.asked.count("execute") == 1
+    assert [a.finish for a in authored.attempts if a.target == "execute"] == ["stop", "fixed"]
+    assert not [f for f in authored.findings if f.severity == "error"]
+
+
+def test_a_guard_on_something_that_does_not_exist_is_taken_out(case: _Case) -> None:
+    guarded = (
+        "        if not self.cmd_vel_publisher.is_alive():\n"
+        '            raise RuntimeError("the publisher is gone")\n' + STOPPING
+    )
+    authored = _fixed_without_the_model(case, "stopping", guarded)
+    assert "is_alive" not in authored.code
+    assert "    def stopping(self) -> None:\n" in authored.code
+
+
+def test_a_loop_that_never_sleeps_is_replaced_by_the_loop_with_a_sleep(case: _Case) -> None:
+    spins = EXECUTE.replace("            time.sleep(0.05)\n", "")
+    authored = _fixed_without_the_model(case, "execute", spins)
+    assert (
+        "        while travelled < self.in_distance:\n"
+        "            command.linear.x = speed if self.in_distance - travelled > 0.1 else 0.1\n"
+        "            self.cmd_vel_publisher.publish(command)\n"
+        "            here = self.odom_msg.pose.pose.position\n"
+        "            travelled = math.hypot(here.x - start.x, here.y - start.y)\n"
+        "            time.sleep(0.05)\n"
+        "        self._stop_base()\n"
+    ) in authored.code
+
+
+def test_a_fix_inside_a_loop_keeps_the_loop_and_replaces_only_its_statement(
+    case: _Case,
+) -> None:
+    made_up = EXECUTE.replace(
+        "            self.cmd_vel_publisher.publish(command)\n",
+        "            self.cmd_vel_publisher.publish(Twist(linear=Twist.Linear(x=speed)))\n",
+    )
+    authored = _fixed_without_the_model(case, "execute", made_up)
+    assert (
+        "            command.linear.x = speed if self.in_distance - travelled > 0.1 else 0.1\n"
+        "            self.cmd_vel_publisher.publish(Twist(linear=Vector3(x=speed)))\n"
+        "            time.sleep(0.05)\n"
+    ) in authored.code
+    assert "from geometry_msgs.msg import Vector3" in authored.code
 
 
 def test_a_helper_a_repair_calls_is_asked_for(case: _Case) -> None:
@@ -408,6 +490,9 @@ def test_a_callback_the_states_hand_to_a_timer_is_asked_for_as_a_helper(case: _C
         "        command = Twist()\n",
         "        command = Twist()\n"
         "        self.hold_timer = self.node.create_timer(0.05, self._hold_command)\n",
+    ).replace(
+        "        self._stop_base()\n",
+        "        self.hold_timer.cancel()\n        self._stop_base()\n",
     )
     helper = """) -> None:
         self.cmd_vel_publisher.publish(Twist())

@@ -3,20 +3,29 @@
 from __future__ import annotations
 
 import ast
+import textwrap
 from pathlib import Path
 
 import pytest
 
 from skillwright.capability import Capability, load_capability
+from skillwright.generation.assemble import assemble, usage
 from skillwright.generation.model import InterfaceRef
 from skillwright.generation.names import class_name, python_import, snake_case
 from skillwright.generation.skeleton import (
     build_skeleton,
+    helper_dependencies,
+    helper_summaries,
     mint_skill_iri,
+    skeleton_helpers,
     subscription_qos,
     topic_role,
 )
 from skillwright.interfaces.inventory import QosProfile
+from skillwright.interfaces.load import load_inventory
+from skillwright.runtime.report import RunReport
+from skillwright.runtime.run import run_skill
+from skillwright.runtime.scenario import load_scenario
 from skillwright.spec import SkillSpec, load_spec, parse_spec
 from tests.conftest import SHIPPED_CAPABILITIES
 
@@ -256,4 +265,173 @@ def test_skill_iri_without_resource_sits_next_to_the_capability() -> None:
     assert (
         mint_skill_iri(bare, "turn")
         == "http://skillwright.dev/robots/mr1/capabilities/rotate/skills/turn"
+    )
+
+
+MOVE_GROUP = InterfaceRef(
+    name="/move_action", kind="action", type_name="moveit_msgs/action/MoveGroup", role="call"
+)
+TF = InterfaceRef(name="/tf", kind="topic", type_name="tf2_msgs/msg/TFMessage", role="subscribe")
+
+
+def test_an_action_gets_helpers_for_its_goal_handle_and_attributes_for_them() -> None:
+    capability, spec = shipped("navigate-to-point")
+    skeleton = build_skeleton(capability, spec, [NAVIGATE])
+    assert {
+        "_send_navigate_to_pose_goal",
+        "_on_navigate_to_pose_feedback",
+        "_navigate_to_pose_result",
+        "_cancel_navigate_to_pose_goal",
+    } <= set(skeleton.helpers)
+    init = skeleton.code.split("def __init__")[1].split("@skill_")[0]
+    for attribute in ("goal_handle", "result_future", "feedback"):
+        assert f"self.navigate_to_pose_{attribute} = None" in init
+    assert "from action_msgs.msg import GoalStatus" in skeleton.code
+    assert "feedback_callback=self._on_navigate_to_pose_feedback" in skeleton.code
+    assert "MoveItErrorCodes" not in skeleton.code
+    ast.parse(skeleton.code)
+
+
+def test_a_move_group_action_gets_a_position_goal_and_its_error_code_checked() -> None:
+    capability, spec = shipped("move-to-point")
+    code = build_skeleton(capability, spec, [MOVE_GROUP]).code
+    assert "def _position_goal(" in code
+    assert "from moveit_msgs.msg import Constraints, MoveItErrorCodes, PositionConstraint" in code
+    assert "from shape_msgs.msg import SolidPrimitive" in code
+    assert "response.result.error_code.val != MoveItErrorCodes.SUCCESS" in code
+
+
+def test_a_helper_brings_the_helpers_it_calls_and_hands_over() -> None:
+    offered = skeleton_helpers([NAVIGATE])
+    assert helper_dependencies(["_send_navigate_to_pose_goal"], offered) == {
+        "_send_navigate_to_pose_goal",
+        "_on_navigate_to_pose_feedback",
+        "_result_of",
+        "_wait_until",
+    }
+    capability, spec = shipped("navigate-to-point")
+    skeleton = build_skeleton(
+        capability, spec, [NAVIGATE], helpers=["_cancel_navigate_to_pose_goal"]
+    )
+    assert skeleton.helpers == ["_wait_until", "_result_of", "_cancel_navigate_to_pose_goal"]
+    assert "from action_msgs.msg import GoalStatus" not in skeleton.code
+
+
+def test_the_card_says_what_each_action_helper_does() -> None:
+    summaries = helper_summaries([NAVIGATE, MOVE_GROUP])
+    assert "NavigateToPose.Goal()" in summaries["_send_navigate_to_pose_goal"]
+    assert "self.navigate_to_pose_feedback" in summaries["_send_navigate_to_pose_goal"]
+    assert "also when the goal did not succeed" in summaries["_move_action_result"]
+    assert "MoveGroup.Goal()" in summaries["_position_goal"]
+    assert "_on_navigate_to_pose_feedback" not in summaries
+
+
+def _written(state: str, body: str, prologue: str = "") -> str:
+    lines = [f"    @{state}", f"    def {state}(self) -> None:"]
+    if prologue:
+        lines.append(prologue)
+    return "\n".join([*lines, textwrap.indent(textwrap.dedent(body).strip(), " " * 8)]) + "\n"
+
+
+def _run_with_helpers(
+    stem: str, refs: list[InterfaceRef], bodies: dict[str, str], tmp_path: Path
+) -> RunReport:
+    """Writes a skill whose states use the skeleton's helpers, the way generation builds it,
+    and runs it in the sandbox with the shipped skill's scenario."""
+    capability, spec = shipped(stem)
+    full = build_skeleton(capability, spec, refs)
+    methods = {
+        state: _written(state, body, full.prologues.get(state, ""))
+        for state, body in bodies.items()
+    }
+    used = usage(full, methods)
+    skeleton = build_skeleton(capability, spec, used.interfaces, helpers=used.helpers)
+    code = assemble(skeleton, methods, {}, prefilled=[full.prologues["starting"]]).code
+    path = tmp_path / f"{spec.name}.py"
+    path.write_text(code, encoding="utf-8")
+    name = stem.replace("-", "_")
+    scenario = load_scenario(SHIPPED_CAPABILITIES / "skills" / f"{name}.scenario.yaml")
+    return run_skill(
+        path, load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"), scenario=scenario
+    )
+
+
+def test_a_navigation_written_with_the_action_helpers_runs_and_is_cancelled(
+    tmp_path: Path,
+) -> None:
+    report = _run_with_helpers(
+        "navigate-to-point",
+        [NAVIGATE, TF],
+        {
+            "starting": """
+                if not self.navigate_to_pose_client.wait_for_server(timeout_sec=5.0):
+                    raise RuntimeError("no /navigate_to_pose server")
+            """,
+            "execute": """
+                goal = NavigateToPose.Goal()
+                goal.pose.header.frame_id = "map"
+                goal.pose.pose.position.x = self.in_position_x
+                goal.pose.pose.position.y = self.in_position_y
+                goal.pose.pose.orientation.w = 1.0
+                self._send_navigate_to_pose_goal(goal, 5.0)
+                while not self.navigate_to_pose_result_future.done():
+                    if self.navigate_to_pose_feedback is not None:
+                        self.node.get_logger().info(
+                            f"{self.navigate_to_pose_feedback.distance_remaining:.2f} m to go"
+                        )
+                    time.sleep(1.0)
+                self._navigate_to_pose_result(60.0)
+                where = self._transform("map", "base_link", 1.0).transform.translation
+                self.out_position_x = where.x
+                self.out_position_y = where.y
+            """,
+            "completing": 'self.node.get_logger().info("done")',
+            "stopping": "self._cancel_navigate_to_pose_goal(2.0)",
+            "resetting": "self.out_position_x = 0.0",
+        },
+        tmp_path,
+    )
+    assert report.findings == []
+    normal, stop = report.trace.episodes[0], report.trace.episodes[1]
+    assert (normal.outputs["outPositionX"], normal.outputs["outPositionY"]) == pytest.approx(
+        (2.0, 1.0), abs=0.05
+    )
+    assert ("stopping", "done") in [(s.name, s.outcome) for s in stop.states]
+
+
+def test_an_arm_motion_written_with_the_move_group_helpers_reports_where_it_went(
+    tmp_path: Path,
+) -> None:
+    report = _run_with_helpers(
+        "move-to-point",
+        [MOVE_GROUP, TF],
+        {
+            "starting": """
+                if not self.move_action_client.wait_for_server(timeout_sec=5.0):
+                    raise RuntimeError("no /move_action server")
+            """,
+            "execute": """
+                goal = self._position_goal(
+                    "mr1_arm", "tool0", "arm_base_link",
+                    self.in_position_x, self.in_position_y, self.in_position_z, 0.01,
+                )
+                goal.request.allowed_planning_time = 5.0
+                goal.request.max_velocity_scaling_factor = 0.3
+                self._send_move_action_goal(goal, 5.0)
+                self._move_action_result(60.0)
+                where = self._transform("arm_base_link", "tool0", 2.0).transform.translation
+                self.out_position_x = where.x
+                self.out_position_y = where.y
+                self.out_position_z = where.z
+            """,
+            "completing": 'self.node.get_logger().info("done")',
+            "stopping": "self._cancel_move_action_goal(2.0)",
+            "resetting": "self.out_position_x = 0.0",
+        },
+        tmp_path,
+    )
+    assert report.findings == []
+    outputs = report.trace.episodes[0].outputs
+    assert (outputs["outPositionX"], outputs["outPositionY"], outputs["outPositionZ"]) == (
+        pytest.approx((0.5, 0.1, 0.4), abs=0.01)
     )

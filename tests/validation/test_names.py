@@ -225,3 +225,80 @@ def test_a_module_level_function_parameter_is_not_an_undefined_name(
     )
     assert "def _wrap(angle" in source
     assert not _names(source, move_forward)
+
+
+def test_a_made_up_class_for_a_geometry_field_comes_with_the_statement_using_its_type(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace("command = Twist()", "command = Twist(linear=Twist.Linear(x=0.1))", 1)
+    found = _names(source, move_forward)
+    assert [(f.message, f.replacement) for f in found] == [
+        (
+            "Twist.Linear does not exist: message classes have no classes for their fields; "
+            "linear is a Vector3: use Vector3(...)",
+            "command = Twist(linear=Vector3(x=0.1))",
+        )
+    ]
+
+
+def test_a_made_up_class_with_no_known_type_gets_no_replacement(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace("command = Twist()", "command = Twist(linear=Twist.Velocity(x=0.1))", 1)
+    found = _names(source, move_forward)
+    assert [f.replacement for f in found] == [None]
+    assert "use the field's own type" in found[0].message
+
+
+@pytest.mark.parametrize(
+    ("guard", "replacement"),
+    [
+        (
+            "        if self.cmd_vel_publisher.is_alive():\n"
+            "            self.cmd_vel_publisher.publish(Twist())\n",
+            "self.cmd_vel_publisher.publish(Twist())",
+        ),
+        (
+            "        if not self.cmd_vel_publisher.is_alive():\n"
+            '            raise RuntimeError("no publisher")\n'
+            "        self.cmd_vel_publisher.publish(Twist())\n",
+            "",
+        ),
+    ],
+    ids=["guards work", "guards nothing"],
+)
+def test_a_guard_on_a_publisher_method_that_does_not_exist_comes_to_what_it_guards(
+    move_forward: tuple[Capability, SkillSpec], guard: str, replacement: str
+) -> None:
+    source = GOOD.replace(
+        '        """Halt the base."""\n        self.cmd_vel_publisher.publish(Twist())\n',
+        '        """Halt the base."""\n' + guard,
+        1,
+    )
+    found = _names(source, move_forward)
+    assert [f.replacement for f in found] == [replacement]
+    assert "a publisher is ready from create_publisher until it is destroyed" in found[0].message
+
+
+def test_a_method_of_the_node_or_logger_called_elsewhere_comes_with_its_statement_fixed(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace("self.node.get_logger().info(f", "self.node.info(f", 1)
+    (found,) = _names(source, move_forward)
+    assert found.replacement is not None
+    assert found.replacement.startswith("self.node.get_logger().info(f")
+    source = GOOD.replace(
+        '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n',
+        '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n'
+        "        self.tf_listener = TransformListener(Buffer(), self.node)\n"
+        "        self.started = self.tf_listener.get_clock().now()\n",
+        1,
+    )
+    found = [f for f in _names(source, move_forward) if "self.tf_listener is" in f.message]
+    assert [(f.message, f.replacement) for f in found] == [
+        (
+            "self.tf_listener is a tf2 TransformListener, which has no 'get_clock' in rclpy; "
+            "get_clock belongs to the node: self.node.get_clock(...)",
+            "self.started = self.node.get_clock().now()",
+        )
+    ]

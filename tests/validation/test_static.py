@@ -9,7 +9,9 @@ import pytest
 from skillwright.capability import Capability, load_capability
 from skillwright.generation.model import InterfaceRef
 from skillwright.generation.skeleton import build_skeleton
+from skillwright.interfaces.load import load_inventory
 from skillwright.spec import SkillSpec, load_spec
+from skillwright.validation.catalog import catalog_from_inventory
 from skillwright.validation.model import Catalog, CatalogEntry, CheckReport, FieldTree
 from skillwright.validation.static import check_skill
 from tests.conftest import SHIPPED_CAPABILITIES
@@ -317,8 +319,35 @@ def test_a_message_field_given_a_number_is_an_error(
     )
     assert "command = Twist(linear=" in source
     report = run(source.replace("linear=speed + 0.0", "linear=0.5"), move_forward)
-    (text,) = [m for m in messages(report, "grounding") if "is a message" in m]
-    assert "geometry_msgs/msg/Twist's field 'linear' is a message (fields x, y, z)" in text
+    (found,) = [f for f in report.findings if "is a message" in f.message]
+    assert "geometry_msgs/msg/Twist's field 'linear' is a message (fields x, y, z)" in (
+        found.message
+    )
+    assert found.replacement == "command = Twist(linear=Vector3(x=0.5))"
+    report = run(
+        source.replace("linear=speed + 0.0", "linear=self.in_linear_velocity"), move_forward
+    )
+    (found,) = [f for f in report.findings if "is a message" in f.message]
+    assert found.replacement == "command = Twist(linear=Vector3(x=self.in_linear_velocity))"
+
+
+def test_a_field_one_level_further_down_is_named_and_put_in_the_statement(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "self.start_x = self.odom_msg.pose.pose.position.x",
+        "self.start_x = self.odom_msg.pose.position.x + self.odom_msg.pose.position.y",
+    )
+    report = run(source, move_forward)
+    found = [f for f in report.findings if f.check == "grounding"]
+    assert [f.message for f in found] == [
+        "nav_msgs/msg/Odometry has no field 'position' in pose (fields: covariance, pose); "
+        "it is pose.pose.position." + axis
+        for axis in "xy"
+    ]
+    assert {f.replacement for f in found} == {
+        "self.start_x = self.odom_msg.pose.pose.position.x + self.odom_msg.pose.pose.position.y"
+    }
 
 
 def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillSpec]) -> None:
@@ -329,6 +358,96 @@ def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillS
     )
     (text,) = messages(run(source, move_forward), "inputs")
     assert "self.in_linear_velocity holds the capability input inLinearVelocity" in text
+
+
+def test_a_handle_made_again_in_another_state_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "        self.start_x = self.odom_msg.pose.pose.position.x",
+        '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n'
+        "        self.start_x = self.odom_msg.pose.pose.position.x",
+        1,
+    )
+    (text,) = messages(run(source, move_forward), "handles")
+    assert text.startswith("self.cmd_vel_publisher is made in starting already; use that handle")
+
+
+@pytest.mark.parametrize(
+    "lookup", ["self.tf_buffer.lookup_transform(", "self._transform("], ids=["buffer", "helper"]
+)
+def test_a_transform_lookup_gives_a_transform_stamped_whose_fields_are_checked(
+    lookup: str,
+) -> None:
+    skill = SHIPPED_CAPABILITIES / "skills" / "get_position.py"
+    source = (
+        skill.read_text(encoding="utf-8")
+        .replace("self.tf_buffer.lookup_transform(", lookup, 1)
+        .replace("translation = transform.transform.translation", "translation = transform.pose")
+    )
+    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    report = check_skill(
+        source,
+        capability=load_capability(SHIPPED_CAPABILITIES / "get-position.ttl").capability,
+        spec=load_spec(SHIPPED_CAPABILITIES / "get-position.spec.yaml"),
+        catalog=catalog,
+    )
+    assert messages(report, "grounding") == [
+        "geometry_msgs/msg/TransformStamped has no field 'pose' in the message "
+        "(fields: child_frame_id, header, transform)"
+    ]
+
+
+_START = "        self.start_x = self.odom_msg.pose.pose.position.x"
+
+
+@pytest.mark.parametrize(
+    ("made", "cancelled", "expected", "replacement"),
+    [
+        (
+            "        self.node.create_timer(0.05, self._travelled)\n",
+            "",
+            "the timer is not kept on the skill, so nothing cancels it",
+            "self.travelled_timer = self.node.create_timer(0.05, self._travelled)",
+        ),
+        (
+            "        self.timer = self.node.create_timer(0.05, self._travelled)\n",
+            "",
+            "self.timer is never cancelled",
+            None,
+        ),
+        (
+            "        self.timer = self.node.create_timer(0.05, self._travelled)\n",
+            "        self.timer.cancel()\n",
+            None,
+            None,
+        ),
+        (
+            "        timer = self.node.create_timer(0.05, self._travelled)\n"
+            "        timer.cancel()\n",
+            "",
+            None,
+            None,
+        ),
+    ],
+    ids=["not kept", "never cancelled", "cancelled in stopping", "local, cancelled"],
+)
+def test_a_timer_must_be_kept_and_cancelled(
+    move_forward: tuple[Capability, SkillSpec],
+    made: str,
+    cancelled: str,
+    expected: str | None,
+    replacement: str | None,
+) -> None:
+    source = GOOD.replace(_START, made + _START, 1).replace(
+        '        """Halt the base."""\n', '        """Halt the base."""\n' + cancelled, 1
+    )
+    found = [f for f in run(source, move_forward).findings if f.check == "handles"]
+    if expected is None:
+        assert found == []
+    else:
+        assert [f.replacement for f in found] == [replacement]
+        assert found[0].message.startswith(expected)
 
 
 def test_a_tf2_listener_counts_as_using_the_transform_tree(
@@ -424,3 +543,61 @@ def test_a_zero_twist_made_of_numbers_is_pointed_to_twist_and_its_publish_sugges
         f.message.endswith("; a zero command is Twist(), every field of it is 0") for f in found
     )
     assert {f.replacement for f in found} == {"self.cmd_vel_publisher.publish(Twist())"}
+
+
+def test_a_constant_a_message_type_does_not_declare_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    capability, spec = move_forward
+    source = GOOD.replace(
+        "        self.cmd_vel_publisher.publish(Twist())\n\n    @resetting",
+        "        self.cmd_vel_publisher.publish(Twist(linear=Twist.STOP))\n\n    @resetting",
+        1,
+    )
+    report = check_skill(source, capability=capability, spec=spec, catalog=catalog)
+    assert messages(report, "grounding") == [
+        "geometry_msgs/msg/Twist has no constant 'STOP' (its constants: none); the skill's "
+        "own: self.LINEAR_VELOCITY_MAX"
+    ]
+
+
+def test_a_message_of_another_type_handed_to_a_handle_is_an_error_and_wrapped_when_it_fits() -> (
+    None
+):
+    skill = SHIPPED_CAPABILITIES / "skills" / "navigate_to_point.py"
+    source = (
+        skill.read_text(encoding="utf-8")
+        .replace(
+            "from geometry_msgs.msg import Twist",
+            "from geometry_msgs.msg import PoseStamped, Twist",
+        )
+        .replace("send_goal_async(goal, feedback", "send_goal_async(target, feedback")
+        .replace(
+            "        goal = NavigateToPose.Goal()\n",
+            "        goal = NavigateToPose.Goal()\n        target = PoseStamped()\n",
+        )
+        .replace(
+            "self.cmd_vel_publisher.publish(Twist())",
+            "self.cmd_vel_publisher.publish(PoseStamped())",
+        )
+    )
+    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    report = check_skill(
+        source,
+        capability=load_capability(SHIPPED_CAPABILITIES / "navigate-to-point.ttl").capability,
+        spec=load_spec(SHIPPED_CAPABILITIES / "navigate-to-point.spec.yaml"),
+        catalog=catalog,
+    )
+    found = [f for f in report.findings if "takes a" in f.message]
+    assert [f.message for f in found] == [
+        "self.navigate_to_pose_client.send_goal_async takes a "
+        "nav2_msgs/action/NavigateToPose.Goal, not a geometry_msgs/msg/PoseStamped: put it in "
+        "one, NavigateToPose.Goal(pose=target)",
+        "self.cmd_vel_publisher.publish takes a geometry_msgs/msg/Twist, not a "
+        "geometry_msgs/msg/PoseStamped",
+    ]
+    assert found[0].replacement is not None
+    assert "send_goal_async(NavigateToPose.Goal(pose=target), feedback_callback=" in (
+        found[0].replacement
+    )

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import ast
 import builtins
+import re
 import textwrap
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -27,7 +28,13 @@ from dataclasses import dataclass
 from skillwright.generation.card import latest_message_attribute
 from skillwright.generation.model import InterfaceRef, Skeleton
 from skillwright.generation.names import python_import
-from skillwright.generation.skeleton import SKELETON_NOTE, handle_attribute, is_tf
+from skillwright.generation.skeleton import (
+    SKELETON_NOTE,
+    handle_attribute,
+    helper_dependencies,
+    is_tf,
+    skeleton_helpers,
+)
 from skillwright.interfaces.inventory import Interface, MessageField
 
 __all__ = [
@@ -102,7 +109,14 @@ def usage(skeleton: Skeleton, methods: Mapping[str, str]) -> Usage:
         for statement in method.body:
             if ast.unparse(statement) not in prologue:
                 mentioned |= _self_names(statement)
-    helpers = tuple(h for h in skeleton.helpers if h in mentioned)
+    offered = skeleton_helpers(skeleton.interfaces, skeleton.helpers)
+    called = helper_dependencies([h for h in skeleton.helpers if h in mentioned], offered)
+    helpers = tuple(h for h in skeleton.helpers if h in called)
+    through_helpers = {
+        name
+        for helper in helpers
+        for name in re.findall(r"self\.(\w+)", "\n".join(offered[helper]))
+    }
     used = []
     for interface in skeleton.interfaces:
         names = {handle_attribute(interface)}
@@ -110,12 +124,7 @@ def usage(skeleton: Skeleton, methods: Mapping[str, str]) -> Usage:
             names |= {"tf_buffer", "_transform"}
         elif interface.role == "subscribe":
             names.add(latest_message_attribute(interface))
-        via_helper = (
-            "_stop_base" in helpers
-            and interface.role == "publish"
-            and (interface.type_name.rsplit("/", 1)[-1] in {"Twist", "TwistStamped"})
-        )
-        if names & mentioned or via_helper:
+        if names & (mentioned | through_helpers):
             used.append(interface)
     return Usage(tuple(used), helpers)
 

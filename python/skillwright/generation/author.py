@@ -9,7 +9,10 @@
 3. The methods go into the skeleton, rebuilt with only the interfaces and helpers the
    behaviour uses (:mod:`~skillwright.generation.assemble`), and the result is validated (the
    static checks, and whatever later stages the caller adds: run, simulation).
-4. Every method with an error — a finding on its lines, or an answer that failed outright —
+4. Where the checks know the right statement for every error of a method (the wait for a
+   first message, a zero command, a loop with a sleep), it is put in place of the flagged
+   one without asking the model: an attempt that costs no model time.
+5. Every method with an error — a finding on its lines, or an answer that failed outright —
    is asked for again within ``attempts`` per method: its request once more with every
    problem found so far, the answer prefilled with the latest answer's statements before its
    first error (so the model continues where it went wrong, without the wrong lines to copy).
@@ -21,7 +24,9 @@
 from __future__ import annotations
 
 import ast
+import itertools
 import re
+import textwrap
 import threading
 import time
 from collections.abc import Callable, Collection, Sequence
@@ -71,6 +76,9 @@ SkeletonBuilder = Callable[[Sequence[InterfaceRef], Collection[str] | None], Ske
 """Builds the skeleton for these interfaces and helpers (``None``: every helper offered)."""
 
 _MAX_HELPERS = 4
+_MAX_FIX_ROUNDS = 3
+"""Rounds of the checks' own fixes per skill (they cost no model time, but a fix may meet a
+new finding that suggests the old statement back)."""
 _MAX_PROBLEMS = 6
 
 
@@ -174,11 +182,10 @@ class _Author:
         number = len(target.attempts) + 1
         # Greedy decoding gives the first answer, and the first repair of an answer that was
         # written out; an answer that looped or ran too long would only come back the same
-        # way, so its repair samples at once.
-        previous = target.attempts[-1] if target.attempts else None
-        greedy = number == 1 or (
-            number == 2 and previous is not None and previous.finish not in _DEAD_ENDS
-        )
+        # way, so its repair samples at once. Fixes the checks made count as the answer
+        # they fixed.
+        answers = [a for a in target.attempts if a.finish != "fixed"]
+        greedy = not answers or (len(answers) == 1 and answers[0].finish not in _DEAD_ENDS)
         temperature = 0.0 if greedy else self.settings.repair_temperature
         seed = self.settings.seed + number
         self.emit(AttemptStarted(target.name, target.kind, number))
@@ -367,49 +374,98 @@ def _problems(
 
 
 def _resume_point(target: _Target, code: str, judgement: _Judgement, error: Finding) -> str:
-    """``code`` (an answer of ``target``) up to the statement of its body that holds the
-    ``error``, followed by the statement the check suggests instead when there is one and
-    the flagged statement is a plain one (or a loop) that it can take the place of; the
-    target's own prefill when the statement cannot be told."""
-    statement = _body_statement_at(judgement, target.name, error.line)
+    """``code`` (an answer of ``target``) up to the statement that holds the ``error`` (in
+    its body, or nested in a loop or branch of it), followed by the statement the check
+    suggests instead when there is one and the flagged statement is a plain one (or a loop)
+    that it can take the place of; the target's own prefill when the statement cannot be
+    told."""
+    found = _statements_at(judgement, target.name, error.line, error.column)
     method = parse_method(code)
-    if statement is None or method is None:
+    if found is None or method is None:
         return target.prefill
-    key = ast.unparse(statement)
-    cut = next((s.lineno for s in method.body if ast.unparse(s) == key), None)
-    if cut is None:
+    top, inner = found
+    key = ast.unparse(top)
+    mine = next((s for s in method.body if ast.unparse(s) == key), None)
+    if mine is None:
         return target.prefill
-    kept = "".join(code.splitlines(keepends=True)[: cut - 1])
+    lines = code.splitlines(keepends=True)
+    cut = mine.lineno + inner.lineno - top.lineno
+    kept = "".join(lines[: cut - 1])
     if len(kept) < len(target.prefill):
         kept = target.prefill
-    if error.replacement is not None and _replaceable(statement):
-        kept += f"        {error.replacement}\n"
+    elif error.replacement is not None and _replaceable(inner):
+        kept += _indented(error.replacement, lines[cut - 1])
     return kept
 
 
+def _indented(replacement: str, line: str) -> str:
+    """``replacement`` (statements; empty for none) indented as ``line`` is."""
+    if not replacement:
+        return ""
+    return textwrap.indent(replacement, line[: len(line) - len(line.lstrip())]) + "\n"
+
+
+def _apply_replacements(
+    target: _Target, code: str, judgement: _Judgement, errors: Sequence[Finding]
+) -> str | None:
+    """``code`` (the answer of ``target`` in the judged file) with each flagged statement
+    replaced by the one its finding suggests; ``None`` unless every error has one that
+    applies and the result is a different method that parses."""
+    method = parse_method(code)
+    if method is None or not errors:
+        return None
+    lines = code.splitlines(keepends=True)
+    spans: dict[tuple[int, int], str] = {}
+    for error in errors:
+        found = _statements_at(judgement, target.name, error.line, error.column)
+        if error.replacement is None or found is None or not _replaceable(found[1]):
+            return None
+        top, inner = found
+        mine = next((s for s in method.body if ast.unparse(s) == ast.unparse(top)), None)
+        if mine is None:
+            return None
+        first = mine.lineno + inner.lineno - top.lineno
+        spans[(first, mine.lineno + (inner.end_lineno or inner.lineno) - top.lineno)] = (
+            error.replacement
+        )
+    ordered = sorted(spans, reverse=True)
+    if any(later[0] <= earlier[1] for later, earlier in itertools.pairwise(ordered)):
+        return None  # overlapping statements: one fix would undo another
+    for first, last in ordered:
+        lines[first - 1 : last] = [_indented(spans[(first, last)], lines[first - 1])]
+    fixed = "".join(lines)
+    return fixed if fixed != code and parse_method(fixed) is not None else None
+
+
 def _replaceable(statement: ast.stmt) -> bool:
-    """Whether a check's suggested statement may take the place of ``statement`` whole: a
-    plain statement, a loop, or a guard that only raises (``if not ...: raise ...``)."""
-    if isinstance(statement, ast.Assign | ast.AnnAssign | ast.Expr | ast.While):
-        return True
-    return (
-        isinstance(statement, ast.If)
-        and not statement.orelse
-        and all(isinstance(s, ast.Raise) for s in statement.body)
-    )
+    """Whether a check's suggested statements may take the place of ``statement`` whole: a
+    plain statement, a loop, or an ``if`` (a guard on something that does not exist, which
+    the suggestion replaces by what it comes to)."""
+    return isinstance(statement, ast.Assign | ast.AnnAssign | ast.Expr | ast.While | ast.If)
 
 
-def _body_statement_at(judgement: _Judgement, name: str, line: int) -> ast.stmt | None:
+def _statements_at(
+    judgement: _Judgement, name: str, line: int, column: int
+) -> tuple[ast.stmt, ast.stmt] | None:
+    """(statement of the method's body, innermost statement in it) holding the position
+    ``line``:``column`` (1-based column; 0 for anywhere on the line) of the judged file."""
     tree = ast.parse(judgement.assembly.code)
     for cls in tree.body:
         if isinstance(cls, ast.ClassDef) and cls.name == judgement.skeleton.class_name:
             for member in cls.body:
                 if isinstance(member, ast.FunctionDef) and member.name == name:
-                    return next(
-                        (s for s in member.body if s.lineno <= line <= (s.end_lineno or s.lineno)),
-                        None,
-                    )
+                    holding = [s for s in member.body if _holds(s, line, column)]
+                    if not holding:
+                        return None
+                    inner = [s for s in ast.walk(holding[0]) if isinstance(s, ast.stmt)]
+                    return holding[0], [s for s in inner if _holds(s, line, column)][-1]
     return None
+
+
+def _holds(statement: ast.stmt, line: int, column: int) -> bool:
+    start = (statement.lineno, statement.col_offset + 1 if column else 0)
+    end = (statement.end_lineno or statement.lineno, statement.end_col_offset or 10**6)
+    return start <= (line, column) <= end
 
 
 def _score(attempt: Attempt) -> tuple[int, int, int, int]:
@@ -548,6 +604,43 @@ class _Skill:
                 out.append((target, _problems(last, mine, lines), start))
         return out
 
+    def fixes(self, judgement: _Judgement) -> list[tuple[_Target, str, list[str]]]:
+        """Methods whose every error comes with the statement to put in its place, with the
+        latest answer so fixed and what was fixed."""
+        lines = judgement.assembly.code.splitlines()
+        out = []
+        for target in self.targets.values():
+            last = target.attempts[-1]
+            mine = judgement.mine(target.name)
+            if last.code is None or not last.errors or mine is None:
+                continue
+            errors = [f for f in mine if f.severity == "error"]
+            fixed = _apply_replacements(target, last.code, judgement, errors)
+            if fixed is not None:
+                out.append((target, fixed, _problems(last, mine, lines)))
+        return out
+
+    def fix(self, target: _Target, code: str, problems: list[str]) -> None:
+        attempt = Attempt(
+            target=target.name,
+            kind=target.kind,
+            number=len(target.attempts) + 1,
+            temperature=0.0,
+            seed=0,
+            finish="fixed",
+            note="the statements the checks suggested, put in place of the flagged ones",
+            code=code,
+            response="",
+            seconds=0.0,
+            problems=problems,
+        )
+        target.attempts.append(attempt)
+        self.author.log.append(
+            f"===== checks' fix of {target.name} (attempt {attempt.number}) =====\n"
+            f"```python\n{code}```"
+        )
+        self.author.emit(AttemptFinished(attempt))
+
     def repair(self, target: _Target, problems: list[str], prefill: str) -> None:
         # A repair branches off where the method was first asked for: the same request with
         # everything found so far, continuing the latest answer up to its first error.
@@ -576,13 +669,21 @@ def author_skill(
     skill.write_states(spec)
     skill.write_helpers()
     judgement = skill.judge(_latest)
-    for _round in range(settings.attempts - 1):
-        failing = skill.failing(judgement)
-        if not failing:
+    rounds = fixes = 0
+    # The checks' own fixes cost no model time, so they also follow the last repairs.
+    while skill.failing(judgement):
+        fixable = skill.fixes(judgement) if fixes < _MAX_FIX_ROUNDS else []
+        if fixable:
+            fixes += 1
+            for target, code, problems in fixable:
+                skill.fix(target, code, problems)
+        elif rounds < settings.attempts - 1:
+            rounds += 1
+            for target, problems, prefill in skill.failing(judgement):
+                skill.repair(target, problems, prefill)
+            skill.write_helpers()  # a repair may call a helper nobody has written yet
+        else:
             break
-        for target, problems, prefill in failing:
-            skill.repair(target, problems, prefill)
-        skill.write_helpers()  # a repair may call a helper nobody has written yet
         judgement = skill.judge(_latest)
     # The final file takes each method's best answer (fewest errors, then warnings), chosen
     # once: judging the final file counts again and may move a score, not the choice.

@@ -19,7 +19,12 @@ from dataclasses import dataclass
 from skillwright.capability.model import Capability
 from skillwright.generation.model import InterfaceRef, Skeleton
 from skillwright.generation.names import python_import, snake_case
-from skillwright.generation.skeleton import class_constants, handle_attribute, is_tf
+from skillwright.generation.skeleton import (
+    class_constants,
+    handle_attribute,
+    helper_summaries,
+    is_tf,
+)
 from skillwright.interfaces.inventory import Interface, MessageField
 
 __all__ = ["CardInterface", "field_paths", "latest_message_attribute", "task_card"]
@@ -32,16 +37,6 @@ _TIME_TYPES = {
 }
 _SHORT_TYPES = {"float64": "", "float32": "", "string": "str", "bool": "bool"}
 _ROLES = {"topic": ("message",), "service": ("request", "response"), "action": ("goal", "result")}
-_HELPER_LINES = {
-    "_wait_until": "self._wait_until(condition, timeout, what) waits while callbacks run, else "
-    "raises RuntimeError",
-    "_result_of": "self._result_of(future, timeout, what) waits for a future and returns its "
-    "result",
-    "_stop_base": "self._stop_base() commands zero velocity",
-    "_transform": "self._transform(target_frame, source_frame, timeout) returns the latest "
-    "TransformStamped (transform.translation.{x,y,z}, transform.rotation.{x,y,z,w}) or raises "
-    "RuntimeError",
-}
 _ROLE_WORDS = {
     "message": "",
     "request": "Request",
@@ -188,7 +183,8 @@ def task_card(
     if interfaces:
         lines.append("Interfaces (handles made in starting, released in resetting):")
         lines += [_interface_line(item) for item in interfaces]
-    helpers = [_HELPER_LINES[name] for name in skeleton.helpers if name in _HELPER_LINES]
+    summaries = helper_summaries(skeleton.interfaces)
+    helpers = [summaries[name] for name in skeleton.helpers if name in summaries]
     if helpers:
         lines.append("Helpers: " + "; ".join(helpers) + ".")
     return "\n".join(lines)

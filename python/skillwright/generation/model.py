@@ -69,9 +69,10 @@ class Skeleton(BaseModel):
     )
 
 
-AttemptFinish = Literal["stop", "length", "repetition", "unparsable", "cancelled"]
+AttemptFinish = Literal["stop", "length", "repetition", "unparsable", "cancelled", "fixed"]
 """How an attempt ended: a complete method, the token limit, a loop the guard stopped, an
-answer that is not one method of Python, or the user's cancel."""
+answer that is not one method of Python, the user's cancel; or ``fixed``: no model answer but
+the previous answer with the statements the checks suggested put in place."""
 
 
 class Attempt(BaseModel):

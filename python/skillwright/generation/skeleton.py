@@ -26,9 +26,12 @@ if TYPE_CHECKING:
 
 __all__ = [
     "SKELETON_NOTE",
+    "action_stem",
     "build_skeleton",
     "class_constants",
     "handle_attribute",
+    "helper_dependencies",
+    "helper_summaries",
     "mint_skill_iri",
     "skeleton_helpers",
     "topic_role",
@@ -260,6 +263,14 @@ def _module_head(
             continue
         module, name = python_import(interface.type_name, interface.kind)
         imports.setdefault(module, set()).add(name)
+        if interface.kind == "action" and f"_{action_stem(interface)}_result" in helpers:
+            imports.setdefault("action_msgs.msg", set()).add("GoalStatus")
+            if interface.type_name in _MOVEIT_RESULTS:
+                imports.setdefault("moveit_msgs.msg", set()).add("MoveItErrorCodes")
+    if "_position_goal" in helpers:
+        imports.setdefault("geometry_msgs.msg", set()).add("Pose")
+        imports.setdefault("moveit_msgs.msg", set()).update({"Constraints", "PositionConstraint"})
+        imports.setdefault("shape_msgs.msg", set()).add("SolidPrimitive")
     header = f"skill for the capability {capability.name}"
     if capability.resource:
         header += f" of {capability.resource.name}"
@@ -326,6 +337,13 @@ def _init(
         out.add(f"        self.{parameter.attribute}: {parameter.python_type} = {default}")
     for interface in interfaces:
         out.add(f"        self.{handle_attribute(interface)} = None")
+        if interface.kind == "action":
+            stem = action_stem(interface)
+            out.add(
+                f"        self.{stem}_goal_handle = None",
+                f"        self.{stem}_result_future = None",
+                f"        self.{stem}_feedback = None",
+            )
         if is_tf(interface):
             out.add("        self.tf_buffer: Buffer | None = None")
         elif interface.role == "subscribe":
@@ -409,6 +427,11 @@ def skeleton_helpers(
             "        self._wait_until(future.done, timeout, what)",
             "        return future.result()",
         ]
+    for interface in interfaces:
+        if interface.kind == "action":
+            helpers.update(_action_helpers(interface))
+    if any(i.type_name in _MOVE_GROUP for i in interfaces):
+        helpers["_position_goal"] = _POSITION_GOAL
     if any(is_tf(i) for i in interfaces):
         helpers["_transform"] = [
             "    def _transform(self, target_frame: str, source_frame: str, timeout: float):",
@@ -445,14 +468,166 @@ def skeleton_helpers(
     return helpers
 
 
-_HELPER_NEEDS = {"_result_of": "_wait_until"}
-"""Skeleton helpers that call another one."""
-
-
-def _with_dependencies(helpers: Collection[str]) -> set[str]:
+def helper_dependencies(helpers: Collection[str], offered: dict[str, list[str]]) -> set[str]:
+    """``helpers`` and every offered helper they call or hand over, transitively."""
     wanted = set(helpers)
-    wanted |= {_HELPER_NEEDS[h] for h in helpers if h in _HELPER_NEEDS}
+    pending = list(wanted)
+    while pending:
+        for name in re.findall(r"self\.(_\w+)", "\n".join(offered.get(pending.pop(), []))):
+            if name in offered and name not in wanted:
+                wanted.add(name)
+                pending.append(name)
     return wanted
+
+
+def helper_summaries(interfaces: Sequence[InterfaceRef]) -> dict[str, str]:
+    """One line per helper a model may call, for the task card (callbacks are left out)."""
+    out = dict(_GENERIC_SUMMARIES)
+    for interface in interfaces:
+        if interface.kind != "action":
+            continue
+        stem, cls, name = action_stem(interface), type_class(interface), interface.name
+        out[f"_send_{stem}_goal"] = (
+            f"self._send_{stem}_goal(goal, timeout) sends a {cls}.Goal() to {name} and waits "
+            f"until it is accepted, else raises RuntimeError; while it runs self.{stem}_feedback "
+            f"is the latest {cls}.Feedback or None, and self.{stem}_result_future.done() says "
+            "whether it ended"
+        )
+        out[f"_{stem}_result"] = (
+            f"self._{stem}_result(timeout) waits for its {cls}.Result and returns it, else "
+            "raises RuntimeError (also when the goal did not succeed)"
+        )
+        out[f"_cancel_{stem}_goal"] = (
+            f"self._cancel_{stem}_goal(timeout) cancels it if it is in progress"
+        )
+    if any(i.type_name in _MOVE_GROUP for i in interfaces):
+        out["_position_goal"] = (
+            "self._position_goal(group, link, frame, x, y, z, tolerance) returns a "
+            "MoveGroup.Goal() that plans and executes a motion of link (planning group group) "
+            "to the point x, y, z in frame within tolerance metres, any orientation; set "
+            "goal.request's other fields on it"
+        )
+    return out
+
+
+_GENERIC_SUMMARIES = {
+    "_wait_until": "self._wait_until(condition, timeout, what) waits while callbacks run, else "
+    "raises RuntimeError",
+    "_result_of": "self._result_of(future, timeout, what) waits for a future and returns its "
+    "result",
+    "_stop_base": "self._stop_base() commands zero velocity",
+    "_transform": "self._transform(target_frame, source_frame, timeout) returns the latest "
+    "TransformStamped (transform.translation.{x,y,z}, transform.rotation.{x,y,z,w}) or raises "
+    "RuntimeError",
+}
+
+
+def action_stem(interface: InterfaceRef) -> str:
+    """The stem of an action's handle and helpers: ``navigate_to_pose`` for the handle
+    ``navigate_to_pose_client`` and the helper ``_send_navigate_to_pose_goal``."""
+    return handle_attribute(interface).removesuffix("_client")
+
+
+_MOVE_GROUP = frozenset({"moveit_msgs/action/MoveGroup", "moveit_msgs/MoveGroup"})
+"""MoveIt's move-group action: a goal is a motion plan request with constraints."""
+_MOVEIT_RESULTS = frozenset(
+    {*_MOVE_GROUP, "moveit_msgs/action/ExecuteTrajectory", "moveit_msgs/ExecuteTrajectory"}
+)
+"""MoveIt actions whose result carries a MoveItErrorCodes error_code: a goal can end in
+SUCCEEDED with a failure code."""
+
+_POSITION_GOAL = [
+    "    def _position_goal(",
+    "        self, group: str, link: str, frame: str,",
+    "        x: float, y: float, z: float, tolerance: float,",
+    "    ) -> MoveGroup.Goal:",
+    '        """A move-group goal that plans and executes a motion of ``link`` (planning group',
+    "        ``group``) to the point (x, y, z) in ``frame``, within ``tolerance`` metres, in any",
+    '        orientation."""',
+    "        region = SolidPrimitive()",
+    "        region.type = SolidPrimitive.SPHERE",
+    "        region.dimensions = [tolerance]",
+    "        target = Pose()",
+    "        target.position.x = x",
+    "        target.position.y = y",
+    "        target.position.z = z",
+    "        target.orientation.w = 1.0",
+    "        constraint = PositionConstraint()",
+    "        constraint.header.frame_id = frame",
+    "        constraint.link_name = link",
+    "        constraint.constraint_region.primitives = [region]",
+    "        constraint.constraint_region.primitive_poses = [target]",
+    "        constraint.weight = 1.0",
+    "        goal = MoveGroup.Goal()",
+    "        goal.request.group_name = group",
+    "        goal.request.goal_constraints = [Constraints(position_constraints=[constraint])]",
+    "        goal.request.num_planning_attempts = 1",
+    "        goal.planning_options.plan_only = False",
+    "        return goal",
+]
+
+
+def _action_helpers(interface: InterfaceRef) -> dict[str, list[str]]:
+    """Sending a goal, its feedback, waiting for its result and cancelling it: the goal
+    handle's life, which small models confuse with the client's."""
+    stem, name = action_stem(interface), interface.name
+    client = f"self.{handle_attribute(interface)}"
+    handle, future = f"self.{stem}_goal_handle", f"self.{stem}_result_future"
+    outcome = [
+        "        if response.status != GoalStatus.STATUS_SUCCEEDED:",
+        f'            raise RuntimeError(f"the {name} goal ended with status {{response.status}}")',
+    ]
+    if interface.type_name in _MOVEIT_RESULTS:
+        outcome += [
+            "        if response.result.error_code.val != MoveItErrorCodes.SUCCESS:",
+            "            raise RuntimeError(",
+            f'                f"{name} failed with error code {{response.result.error_code.val}}"',
+            "            )",
+        ]
+    return {
+        f"_send_{stem}_goal": [
+            f"    def _send_{stem}_goal(self, goal, timeout: float) -> None:",
+            f'        """Sends ``goal`` to {name} and waits until the server accepts it;',
+            "        raises RuntimeError if it rejects the goal or does not answer within",
+            '        ``timeout`` s."""',
+            f"        self.{stem}_feedback = None",
+            f"        future = {client}.send_goal_async(",
+            f"            goal, feedback_callback=self._on_{stem}_feedback",
+            "        )",
+            f'        goal_handle = self._result_of(future, timeout, "answer to the {name} goal")',
+            "        if not goal_handle.accepted:",
+            f'            raise RuntimeError("{name} rejected the goal")',
+            f"        {handle} = goal_handle",
+            f"        {future} = goal_handle.get_result_async()",
+        ],
+        f"_on_{stem}_feedback": [
+            f"    def _on_{stem}_feedback(self, message) -> None:",
+            f'        """Keeps the latest feedback of the {name} goal."""',
+            f"        self.{stem}_feedback = message.feedback",
+        ],
+        f"_{stem}_result": [
+            f"    def _{stem}_result(self, timeout: float):",
+            f'        """Waits for the result of the goal sent with self._send_{stem}_goal and',
+            "        returns it; raises RuntimeError if none was sent, none came within",
+            '        ``timeout`` s or the goal did not succeed."""',
+            f"        if {future} is None:",
+            f'            raise RuntimeError("no goal was sent to {name}")',
+            f'        response = self._result_of({future}, timeout, "result of the {name} goal")',
+            f"        {handle} = None",
+            *outcome,
+            "        return response.result",
+        ],
+        f"_cancel_{stem}_goal": [
+            f"    def _cancel_{stem}_goal(self, timeout: float) -> None:",
+            f'        """Cancels the goal in progress on {name}, if any, and waits until the',
+            "        server confirms; raises RuntimeError without a confirmation within",
+            '        ``timeout`` s."""',
+            f"        if {handle} is not None:",
+            f"            future = {handle}.cancel_goal_async()",
+            f'            self._result_of(future, timeout, "cancellation of the {name} goal")',
+            f"            {handle} = None",
+        ],
+    }
 
 
 def _helpers(out: _Writer, helpers: dict[str, list[str]]) -> None:
@@ -500,8 +675,8 @@ def build_skeleton(
     skill_iri = mint_skill_iri(capability, spec.name)
     parameters = _parameters(capability.inputs) + _parameters(capability.outputs)
 
-    wanted = None if helpers is None else _with_dependencies(helpers)
-    offered = skeleton_helpers(interfaces, wanted or ())
+    offered = skeleton_helpers(interfaces, helpers or ())
+    wanted = None if helpers is None else helper_dependencies(helpers, offered)
     helper_code = {n: c for n, c in offered.items() if wanted is None or n in wanted}
     prologues: dict[str, list[str]] = {}
     epilogues: dict[str, list[str]] = {}

@@ -78,6 +78,11 @@ class _Progress:
 
 def _attempt_line(event: AttemptFinished) -> str:
     attempt = event.attempt
+    if attempt.finish == "fixed":
+        return (
+            f"  {attempt.target} answer {attempt.number}: fixed with the checks' suggestions "
+            "(no model time)"
+        )
     verdict = "ok" if attempt.finish == "stop" else attempt.finish
     note = f" — {attempt.note}" if attempt.note else ""
     return (

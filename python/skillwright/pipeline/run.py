@@ -496,9 +496,12 @@ def _generate(
         rate = written / seconds_writing if seconds_writing > 0 else None
         prompt_tokens = max((a.prompt_tokens or 0 for a in authored.attempts), default=0)
         stages.emit(GenerationStats(prompt_tokens or None, written, rate, seconds))
-        repairs = sum(a.number > 1 for a in authored.attempts)
+        answers = [a for a in authored.attempts if a.finish != "fixed"]
+        repairs = sum(a.number > 1 for a in answers)
+        fixes = len(authored.attempts) - len(answers)
         summary.append(
-            f"{len(authored.attempts)} answers ({repairs} repairs), {written} tokens"
+            f"{len(answers)} answers ({repairs} repairs), {written} tokens"
+            + (f", {fixes} fixed by the checks" if fixes else "")
             + (f", {rate:.1f} tokens/s" if rate else "")
             + (f", {behaviour.repair_runs} runs" if behaviour.repair_runs else "")
             + (f", {behaviour.repair_sims} simulations" if behaviour.repair_sims else "")

@@ -20,15 +20,20 @@ _ROLE_SUFFIX = {
 }
 
 
-def _tree(fields: Sequence[MessageField], nested: dict[str, FieldTree]) -> FieldTree:
+def _tree(
+    fields: Sequence[MessageField],
+    nested: dict[str, FieldTree],
+    constants: dict[str, list[str]],
+) -> FieldTree:
     tree: FieldTree = {}
     for field in fields:
         if field.builtin or not field.resolved:
             tree[field.name] = None
             continue
-        subtree = _tree(field.fields, nested)
+        subtree = _tree(field.fields, nested, constants)
         tree[field.name] = subtree
         nested.setdefault(field.base_type, subtree)
+        constants.setdefault(field.base_type, [c.name for c in field.constants])
     return tree
 
 
@@ -42,6 +47,7 @@ def catalog_from_inventory(inventory: Inventory) -> Catalog:
     entries: dict[str, CatalogEntry] = {}
     fields: dict[str, FieldTree] = {}
     nested: dict[str, FieldTree] = {}
+    constants: dict[str, list[str]] = {}
     for interface in inventory.interfaces:
         entries.setdefault(
             interface.name,
@@ -50,7 +56,9 @@ def catalog_from_inventory(inventory: Inventory) -> Catalog:
         for role, definition in interface.definitions.items():
             if definition.fields is None or role not in _ROLE_SUFFIX:
                 continue
-            fields[interface.type_name + _ROLE_SUFFIX[role]] = _tree(definition.fields, nested)
+            key = interface.type_name + _ROLE_SUFFIX[role]
+            fields[key] = _tree(definition.fields, nested, constants)
+            constants[key] = [c.name for c in definition.constants]
     for type_name, tree in nested.items():
         fields.setdefault(type_name, tree)
-    return Catalog(entries=entries, fields=fields)
+    return Catalog(entries=entries, fields=fields, constants=constants)

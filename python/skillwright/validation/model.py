@@ -35,6 +35,10 @@ class Catalog(BaseModel):
 
     entries: dict[str, CatalogEntry] = Field(default_factory=dict, description="By name.")
     fields: dict[str, FieldTree] = Field(default_factory=dict, description="By type name.")
+    constants: dict[str, list[str]] = Field(
+        default_factory=dict,
+        description="Constant names by type name, for the types whose definition is known.",
+    )
 
 
 class Finding(BaseModel):

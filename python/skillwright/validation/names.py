@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import ast
 import builtins
+import copy
 import difflib
 import symtable
 from collections.abc import Iterator
@@ -134,6 +135,7 @@ RCLPY_API: dict[str, frozenset[str]] = {
         }
     ),
     "rate": frozenset({"sleep", "destroy"}),
+    "tf_listener": frozenset({"buffer", "unregister", "node"}),
     "logger": _LOGGER,
 }
 """Attributes of rclpy's objects a skill may use, by the kind of object."""
@@ -145,6 +147,7 @@ _MAKERS = {
     "create_timer": "timer",
     "create_rate": "rate",
     "ActionClient": "action_client",
+    "TransformListener": "tf_listener",
     "get_logger": "logger",
 }
 _KIND_WORDS = {
@@ -155,6 +158,7 @@ _KIND_WORDS = {
     "action_client": "an ActionClient",
     "timer": "a Timer",
     "rate": "a Rate",
+    "tf_listener": "a tf2 TransformListener",
     "logger": "the logger",
 }
 _BASE_ATTRIBUTES = frozenset({"node"})
@@ -425,6 +429,8 @@ _KIND_HINTS = {
     "action_client": "; send a goal with send_goal_async(goal), which gives a future of the goal "
     "handle",
     "client": "; call the service with call_async(request), which gives a future of the response",
+    "tf_listener": "; a TransformListener only fills its buffer: look transforms up in the "
+    "buffer (lookup_transform)",
 }
 
 
@@ -470,6 +476,8 @@ def _goal_handle_hint(receiver: ast.expr) -> str:
 
 def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
     defined, kinds = _class_facts(cls)
+    guards = _guards(cls)
+    statement_of = _simple_statements(cls)
     findings = []
     for node in ast.walk(cls):
         if not isinstance(node, ast.Attribute) or not isinstance(node.ctx, ast.Load):
@@ -490,40 +498,156 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
             hint = wait[0]
         else:
             hint = _KIND_HINTS.get(kind, "")
+        replacement = wait[1] if wait is not None else None
+        guard = guards.get(id(node))
+        if kind == "publisher" and guard is not None:
+            hint = "; a publisher is ready from create_publisher until it is destroyed"
+            replacement = _without_guard(guard, "")
+        elif wait is not None and guard is not None:
+            replacement = _without_guard(guard, wait[1])
+        elif owner is not None and id(node) in statement_of:
+            right = f"{owner.split(': ', 1)[1]}.{node.attr}"
+            replacement = ast.unparse(statement_of[id(node)]).replace(ast.unparse(node), right)
         findings.append(
             _finding(
                 node,
                 f"{ast.unparse(node.value)} is {_KIND_WORDS[kind]}, which has no "
                 f"{node.attr!r} in rclpy{hint}",
-                wait[1] if wait is not None else None,
+                replacement,
             )
         )
     return findings
 
 
+def _simple_statements(tree: ast.AST) -> dict[int, ast.stmt]:
+    """The innermost simple (not compound) statement of every node inside one, by node id."""
+    return {
+        id(node): statement
+        for statement in ast.walk(tree)
+        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+        for node in ast.walk(statement)
+    }
+
+
+def _guards(cls: ast.ClassDef) -> dict[int, ast.If]:
+    """``if X.m():`` and ``if not X.m():`` without ``else``, by the ``X.m`` they test."""
+    out: dict[int, ast.If] = {}
+    for node in ast.walk(cls):
+        if not isinstance(node, ast.If) or node.orelse:
+            continue
+        test = node.test.operand if isinstance(node.test, ast.UnaryOp) else node.test
+        if isinstance(test, ast.Call) and isinstance(test.func, ast.Attribute) and not test.args:
+            out[id(test.func)] = node
+    return out
+
+
+def _without_guard(guard: ast.If, readying: str) -> str | None:
+    """What ``guard`` comes to once ``readying`` (statements; empty when the handle is always
+    ready) has run: those and the body for ``if X.m():``, those alone for ``if not X.m():
+    raise ...``; ``None`` for other guards."""
+    negated = isinstance(guard.test, ast.UnaryOp) and isinstance(guard.test.op, ast.Not)
+    if not negated:
+        return "\n".join([*filter(None, [readying]), *(ast.unparse(s) for s in guard.body)])
+    if all(isinstance(statement, ast.Raise) for statement in guard.body):
+        return readying
+    return None
+
+
 _NESTED = frozenset({"Request", "Response", "Goal", "Result", "Feedback", "Event", "Impl"})
+
+
+_FIELD_CLASSES = {
+    ("Twist", "linear"): "Vector3",
+    ("Twist", "angular"): "Vector3",
+    ("Pose", "position"): "Point",
+    ("Pose", "orientation"): "Quaternion",
+    ("Transform", "translation"): "Vector3",
+    ("Transform", "rotation"): "Quaternion",
+    ("PoseStamped", "pose"): "Pose",
+    ("TwistStamped", "twist"): "Twist",
+}
+"""The geometry messages' fields whose type a model turns into a nested class
+(``Twist.Linear`` for a Vector3): every ROS 2 install has these types."""
+
+
+def _nested_class(node: ast.AST, imports: dict[str, str]) -> tuple[str, str] | None:
+    """(class, made-up nested class) for ``Twist.Linear``; ``None`` for anything else."""
+    if (
+        isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id in imports
+        and node.attr[:1].isupper()
+        and not node.attr.isupper()
+        and node.attr not in _NESTED
+    ):
+        return node.value.id, node.attr
+    return None
+
+
+class _FieldClasses(ast.NodeTransformer):
+    """Puts the field's own class in place of made-up nested ones it knows."""
+
+    def __init__(self, imports: dict[str, str]) -> None:
+        self.imports = imports
+        self.unknown = False
+
+    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
+        nested = _nested_class(node, self.imports)
+        if nested is None:
+            return self.generic_visit(node)
+        known = _FIELD_CLASSES.get((nested[0], nested[1].lower()))
+        if known is None:
+            self.unknown = True
+            return node
+        return ast.copy_location(ast.Name(id=known, ctx=node.ctx), node)
+
+
+def _replacement(statement: ast.stmt, imports: dict[str, str]) -> str | None:
+    """The simple ``statement`` with the field classes in place, when all are known."""
+    fixer = _FieldClasses(imports)
+    fixed = fixer.visit(copy.deepcopy(statement))
+    return None if fixer.unknown else ast.unparse(fixed)
+
+
+_COMPOUND = (
+    ast.If,
+    ast.For,
+    ast.While,
+    ast.With,
+    ast.Try,
+    ast.FunctionDef,
+    ast.ClassDef,
+    ast.Match,
+)
 
 
 def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[Finding]:
     """``Odometry.Pose``: message classes have constants and, for services and actions, the
-    request/goal classes, but no classes for their fields."""
+    request/goal classes, but no classes for their fields. Where the field's type is a known
+    geometry message, the finding carries its simple statement with that class in place."""
+    statement_of = _simple_statements(tree)
     findings = []
     for node in ast.walk(tree):
-        if (
-            isinstance(node, ast.Attribute)
-            and isinstance(node.value, ast.Name)
-            and node.value.id in imports
-            and node.attr[:1].isupper()
-            and not node.attr.isupper()
-            and node.attr not in _NESTED
-        ):
-            findings.append(
-                _finding(
-                    node,
-                    f"{node.value.id}.{node.attr} does not exist: message classes have no "
-                    "classes for their fields; use the field's own type, or no annotation",
-                )
+        nested = _nested_class(node, imports)
+        if nested is None:
+            continue
+        owner, made_up = nested
+        known = _FIELD_CLASSES.get((owner, made_up.lower()))
+        replacement = None
+        if known is None:
+            hint = "use the field's own type, or no annotation"
+        else:
+            hint = f"{made_up.lower()} is a {known}: use {known}(...)"
+            statement = statement_of.get(id(node))
+            replacement = None if statement is None else _replacement(statement, imports)
+        findings.append(
+            _finding(
+                node,
+                f"{owner}.{made_up} does not exist: message classes have no classes for their "
+                f"fields; {hint}",
+                replacement,
             )
+        )
     return findings
 
 

@@ -11,6 +11,7 @@ says to abort; interfaces retrieved but unused, or used but not retrieved.
 from __future__ import annotations
 
 import ast
+import copy
 import io
 import re
 import tokenize
@@ -20,6 +21,7 @@ from dataclasses import dataclass, field
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.spec.model import PACKML_STATES, SkillSpec
+from skillwright.validation.loops import check_waits
 from skillwright.validation.model import Catalog, CheckReport, FieldTree, Finding
 from skillwright.validation.names import check_names
 
@@ -533,21 +535,63 @@ def _chain(node: ast.expr) -> tuple[ast.expr, list[str]]:
 def _walk_fields(
     ctx: _Context, node: ast.AST, tree: FieldTree, path: Sequence[str], type_name: str
 ) -> None:
+    missing = _missing_field(tree, path, type_name)
+    if missing is not None:
+        ctx.add("grounding", "error", node, missing[0])
+
+
+_SAME_AS = {
+    ("geometry_msgs/msg/TransformStamped", "pose", "position"): ("transform", "translation"),
+    ("geometry_msgs/msg/TransformStamped", "pose", "orientation"): ("transform", "rotation"),
+}
+"""Paths a model takes from a pose into a transform, which carries the same quantities."""
+
+
+def _missing_field(
+    tree: FieldTree, path: Sequence[str], type_name: str
+) -> tuple[str, list[str] | None] | None:
+    """The message for the first field of ``path`` the type does not have, and the path
+    that exists when it is clear which one was meant (a field one level further down, as
+    ``transform.translation`` for ``translation``); ``None`` when the path exists."""
     current: FieldTree | None = tree
     for index, part in enumerate(path):
         if current is None:
-            return  # attribute of a primitive or a list (e.g. .append): not a message field
+            return None  # attribute of a primitive or a list (e.g. .append): not a message field
         if part not in current:
             known = ", ".join(sorted(current)) or "none"
             where = ".".join(path[:index]) or "the message"
-            ctx.add(
-                "grounding",
-                "error",
-                node,
-                f"{type_name} has no field {part!r} in {where} (fields: {known})",
-            )
-            return
+            message = f"{type_name} has no field {part!r} in {where} (fields: {known})"
+            fixed = _meant(current, path, index, type_name)
+            if fixed is not None and _exists(tree, fixed):
+                message += f"; it is {'.'.join(fixed)}"
+                return message, fixed
+            return message, None
         current = current[part]
+    return None
+
+
+def _meant(
+    current: dict[str, FieldTree], path: Sequence[str], index: int, type_name: str
+) -> list[str] | None:
+    head, part = list(path[:index]), path[index]
+    same = _SAME_AS.get((type_name, part, path[index + 1] if index + 1 < len(path) else ""))
+    if index == 0 and same is not None:
+        return [*same, *path[2:]]
+    holders = [name for name, sub in current.items() if isinstance(sub, dict) and part in sub]
+    if len(holders) == 1:
+        return [*head, holders[0], *path[index:]]
+    return None
+
+
+def _exists(tree: FieldTree, path: Sequence[str]) -> bool:
+    current: FieldTree | None = tree
+    for part in path:
+        if current is None:
+            return True
+        if part not in current:
+            return False
+        current = current[part]
+    return True
 
 
 class _FieldVisitor(ast.NodeVisitor):
@@ -557,11 +601,41 @@ class _FieldVisitor(ast.NodeVisitor):
         self.ctx = ctx
         self.catalog = catalog
         self.bound = bound  # "name" or "self.attr" -> field-tree key
+        self.statement: ast.stmt | None = None
+        self.found: list[tuple[ast.stmt | None, ast.Attribute, str, str | None]] = []
+        """(simple statement, chain, message, the chain as it should read)"""
+
+    def visit(self, node: ast.AST) -> None:
+        if isinstance(node, ast.stmt) and not isinstance(node, _COMPOUND):
+            outer, self.statement = self.statement, node
+            super().visit(node)
+            self.statement = outer
+            return
+        super().visit(node)
+
+    def report(self) -> None:
+        """Adds the findings; each carries its statement with every chain in it that has a
+        clear fix fixed, when all of them have one."""
+        by_statement: dict[int, list[tuple[ast.Attribute, str | None]]] = {}
+        for statement, chain, _, fixed in self.found:
+            if statement is not None:
+                by_statement.setdefault(id(statement), []).append((chain, fixed))
+        for statement, chain, message, _ in self.found:
+            fixes = by_statement.get(id(statement), []) if statement is not None else []
+            replacement = None
+            if statement is not None and fixes and all(f is not None for _, f in fixes):
+                text = ast.unparse(statement)
+                for wrong, right in fixes:
+                    text = text.replace(ast.unparse(wrong), str(right))
+                replacement = text
+            self.ctx.add("grounding", "error", chain, message, replacement)
 
     def visit_Attribute(self, node: ast.Attribute) -> None:
         root, path = _chain(node)
         key = None
-        if isinstance(root, ast.Name) and root.id in self.bound:
+        if isinstance(root, ast.Call) and _is_transform_lookup(root):
+            key = _TRANSFORM_STAMPED
+        elif isinstance(root, ast.Name) and root.id in self.bound:
             key = self.bound[root.id]
         elif (
             isinstance(root, ast.Name)
@@ -572,9 +646,46 @@ class _FieldVisitor(ast.NodeVisitor):
             key = self.bound[f"self.{path[0]}"]
             path = path[1:]
         if key is not None and path and key in self.catalog.fields:
-            _walk_fields(self.ctx, node, self.catalog.fields[key], path, key)
+            missing = _missing_field(self.catalog.fields[key], path, key)
+            if missing is not None:
+                message, fixed = missing
+                right = None
+                if fixed is not None and not _has_subscript(node):
+                    whole = _chain(node)[1]
+                    prefix = whole[: len(whole) - len(path)]
+                    right = ".".join([ast.unparse(root), *prefix, *fixed])
+                self.found.append((self.statement, node, message, right))
             return
         self.generic_visit(node)
+
+
+def _has_subscript(node: ast.expr) -> bool:
+    return any(isinstance(n, ast.Subscript) for n in ast.walk(node))
+
+
+_COMPOUND = (ast.If, ast.For, ast.While, ast.With, ast.Try, ast.FunctionDef, ast.ClassDef)
+
+_TRANSFORM_STAMPED = "geometry_msgs/msg/TransformStamped"
+_TF_MESSAGE = "tf2_msgs/msg/TFMessage"
+
+
+def _is_transform_lookup(call: ast.Call) -> bool:
+    """``self._transform(...)`` (the skeleton's helper) or ``<buffer>.lookup_transform(...)``:
+    both give a TransformStamped."""
+    func = call.func
+    return isinstance(func, ast.Attribute) and (
+        func.attr == "lookup_transform"
+        or (func.attr == "_transform" and ast.unparse(func.value) == "self")
+    )
+
+
+def _with_transforms(catalog: Catalog) -> Catalog:
+    """The catalog with the fields of a TransformStamped (what a transform lookup gives),
+    taken from the transform tree's type when the robot has one."""
+    transforms = catalog.fields.get(_TF_MESSAGE, {}).get("transforms")
+    if not isinstance(transforms, dict) or _TRANSFORM_STAMPED in catalog.fields:
+        return catalog
+    return catalog.model_copy(update={"fields": {**catalog.fields, _TRANSFORM_STAMPED: transforms}})
 
 
 def _message_bindings(
@@ -596,7 +707,9 @@ def _message_bindings(
             target = node.targets[0]
             value = node.value
             key = None
-            if isinstance(value, ast.Call):
+            if isinstance(value, ast.Call) and _is_transform_lookup(value):
+                key = _TRANSFORM_STAMPED
+            elif isinstance(value, ast.Call):
                 func = ast.unparse(value.func)
                 head, _, tail = func.partition(".")
                 if head in imports and (not tail or tail in _NESTED_TYPES):
@@ -624,10 +737,21 @@ def _check_fields(
     imports: dict[str, str],
 ) -> None:
     bindings = _message_bindings(cls, uses, catalog, imports)
+    _check_arguments(ctx, cls, catalog, imports, bindings)
+    numeric_attributes = _numeric_attributes(cls)
+    known = _with_transforms(catalog)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        _FieldVisitor(ctx, catalog, bindings.get(method.name, {})).visit(method)
+        visitor = _FieldVisitor(ctx, known, bindings.get(method.name, {}))
+        visitor.generic_visit(method)
+        visitor.report()
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        numbers = _numeric_names(method)
+        numbers = _numeric_names(method) | numeric_attributes
+        statement_of = {
+            id(node): statement
+            for statement in ast.walk(method)
+            if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+            for node in ast.walk(statement)
+        }
         published = {
             id(call.args[0]): ast.unparse(call.func)
             for call in ast.walk(method)
@@ -651,6 +775,11 @@ def _check_fields(
             # field of a new message is zero.
             zero = key.endswith("/Twist") and all(_is_zero(k.value) for k in node.keywords)
             publish = published.get(id(node))
+            fix: str | None
+            if zero and publish is not None:
+                fix = f"{publish}(Twist())"
+            else:
+                fix = _twist_with_vectors(statement_of.get(id(node)), node, key, numbers)
             for keyword in node.keywords:
                 if keyword.arg is None:
                     continue
@@ -665,8 +794,184 @@ def _check_fields(
                         f"{', '.join(sorted(nested))}), not a number: make the message first and "
                         f"set its fields, e.g. msg.{keyword.arg}.{sorted(nested)[0]} = ..."
                         + ("; a zero command is Twist(), every field of it is 0" if zero else ""),
-                        f"{publish}(Twist())" if zero and publish is not None else None,
+                        fix,
                     )
+
+
+_TWIST_AXES = {"linear": "x", "angular": "z"}
+"""The axis a number given for a whole Twist vector means on a ground robot: forward speed,
+yaw rate."""
+
+
+def _twist_with_vectors(
+    statement: ast.stmt | None, call: ast.Call, key: str, numbers: AbstractSet[str]
+) -> str | None:
+    """``statement`` with ``Twist(linear=v)`` written ``Twist(linear=Vector3(x=v))`` (and
+    ``angular`` about z), when every number the call gives a vector is one of those."""
+    if statement is None or not key.endswith("/Twist"):
+        return None
+    scalars = [k for k in call.keywords if k.arg is not None and _is_scalar(k.value, numbers)]
+    if not scalars or any(k.arg not in _TWIST_AXES for k in scalars):
+        return None
+    fixed = copy.deepcopy(statement)
+    same = [
+        node
+        for node in ast.walk(fixed)
+        if isinstance(node, ast.Call)
+        and (node.lineno, node.col_offset) == (call.lineno, call.col_offset)
+        and ast.unparse(node.func) == ast.unparse(call.func)
+    ]
+    for node in same:
+        for keyword in node.keywords:
+            if keyword.arg in _TWIST_AXES and _is_scalar(keyword.value, numbers):
+                axis = _TWIST_AXES[keyword.arg]
+                keyword.value = ast.Call(
+                    func=ast.Name(id="Vector3", ctx=ast.Load()),
+                    args=[],
+                    keywords=[ast.keyword(arg=axis, value=keyword.value)],
+                )
+    return ast.unparse(ast.fix_missing_locations(fixed))
+
+
+_TAKES = {"publish": "", "send_goal_async": ".Goal", "call_async": ".Request"}
+"""What a handle's method takes, as the suffix of the handle's type."""
+
+
+def _handle_types(cls: ast.ClassDef, imports: dict[str, str]) -> dict[str, str]:
+    """``self.<attribute>`` -> the type of the interface the handle in it was made for."""
+    out: dict[str, str] = {}
+    for node in ast.walk(cls):
+        if not (
+            isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and isinstance(node.value, ast.Call)
+            and _call_name(node.value) in _HANDLE_CALLS
+        ):
+            continue
+        args = list(node.value.args)
+        if _call_name(node.value) == "ActionClient":
+            args = args[1:]
+        type_name = imports.get(ast.unparse(args[0])) if args else None
+        if type_name is not None:
+            out[ast.unparse(node.targets[0])] = type_name
+    return out
+
+
+def _argument_type(
+    argument: ast.expr, bound: dict[str, str], imports: dict[str, str]
+) -> str | None:
+    if isinstance(argument, ast.Name):
+        return bound.get(argument.id)
+    if isinstance(argument, ast.Call):
+        head, _, tail = ast.unparse(argument.func).partition(".")
+        if head in imports and (not tail or tail in _NESTED_TYPES):
+            return imports[head] + (f".{tail}" if tail else "")
+    return None
+
+
+def _check_arguments(
+    ctx: _Context,
+    cls: ast.ClassDef,
+    catalog: Catalog,
+    imports: dict[str, str],
+    bindings: dict[str, dict[str, str]],
+) -> None:
+    """A message handed to ``publish``, ``send_goal_async``, ``call_async`` or a skeleton's
+    ``_send_<action>_goal`` must be of the type the handle carries (the model sent a
+    PoseStamped as a NavigateToPose goal). When the expected message has a field of the
+    given type, the finding carries the statement that wraps it in one."""
+    handles = _handle_types(cls, imports)
+    classes = {type_name: name for name, type_name in imports.items()}
+    statement_of = {
+        id(node): statement
+        for statement in ast.walk(cls)
+        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+        for node in ast.walk(statement)
+    }
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        bound = bindings.get(method.name, {})
+        for call in ast.walk(method):
+            if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute)):
+                continue
+            receiver, attr = ast.unparse(call.func.value), call.func.attr
+            expected = None
+            if attr in _TAKES and receiver in handles:
+                expected = handles[receiver] + _TAKES[attr]
+            elif receiver == "self" and attr.startswith("_send_") and attr.endswith("_goal"):
+                client = f"self.{attr.removeprefix('_send_').removesuffix('_goal')}_client"
+                expected = handles[client] + ".Goal" if client in handles else None
+            if expected is None or not call.args:
+                continue
+            given = _argument_type(call.args[0], bound, imports)
+            if given is None or given == expected:
+                continue
+            message = f"{ast.unparse(call.func)} takes a {expected}, not a {given}"
+            made = _wrapping(catalog, classes, expected, given, call.args[0])
+            replacement = None
+            if made is not None:
+                message += f": put it in one, {made}"
+                statement = statement_of.get(id(call))
+                text = ast.unparse(statement) if statement is not None else ""
+                if text.count(ast.unparse(call.args[0])) == 1:
+                    replacement = text.replace(ast.unparse(call.args[0]), made)
+            ctx.add("grounding", "error", call.args[0], message, replacement)
+
+
+def _wrapping(
+    catalog: Catalog, classes: dict[str, str], expected: str, given: str, argument: ast.expr
+) -> str | None:
+    """``NavigateToPose.Goal(pose=goal_pose)``: the expected message made around the given
+    one, when exactly one of its fields has the given one's type."""
+    holder = _field_holding(catalog, expected, given)
+    base, _, nested = expected.partition(".")
+    owner = classes.get(base)
+    if holder is None or owner is None:
+        return None
+    cls = f"{owner}.{nested}" if nested else owner
+    return f"{cls}({holder}={ast.unparse(argument)})"
+
+
+def _field_holding(catalog: Catalog, container: str, content: str) -> str | None:
+    """The one top-level field of ``container`` whose type has ``content``'s fields."""
+    tree, wanted = catalog.fields.get(container), catalog.fields.get(content)
+    if not tree or not wanted:
+        return None
+    holders = [name for name, sub in tree.items() if sub == wanted]
+    return holders[0] if len(holders) == 1 else None
+
+
+def _check_constants(
+    ctx: _Context, cls: ast.ClassDef, catalog: Catalog, imports: dict[str, str]
+) -> None:
+    """``Twist.YAW_RATE``: an upper-case attribute of a message class whose definition is
+    known must be one of its constants."""
+    own = [
+        f"self.{target.id}"
+        for statement in cls.body
+        if isinstance(statement, ast.Assign)
+        for target in statement.targets
+        if isinstance(target, ast.Name) and target.id.isupper()
+    ]
+    mine = f"; the skill's own: {', '.join(own)}" if own else ""
+    for node in ast.walk(cls):
+        if not (
+            isinstance(node, ast.Attribute)
+            and isinstance(node.value, ast.Name)
+            and node.value.id in imports
+            and node.attr.isupper()
+        ):
+            continue
+        type_name = imports[node.value.id]
+        known = catalog.constants.get(type_name)
+        if known is None or node.attr in known:
+            continue
+        listed = ", ".join(known) or "none"
+        ctx.add(
+            "grounding",
+            "error",
+            node,
+            f"{type_name} has no constant {node.attr!r} (its constants: {listed}){mine}",
+        )
 
 
 def _is_zero(node: ast.expr) -> bool:
@@ -687,6 +992,29 @@ def _numeric_names(function: ast.FunctionDef) -> set[str]:
     return names
 
 
+def _numeric_attributes(cls: ast.ClassDef) -> set[str]:
+    """``self.<name>`` for the class's upper-case constants and the attributes ``__init__``
+    gives a number (the skill's inputs and outputs): what holds a number, not a message."""
+    out = {
+        f"self.{target.id}"
+        for statement in cls.body
+        if isinstance(statement, ast.Assign) and _is_scalar(statement.value)
+        for target in statement.targets
+        if isinstance(target, ast.Name) and target.id.isupper()
+    }
+    for method in cls.body:
+        if isinstance(method, ast.FunctionDef) and method.name == "__init__":
+            for node in ast.walk(method):
+                if isinstance(node, ast.Assign) and _is_number(node.value):
+                    targets = node.targets
+                elif isinstance(node, ast.AnnAssign) and _is_number(node.value):
+                    targets = [node.target]
+                else:
+                    continue
+                out |= {ast.unparse(t) for t in targets if ast.unparse(t).startswith("self.")}
+    return out
+
+
 def _is_scalar(node: ast.expr, numbers: AbstractSet[str] = frozenset()) -> bool:
     """A number or string: a literal, arithmetic, a numeric builtin or math function, or a
     local name known to hold one (``numbers``); what cannot be a message."""
@@ -694,6 +1022,8 @@ def _is_scalar(node: ast.expr, numbers: AbstractSet[str] = frozenset()) -> bool:
         return node.value is not None
     if isinstance(node, ast.Name):
         return node.id in numbers
+    if isinstance(node, ast.Attribute):
+        return ast.unparse(node) in numbers
     if isinstance(node, ast.UnaryOp):
         return _is_scalar(node.operand, numbers)
     if isinstance(node, ast.BinOp):
@@ -734,6 +1064,112 @@ def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability
                         f"{attributes[target.attr]}, which the client sets; do not overwrite "
                         f"it, keep a derived value in a local variable",
                     )
+
+
+_MAKES_HANDLE = frozenset(
+    {
+        "create_publisher",
+        "create_subscription",
+        "create_client",
+        "ActionClient",
+        "TransformListener",
+    }
+)
+
+
+def _check_handles(ctx: _Context, cls: ast.ClassDef) -> None:
+    """A handle made in one state and made again in another: the second one leaks the first
+    (a subscription then delivers every message twice)."""
+    made: dict[str, str] = {}
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef):
+            continue
+        for node in ast.walk(method):
+            if not (
+                isinstance(node, ast.Assign)
+                and isinstance(node.value, ast.Call)
+                and _call_name(node.value) in _MAKES_HANDLE
+            ):
+                continue
+            for target in node.targets:
+                if not (isinstance(target, ast.Attribute) and ast.unparse(target.value) == "self"):
+                    continue
+                first = made.setdefault(target.attr, method.name)
+                if first != method.name:
+                    ctx.add(
+                        "handles",
+                        "error",
+                        node,
+                        f"self.{target.attr} is made in {first} already; use that handle here "
+                        "(making it again leaks the first one, and a second subscription "
+                        "delivers every message twice)",
+                    )
+
+
+def _check_timers(ctx: _Context, cls: ast.ClassDef) -> None:
+    """A timer fires until it is cancelled: one kept only in a local variable (or not kept)
+    goes on firing after its state ended, with handles resetting released; one kept on the
+    skill must be cancelled somewhere."""
+    cancelled = _cancelled(cls)
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        for statement in ast.walk(method):
+            if not isinstance(statement, ast.Assign | ast.Expr):
+                continue
+            call = statement.value
+            if not (isinstance(call, ast.Call) and _call_name(call) == "create_timer"):
+                continue
+            targets = statement.targets if isinstance(statement, ast.Assign) else []
+            kept = [ast.unparse(t) for t in targets if ast.unparse(t).startswith("self.")]
+            if kept:
+                if kept[0] not in cancelled:
+                    ctx.add(
+                        "handles",
+                        "error",
+                        statement,
+                        f"{kept[0]} is never cancelled: the timer fires until it is, also after "
+                        f"the skill stopped; cancel it ({kept[0]}.cancel()) when it is no "
+                        "longer needed, in stopping and in resetting",
+                    )
+                continue
+            local = {ast.unparse(t) for t in targets}
+            if local & _cancelled(method):
+                continue  # a timer for a while of this method, cancelled in it
+            attribute = f"self.{_timer_name(call)}"
+            reads = any(
+                isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load) and n.id in local
+                for n in ast.walk(method)
+            )
+            ctx.add(
+                "handles",
+                "error",
+                statement,
+                "the timer is not kept on the skill, so nothing cancels it: it fires until the "
+                "node ends, also after the skill stopped and released the handles it uses; "
+                f"keep it as {attribute} and cancel it ({attribute}.cancel()) when it is no "
+                "longer needed, in stopping and in resetting",
+                None if reads else f"{attribute} = {ast.unparse(call)}",
+            )
+
+
+def _cancelled(node: ast.AST) -> set[str]:
+    """What ``node`` cancels or destroys as a timer (``x.cancel()``, ``destroy_timer(x)``), as
+    source."""
+    return {
+        ast.unparse(call.func.value) if call.func.attr == "cancel" else ast.unparse(call.args[0])
+        for call in ast.walk(node)
+        if isinstance(call, ast.Call)
+        and isinstance(call.func, ast.Attribute)
+        and (call.func.attr == "cancel" or (call.func.attr == "destroy_timer" and call.args))
+    }
+
+
+def _timer_name(call: ast.Call) -> str:
+    """``timer`` attribute name for a ``create_timer(period, self._hold)`` call:
+    ``hold_timer``."""
+    callback = call.args[1] if len(call.args) > 1 else None
+    if isinstance(callback, ast.Attribute):
+        return f"{callback.attr.strip('_')}_timer"
+    return "timer"
 
 
 def check_skill(
@@ -781,9 +1217,13 @@ def check_skill(
         _check_placeholders(ctx, tree, source, methods)
         _check_swallowed_errors(ctx, methods, spec)
         _check_input_writes(ctx, cls, capability)
+        _check_handles(ctx, cls)
+        _check_timers(ctx, cls)
         ctx.findings += check_names(source, tree, cls, imports)
+        ctx.findings += check_waits(cls)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
+            _check_constants(ctx, cls, catalog, imports)
     if catalog is not None:
         _check_uses(ctx, uses, catalog)
 
