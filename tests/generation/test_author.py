@@ -342,6 +342,45 @@ def test_a_fix_inside_a_loop_keeps_the_loop_and_replaces_only_its_statement(
     assert "from geometry_msgs.msg import Vector3" in authored.code
 
 
+def test_an_error_left_after_the_checks_fix_is_what_the_repair_is_told(case: _Case) -> None:
+    waits_wrongly = STARTING.replace(
+        '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")\n',
+        "        self.odom_subscription.wait_for_message(timeout_sec=2.0)\n",
+    )
+    checked = case.validate
+
+    def validate(code: str, skeleton: Skeleton) -> list[Finding]:
+        # A second check objects to the statement the first one suggested.
+        found = checked(code, skeleton)
+        lines = code.splitlines()
+        for number, line in enumerate(lines, 1):
+            if line.endswith('2.0, "odom_msg")') and "wait_for_message" not in code:
+                found.append(
+                    Finding(
+                        check="names",
+                        severity="error",
+                        line=number,
+                        message="the wait needs a longer timeout",
+                    )
+                )
+        return found
+
+    case.validate = validate  # type: ignore[method-assign]
+    model = MethodScript({**GOOD, "starting": [waits_wrongly, STARTING]})
+    authored = case.write(model)
+    assert model.asked.count("starting") == 2
+    repair = model.prompts[-1].messages[-1].content
+    assert "the wait needs a longer timeout" in repair
+    assert "the statements the checks suggested" not in repair
+    assert "has no 'wait_for_message'" in repair  # fixed, and still worth avoiding
+    tries = [a for a in authored.attempts if a.target == "starting"]
+    assert [a.finish for a in tries] == ["stop", "fixed", "stop"]
+    assert tries[2].problems == [
+        '`self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")`: '
+        "the wait needs a longer timeout"
+    ]
+
+
 def test_a_helper_a_repair_calls_is_asked_for(case: _Case) -> None:
     wrong = """        self.logger.info("done")\n```"""
     calls_helper = """        self._report()\n```"""

@@ -361,8 +361,10 @@ def _class_methods(skeleton: Skeleton) -> set[str]:
 def _problems(
     attempt: Attempt, findings: Sequence[Finding], code_lines: Sequence[str]
 ) -> list[str]:
-    """What to tell the model about its last answer."""
-    if attempt.note is not None:
+    """What to tell the model about its last answer: why it gave no code, or the errors
+    in the code it gave (also when the checks wrote that code: their note says what they
+    fixed, not what is still wrong)."""
+    if attempt.code is None and attempt.note is not None:
         return [attempt.note]
     out = []
     for finding in findings:
@@ -635,6 +637,8 @@ class _Skill:
             problems=problems,
         )
         target.attempts.append(attempt)
+        # What the checks fixed is still worth avoiding when the model writes it again.
+        target.problems += [p for p in problems if p not in target.problems]
         self.author.log.append(
             f"===== checks' fix of {target.name} (attempt {attempt.number}) =====\n"
             f"```python\n{code}```"
