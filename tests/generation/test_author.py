@@ -326,6 +326,16 @@ def test_a_loop_that_never_sleeps_is_replaced_by_the_loop_with_a_sleep(case: _Ca
     ) in authored.code
 
 
+def test_a_handle_made_again_is_left_out_so_the_state_uses_the_first(case: _Case) -> None:
+    again = (
+        '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n'
+        + EXECUTE
+    )
+    authored = _fixed_without_the_model(case, "execute", again)
+    assert authored.code.count("create_publisher(Twist") == 1
+    assert "        speed = min(abs(self.in_linear_velocity)" in authored.code
+
+
 def test_a_fix_inside_a_loop_keeps_the_loop_and_replaces_only_its_statement(
     case: _Case,
 ) -> None:

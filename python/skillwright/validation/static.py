@@ -1103,6 +1103,8 @@ def _check_handles(ctx: _Context, cls: ast.ClassDef) -> None:
                         f"self.{target.attr} is made in {first} already; use that handle here "
                         "(making it again leaks the first one, and a second subscription "
                         "delivers every message twice)",
+                        # Without the statement, the state uses the handle made first.
+                        replacement="" if len(node.targets) == 1 else None,
                     )
 
 
