@@ -12,7 +12,7 @@ from skillwright.errors import ModelError
 from skillwright.llm import load_generator
 from skillwright.llm.base import ChatMessage, GenerationOptions, Prompt
 from skillwright.llm.config import Registry
-from skillwright.llm.llamacpp import LlamaCppGenerator, load_llamacpp
+from skillwright.llm.llamacpp import LlamaCppGenerator, _KeptStates, load_llamacpp
 from skillwright.llm.prefix_cache import PrefixCache, PrefixState, prefix_key
 
 GUIDE = "Framework guide. " * 40  # a long fixed prefix (several hundred byte tokens)
@@ -212,3 +212,60 @@ def test_cancel_during_prefix_evaluation_stops_between_batches(
     fresh = _load(big_registry, cache, prefix_cache=False)
     assert (text, how) == (_run(fresh, prompt)[0], "stored")
     fresh.close()
+
+
+def _conversation(*turns: str) -> Prompt:
+    """A prompt after earlier turns (user, assistant, ...) ending with a question."""
+    roles = ("user", "assistant")
+    messages = tuple(ChatMessage(roles[i % 2], text) for i, text in enumerate(turns[:-1]))
+    fixed = (ChatMessage("system", GUIDE), *EXAMPLES)
+    return Prompt((*fixed, *messages, ChatMessage("user", turns[-1])), prefix_messages=len(fixed))
+
+
+def test_a_prompt_that_branches_back_continues_from_the_state_it_shares_most_with(
+    big_registry: Registry, cache: Path
+) -> None:
+    # As a repair does: turns asked in order, then one asked again differently, then the
+    # conversation continued where the first pass ended.
+    first = ("Write starting. " * 6, "def starting(self): wait " * 6)
+    second = ("Write execute. " * 6, "def execute(self): drive " * 6)
+    later = _conversation(*first, *second, "Write the helper.")
+    generator = _load(big_registry, cache)
+    options = GenerationOptions(max_tokens=4)
+    for prompt in (
+        _conversation(first[0]),
+        _conversation(*first, second[0]),
+        _conversation(*first, "Write execute again, it had problems."),
+    ):
+        generator.stream(prompt, options).text()
+    stream = generator.stream(later, options)
+    text = stream.text()
+    asked_second = generator.count_tokens(_conversation(*first, second[0]))
+    whole = generator.count_tokens(later)
+    generator.close()
+    # Everything up to the second turn's question came from the state kept after it.
+    assert stream.prefix_cache == "memory"
+    assert stream.reused_tokens is not None
+    assert asked_second - 8 < stream.reused_tokens < whole
+    # A model that never saw the earlier prompts reuses only the fixed prefix, and the answer
+    # is the same.
+    fresh = _load(big_registry, cache)
+    alone = fresh.stream(later, options)
+    assert (alone.text(), alone.prefix_cache) == (text, "disk")
+    assert alone.reused_tokens == len(fresh.prompt_tokens(later)[0])
+    assert alone.reused_tokens < asked_second - 100
+    fresh.close()
+
+
+def test_kept_states_stay_within_their_budget_least_recently_used_going_first() -> None:
+    kept = _KeptStates(budget=10)
+    kept.keep(PrefixState((1, 2, 3), b"aaaa"))
+    kept.keep(PrefixState((1, 2, 4), b"bbbb"))
+    assert kept.closest([1, 2, 3, 9]) == (PrefixState((1, 2, 3), b"aaaa"), 3)
+    kept.keep(PrefixState((1, 2, 3), b"aaaa"))  # used again: now the most recent
+    kept.keep(PrefixState((5,), b"cccc"))  # over budget: (1, 2, 4) goes
+    assert kept.closest([1, 2, 4]) == (PrefixState((1, 2, 3), b"aaaa"), 2)
+    assert kept.closest([5, 6]) == (PrefixState((5,), b"cccc"), 1)
+    assert kept.closest([7]) is None
+    kept.keep(PrefixState((8,), b"x" * 11))  # larger than the whole budget: not kept
+    assert kept.closest([8]) is None

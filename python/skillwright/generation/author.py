@@ -221,6 +221,7 @@ class _Author:
             code=code,
             response=response,
             prompt_tokens=stream.prompt_tokens,
+            reused_tokens=stream.reused_tokens,
             completion_tokens=stream.completion_tokens or stream.completion_chunks,
             seconds=round(time.perf_counter() - started, 3),
             prefix_cache=stream.prefix_cache,

@@ -92,6 +92,11 @@ class Attempt(BaseModel):
     )
     response: str = Field(description="What the model wrote after the prefilled start.")
     prompt_tokens: int | None = Field(default=None, description="Tokens of the whole prompt.")
+    reused_tokens: int | None = Field(
+        default=None,
+        description="Leading prompt tokens not evaluated again (a cached prefix, the context "
+        "or a state kept from an earlier answer); the rest were evaluated for this answer.",
+    )
     completion_tokens: int | None = Field(default=None, description="Tokens the model wrote.")
     seconds: float = Field(description="Wall time of the answer, prompt evaluation included.")
     prefix_cache: str | None = Field(

@@ -111,8 +111,12 @@ class TextStream:
     prompt_tokens: int | None = None
     """Tokens in the prompt, when the backend knows them."""
     prefix_cache: Literal["off", "memory", "disk", "stored", "evaluated"] = "off"
-    """How the fixed prefix was obtained: not used, already in memory, restored from disk,
-    evaluated and saved, or evaluated without saving."""
+    """How the fixed prefix was obtained: not used, already in memory (the live context or a
+    state kept from an earlier generation), restored from disk, evaluated and saved, or
+    evaluated without saving."""
+    reused_tokens: int | None = None
+    """Leading prompt tokens whose evaluation was reused (the rest were evaluated), when the
+    backend knows them."""
     finish_reason: FinishReason | None = None
     """Why generation ended; ``None`` until it has."""
     completion_chunks: int = 0

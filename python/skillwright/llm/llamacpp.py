@@ -5,6 +5,11 @@ default, the GGUF file) and tokenised in two parts: the fixed prefix and the res
 is evaluated once, its llama.cpp state saved (see :mod:`skillwright.llm.prefix_cache`), and
 restored for later prompts; the rest is evaluated on top of it. The fresh and the restored
 path evaluate exactly the same batches, so they give the same tokens.
+
+Within a process the context's state after each generation is also kept in memory (up to a
+byte budget, least recently used dropped first). A prompt that branches off an earlier one --
+a repair asked after the turns that came later, a helper asked after the repairs -- continues
+from the kept state that shares most of its tokens instead of evaluating them again.
 """
 
 from __future__ import annotations
@@ -133,6 +138,7 @@ class LlamaCppGenerator:
         *,
         prefix_cache: PrefixCache | None,
         origin: Path,
+        kept_state_bytes: int = 2 << 30,
     ) -> None:
         self.entry = entry
         """The model's ``models.toml`` entry."""
@@ -154,6 +160,7 @@ class LlamaCppGenerator:
                 f"`chat_template` of {entry.id!r} in your models.toml"
             )
         self._template = template
+        self._kept = _KeptStates(kept_state_bytes)
         self._bos = self._special_text(llama.token_bos())
         self._eos = self._special_text(llama.token_eos())
 
@@ -265,16 +272,35 @@ class LlamaCppGenerator:
             )
         try:
             self._check_open()
-            if prefix:
+            whole = prefix + rest
+            llama = self.llama
+            live = _shared_length(llama.input_ids[: llama.n_tokens], whole)
+            kept = self._kept.closest(whole)
+            if kept is not None and kept[1] > live and kept[1] >= len(prefix):
+                self._load_state(kept[0])
+                self._kept.keep(kept[0])  # now the most recently used
+                stream.prefix_cache = "memory"
+                stream.reused_tokens = kept[1]
+            elif prefix:
                 how = self._restore_prefix(prefix, cancel, save=options.save_prefix)
                 if how is None:
                     stream.finish_reason = "cancelled"
                     return
                 stream.prefix_cache = how
+                live = max(len(prefix), live) if how == "memory" else len(prefix)
+                stream.reused_tokens = live if how in ("memory", "disk") else 0
+            else:
+                stream.reused_tokens = live
             if cancel is not None and cancel.is_set():
                 stream.finish_reason = "cancelled"
                 return
-            yield from self._decode(stream, prefix + rest, max_tokens, options, grammar, cancel)
+            yield from self._decode(stream, whole, max_tokens, options, grammar, cancel)
+            if stream.finish_reason != "cancelled":
+                self._kept.keep(
+                    PrefixState(
+                        tuple(llama.input_ids[: llama.n_tokens].tolist()), self._state_bytes()
+                    )
+                )
         finally:
             self._busy.release()
 
@@ -421,6 +447,7 @@ class LlamaCppGenerator:
         """Frees the model's memory; the generator cannot be used afterwards."""
         if not self._closed:
             self._closed = True
+            self._kept = _KeptStates(0)
             self.llama.close()
 
     def _check_open(self) -> None:
@@ -459,6 +486,44 @@ class _StopSplitter:
                     longest = size
                     break
         return longest
+
+
+def _shared_length(tokens: Sequence[int] | Any, other: Sequence[int]) -> int:
+    """How many leading tokens ``tokens`` and ``other`` have in common."""
+    import numpy as np
+
+    n = min(len(tokens), len(other))
+    if n == 0:
+        return 0
+    differ = np.flatnonzero(np.asarray(tokens[:n]) != np.asarray(other[:n], dtype=np.intc))
+    return int(differ[0]) if differ.size else n
+
+
+class _KeptStates:
+    """Context states after earlier generations, in memory, within ``budget`` bytes."""
+
+    def __init__(self, budget: int) -> None:
+        self.budget = budget
+        self._states: list[PrefixState] = []  # least recently used first
+
+    def closest(self, tokens: Sequence[int]) -> tuple[PrefixState, int] | None:
+        """The kept state sharing the most leading tokens with ``tokens``, and how many."""
+        best: tuple[PrefixState, int] | None = None
+        for state in self._states:
+            shared = _shared_length(state.tokens, tokens)
+            if shared and (best is None or shared > best[1]):
+                best = (state, shared)
+        return best
+
+    def keep(self, state: PrefixState) -> None:
+        """Keeps ``state`` (replacing one with the same tokens), dropping the least recently
+        used ones beyond the budget; a state larger than the budget is not kept."""
+        self._states = [s for s in self._states if s.tokens != state.tokens]
+        if len(state.state) > self.budget:
+            return
+        self._states.append(state)
+        while sum(len(s.state) for s in self._states) > self.budget:
+            self._states.pop(0)
 
 
 def _grammar(schema: dict[str, Any]) -> LlamaGrammar:
