@@ -604,3 +604,32 @@ def test_a_message_of_another_type_handed_to_a_handle_is_an_error_and_wrapped_wh
     assert "send_goal_async(NavigateToPose.Goal(pose=target), feedback_callback=" in (
         found[0].replacement
     )
+
+
+def test_list_methods_of_an_array_of_messages_are_not_taken_for_fields(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    inventory = load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1")
+    catalog = catalog_from_inventory(inventory)
+    source = GOOD.replace(
+        "        self.start_x = self.odom_msg.pose.pose.position.x",
+        "        self.start_x = self.odom_msg.pose.pose.position.x\n"
+        "        goal = MoveGroup.Goal()\n"
+        "        goal.request.goal_constraints.append(Constraints())\n"
+        "        goal.request.goal_constraints[0].position_constraints.clear()\n"
+        "        goal.request.goal_constraints.push(Constraints())",
+        1,
+    ).replace(
+        "from geometry_msgs.msg import Twist",
+        "from geometry_msgs.msg import Twist\n"
+        "from moveit_msgs.action import MoveGroup\n"
+        "from moveit_msgs.msg import Constraints",
+    )
+    capability, spec = move_forward
+    report = check_skill(
+        source, capability=capability, spec=spec, catalog=catalog, retrieved=["/cmd_vel", "/odom"]
+    )
+    found = [f.message for f in report.findings if f.check == "grounding"]
+    assert len(found) == 1
+    assert "has no field 'push' in request.goal_constraints (fields: " in found[0]
+    assert "append" not in found[0]

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from skillwright.interfaces.inventory import Inventory, MessageField
-from skillwright.validation.model import Catalog, CatalogEntry, FieldTree
+from skillwright.validation.model import SEQUENCE_METHODS, Catalog, CatalogEntry, FieldTree
 
 __all__ = ["catalog_from_inventory"]
 
@@ -31,8 +31,10 @@ def _tree(
             tree[field.name] = None
             continue
         subtree = _tree(field.fields, nested, constants)
-        tree[field.name] = subtree
         nested.setdefault(field.base_type, subtree)
+        if field.array != "none":
+            subtree = {**subtree, **dict.fromkeys(SEQUENCE_METHODS)}
+        tree[field.name] = subtree
         constants.setdefault(field.base_type, [c.name for c in field.constants])
     return tree
 

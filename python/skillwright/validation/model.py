@@ -6,12 +6,18 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-__all__ = ["Catalog", "CatalogEntry", "CheckReport", "FieldTree", "Finding"]
+__all__ = ["SEQUENCE_METHODS", "Catalog", "CatalogEntry", "CheckReport", "FieldTree", "Finding"]
 
 FieldTree = dict[str, Any]
 """Field name -> the field tree of its type, or ``None`` for a primitive; an array maps to
-the tree of its element. (Recursive; typed loosely because pydantic and mypy disagree on
-recursive aliases under Python 3.11.)"""
+the tree of its element, with the list's methods. (Recursive; typed loosely because pydantic
+and mypy disagree on recursive aliases under Python 3.11.)"""
+
+SEQUENCE_METHODS = frozenset(
+    ("append", "extend", "insert", "pop", "clear", "index", "count", "remove", "sort", "copy")
+)
+"""Methods of the Python list an array field of messages is; its tree lists them beside the
+element's fields (``goal.trajectory.points.append(point)``)."""
 
 
 class CatalogEntry(BaseModel):

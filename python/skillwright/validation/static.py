@@ -22,7 +22,13 @@ from dataclasses import dataclass, field
 from skillwright.capability.model import Capability, Parameter
 from skillwright.spec.model import PACKML_STATES, SkillSpec
 from skillwright.validation.loops import check_waits
-from skillwright.validation.model import Catalog, CheckReport, FieldTree, Finding
+from skillwright.validation.model import (
+    SEQUENCE_METHODS,
+    Catalog,
+    CheckReport,
+    FieldTree,
+    Finding,
+)
 from skillwright.validation.names import check_names
 
 __all__ = ["check_skill"]
@@ -558,7 +564,7 @@ def _missing_field(
         if current is None:
             return None  # attribute of a primitive or a list (e.g. .append): not a message field
         if part not in current:
-            known = ", ".join(sorted(current)) or "none"
+            known = ", ".join(sorted(set(current) - SEQUENCE_METHODS)) or "none"
             where = ".".join(path[:index]) or "the message"
             message = f"{type_name} has no field {part!r} in {where} (fields: {known})"
             fixed = _meant(current, path, index, type_name)
