@@ -198,6 +198,68 @@ def test_a_goal_handle_method_asked_of_the_action_client_gets_the_goal_handle_st
     ) in found
 
 
+def test_an_input_the_capability_does_not_have_is_named_with_the_inputs_it_has(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
+        "speed = min(abs(self.in_linear_velocity), self.in_max_speed)",
+        1,
+    )
+    assert [f.message for f in _names(source, move_forward)] == [
+        "self.in_max_speed is never set in this class; the capability's inputs are "
+        "self.in_distance, self.in_linear_velocity and none gives max_speed: use a constant of "
+        "the class for it"
+    ]
+
+
+def test_a_transform_listener_torn_down_is_a_call_left_out(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        '        """Halt the base."""\n',
+        '        """Halt the base."""\n'
+        "        self.tf_listener = TransformListener(self.tf_buffer, self.node)\n"
+        "        self.tf_listener.destroy()\n",
+        1,
+    )
+    (found,) = [f for f in _names(source, move_forward) if "destroy" in f.message]
+    assert found.message == (
+        "self.tf_listener is a tf2 TransformListener, which has no 'destroy' in rclpy; it needs "
+        "no teardown of its own: leave the call out"
+    )
+    assert found.replacement == ""
+
+
+@pytest.mark.parametrize("helper", [True, False], ids=["skeleton-helper", "no-helper"])
+def test_cancelling_all_goals_of_an_action_client_is_the_skeletons_cancel_helper(
+    move_forward: tuple[Capability, SkillSpec], helper: bool
+) -> None:
+    source = GOOD.replace(
+        '        """Halt the base."""\n',
+        '        """Halt the base."""\n'
+        '        self.nav_client = ActionClient(self.node, NavigateToPose, "/navigate_to_pose")\n'
+        "        self.nav_client.cancel_all_goals()\n",
+        1,
+    )
+    if helper:
+        source = source.replace(
+            "    @stopping\n",
+            "    def _cancel_nav_goal(self, timeout: float) -> None:\n"
+            '        """Cancel the goal sent."""\n\n'
+            "    @stopping\n",
+            1,
+        )
+    (found,) = [f for f in _names(source, move_forward) if "cancel_all_goals" in f.message]
+    if helper:
+        assert found.message.endswith(
+            "; the skeleton's self._cancel_nav_goal(timeout) cancels the goal this client sent"
+        )
+        assert found.replacement == "self._cancel_nav_goal(5.0)"
+    else:
+        assert found.replacement is None
+
+
 def test_a_local_variable_that_hides_a_module_the_method_uses_is_an_error(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

@@ -350,6 +350,72 @@ def test_a_field_one_level_further_down_is_named_and_put_in_the_statement(
     }
 
 
+@pytest.mark.parametrize(
+    ("written", "meant"),
+    [
+        ("self.odom_msg.header.stamp.secs", "self.odom_msg.header.stamp.sec"),
+        ("self.odom_msg.twist.angular.yaw_rate", "self.odom_msg.twist.twist.angular.z"),
+        ("self.odom_msg.twist.twist.angular.roll", "self.odom_msg.twist.twist.angular.x"),
+    ],
+    ids=["ros1-time", "axis-and-level", "axis"],
+)
+def test_a_field_named_as_ros_1_or_by_its_axis_is_put_as_the_message_names_it(
+    move_forward: tuple[Capability, SkillSpec], written: str, meant: str
+) -> None:
+    source = GOOD.replace(
+        "self.start_x = self.odom_msg.pose.pose.position.x", f"self.start_x = {written}"
+    )
+    (found,) = [f for f in run(source, move_forward).findings if f.check == "grounding"]
+    assert found.message.endswith("; it is " + meant.removeprefix("self.odom_msg."))
+    assert found.replacement == f"self.start_x = {meant}"
+
+
+def test_the_angle_about_an_axis_of_a_quaternion_is_no_field_and_gets_no_fix(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "self.start_x = self.odom_msg.pose.pose.position.x",
+        "self.start_x = self.odom_msg.pose.pose.orientation.yaw",
+    )
+    (found,) = [f for f in run(source, move_forward).findings if f.check == "grounding"]
+    assert "has no field 'yaw' in pose.pose.orientation (fields: w, x, y, z)" in found.message
+    assert found.replacement is None
+
+
+@pytest.mark.parametrize(
+    ("seconds", "fields"),
+    [
+        ("2.5", "sec=2, nanosec=500000000"),
+        ("0.0", "sec=0, nanosec=0"),
+        (
+            "self.in_linear_velocity",
+            "sec=int(self.in_linear_velocity), nanosec=int(self.in_linear_velocity % 1 * 1e9)",
+        ),
+    ],
+)
+def test_a_duration_message_made_from_seconds_is_split_into_its_two_fields(
+    move_forward: tuple[Capability, SkillSpec], seconds: str, fields: str
+) -> None:
+    source = GOOD.replace(
+        "        self.start_x = self.odom_msg.pose.pose.position.x",
+        "        self.start_x = self.odom_msg.pose.pose.position.x\n"
+        f"        self.period = Duration(seconds={seconds})",
+        1,
+    ).replace(
+        "from geometry_msgs.msg import Twist",
+        "from builtin_interfaces.msg import Duration\nfrom geometry_msgs.msg import Twist",
+    )
+    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    capability, spec = move_forward
+    report = check_skill(source, capability=capability, spec=spec, catalog=catalog)
+    (found,) = [f for f in report.findings if f.check == "grounding"]
+    assert found.message.startswith(
+        "builtin_interfaces/msg/Duration has no field 'seconds' (fields: nanosec, sec; both "
+        f"integers): it is Duration({fields})"
+    )
+    assert found.replacement == f"self.period = Duration({fields})"
+
+
 def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillSpec]) -> None:
     source = GOOD.replace(
         "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",

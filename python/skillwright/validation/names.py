@@ -330,6 +330,13 @@ def _hint(name: str, defined: set[str], methods: set[str], latest: list[str]) ->
         return f"; did you mean the method self.{close[0]}(...)?"
     if close:
         return f"; did you mean self.{close[0]}?"
+    inputs = sorted(f"self.{d}" for d in defined if d.startswith("in_"))
+    if name.startswith("in_") and inputs:
+        # A model asks for an input the capability does not have (a timeout, a tolerance).
+        return (
+            f"; the capability's inputs are {', '.join(inputs)} and none gives "
+            f"{name.removeprefix('in_')}: use a constant of the class for it"
+        )
     if latest:
         # A small model invents attributes for values it means to read from a message.
         return f"; the latest messages are in {', '.join(latest)}: read the field from there"
@@ -508,6 +515,10 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
         elif owner is not None and id(node) in statement_of:
             right = f"{owner.split(': ', 1)[1]}.{node.attr}"
             replacement = ast.unparse(statement_of[id(node)]).replace(ast.unparse(node), right)
+        elif _called_alone(node, statement_of):
+            instead = _teardown_instead(node, kind, defined)
+            if instead is not None:
+                hint, replacement = instead
         findings.append(
             _finding(
                 node,
@@ -517,6 +528,40 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
             )
         )
     return findings
+
+
+_TEARDOWN = frozenset({"destroy", "shutdown", "unregister", "close", "stop", "cleanup"})
+"""Methods a model calls to tear a handle down that has no such method."""
+_CANCEL_ALL = frozenset({"cancel_all_goals", "cancel_goal", "cancel_goals", "cancel", "stop"})
+"""What a model calls on an ActionClient to cancel what it sent (ROS 1's actionlib names)."""
+
+
+def _called_alone(node: ast.Attribute, statement_of: dict[int, ast.stmt]) -> bool:
+    """Whether ``node`` is called as a statement of its own (``X.m(...)``, result unused)."""
+    statement = statement_of.get(id(node))
+    return (
+        isinstance(statement, ast.Expr)
+        and isinstance(statement.value, ast.Call)
+        and statement.value.func is node
+    )
+
+
+def _teardown_instead(node: ast.Attribute, kind: str, defined: set[str]) -> tuple[str, str] | None:
+    """The hint and the statement(s) that do what a made-up teardown call meant: nothing for
+    a TransformListener (it holds no goal or resource of its own to end), the skeleton's
+    cancel helper for an ActionClient whose helper the class has."""
+    if kind == "tf_listener" and node.attr in _TEARDOWN:
+        return "; it needs no teardown of its own: leave the call out", ""
+    client = self_attribute(node.value)
+    if kind != "action_client" or node.attr not in _CANCEL_ALL or client is None:
+        return None
+    helper = f"_cancel_{client.removesuffix('_client')}_goal"
+    if helper not in defined:
+        return None
+    return (
+        f"; the skeleton's self.{helper}(timeout) cancels the goal this client sent",
+        f"self.{helper}(5.0)",
+    )
 
 
 def _simple_statements(tree: ast.AST) -> dict[int, ast.stmt]:

@@ -568,6 +568,8 @@ def _missing_field(
             where = ".".join(path[:index]) or "the message"
             message = f"{type_name} has no field {part!r} in {where} (fields: {known})"
             fixed = _meant(current, path, index, type_name)
+            if fixed is None or not _exists(tree, fixed):
+                fixed = _renamed(tree, path if fixed is None else fixed)
             if fixed is not None and _exists(tree, fixed):
                 message += f"; it is {'.'.join(fixed)}"
                 return message, fixed
@@ -586,6 +588,70 @@ def _meant(
     holders = [name for name, sub in current.items() if isinstance(sub, dict) and part in sub]
     if len(holders) == 1:
         return [*head, holders[0], *path[index:]]
+    return None
+
+
+_TIME_TYPES = frozenset({"builtin_interfaces/msg/Duration", "builtin_interfaces/msg/Time"})
+_RENAMED = {"secs": "sec", "nsecs": "nanosec", "seconds": "sec", "nanoseconds": "nanosec"}
+"""ROS 1's time fields (and rclpy Duration's keywords) as builtin_interfaces names them."""
+_AXES = {"roll": "x", "pitch": "y", "yaw": "z"}
+_AXES |= {f"{angle}_rate": axis for angle, axis in _AXES.items()}
+"""A rate or angle about an axis, as a Vector3 (angular velocity, not a quaternion) holds it."""
+
+
+def _renamed(tree: FieldTree, path: Sequence[str]) -> list[str] | None:
+    """``path`` with the parts a message names differently put as it names them (``secs`` is
+    ``sec``; ``yaw_rate`` of an angular Vector3 is ``z``), or ``None`` when there is none."""
+    out: list[str] = []
+    changed = False
+    current: FieldTree | None = tree
+    for written in path:
+        part = written
+        if current is None:
+            out.append(part)
+            continue
+        if part not in current:
+            vector = {"x", "y", "z"} <= set(current) and "w" not in current
+            alias = _RENAMED.get(part) or (_AXES.get(part) if vector else None)
+            if alias is None or alias not in current:
+                return None
+            part, changed = alias, True
+        out.append(part)
+        current = current[part]
+    return out if changed else None
+
+
+def _split_seconds(
+    call: ast.Call, keyword: ast.keyword, key: str, statement: ast.stmt | None
+) -> tuple[str, str | None] | None:
+    """For ``Duration(seconds=x)`` made from the message class (rclpy's Duration takes
+    ``seconds``; builtin_interfaces' has integer ``sec`` and ``nanosec``): the message and
+    ``statement`` with the call making the message from ``x`` split into both fields."""
+    if key not in _TIME_TYPES or keyword.arg != "seconds" or len(call.keywords) != 1:
+        return None
+    value = keyword.value
+    number = _literal_seconds(value)
+    if number is not None:
+        whole = int(number)
+        fields = f"sec={whole}, nanosec={round((number - whole) * 1e9)}"
+    else:
+        seconds = ast.unparse(value)
+        fields = f"sec=int({seconds}), nanosec=int({seconds} % 1 * 1e9)"
+    made = f"{ast.unparse(call.func)}({fields})"
+    message = (
+        f"{key} has no field 'seconds' (fields: nanosec, sec; both integers): it is {made} "
+        "(rclpy.duration.Duration is the class that takes seconds)"
+    )
+    if statement is None:
+        return message, None
+    return message, ast.unparse(statement).replace(ast.unparse(call), made)
+
+
+def _literal_seconds(node: ast.expr) -> float | None:
+    """The value of a non-negative literal int or float."""
+    value = node.value if isinstance(node, ast.Constant) else None
+    if isinstance(value, int | float) and not isinstance(value, bool) and value >= 0:
+        return float(value)
     return None
 
 
@@ -788,6 +854,10 @@ def _check_fields(
                 fix = _twist_with_vectors(statement_of.get(id(node)), node, key, numbers)
             for keyword in node.keywords:
                 if keyword.arg is None:
+                    continue
+                split = _split_seconds(node, keyword, key, statement_of.get(id(node)))
+                if split is not None:
+                    ctx.add("grounding", "error", keyword, *split)
                     continue
                 _walk_fields(ctx, keyword, tree, [keyword.arg], key)
                 nested = tree.get(keyword.arg)
