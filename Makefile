@@ -43,8 +43,8 @@ fmt: setup ## Format Python and Rust code in place
 test-rust: ## Run the Rust core's own tests
 	cargo test --workspace --quiet
 
-test-python: setup ## Run the Python test suite
-	$(BIN)/python -m pytest
+test-python: setup ## Run the Python test suite, a worker per core
+	$(BIN)/python -m pytest -n auto
 
 test: setup test-rust test-python ## Set up, then run every test (Rust and Python)
 
