@@ -629,6 +629,25 @@ def test_a_constant_a_message_type_does_not_declare_is_an_error(
         "geometry_msgs/msg/Twist has no constant 'STOP' (its constants: none); the skill's "
         "own: self.LINEAR_VELOCITY_MAX"
     ]
+    assert [f.replacement for f in report.findings] == [None]  # no constant of the skill stops
+
+
+def test_a_made_up_constant_naming_a_limit_of_the_skill_is_that_limit(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    capability, spec = move_forward
+    source = GOOD.replace(
+        "speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
+        "speed = min(abs(self.in_linear_velocity), Twist.MAX_SPEED)",
+        1,
+    )
+    report = check_skill(source, capability=capability, spec=spec, catalog=catalog)
+    (found,) = report.findings
+    assert found.message.startswith("geometry_msgs/msg/Twist has no constant 'MAX_SPEED'")
+    assert found.replacement == (
+        "speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)"
+    )
 
 
 def test_a_message_of_another_type_handed_to_a_handle_is_an_error_and_wrapped_when_it_fits() -> (

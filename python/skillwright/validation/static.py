@@ -1029,6 +1029,12 @@ def _check_constants(
         if isinstance(target, ast.Name) and target.id.isupper()
     ]
     mine = f"; the skill's own: {', '.join(own)}" if own else ""
+    statement_of = {
+        id(node): statement
+        for statement in ast.walk(cls)
+        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+        for node in ast.walk(statement)
+    }
     for node in ast.walk(cls):
         if not (
             isinstance(node, ast.Attribute)
@@ -1047,7 +1053,25 @@ def _check_constants(
             "error",
             node,
             f"{type_name} has no constant {node.attr!r} (its constants: {listed}){mine}",
+            _with_own_constant(node, own, statement_of.get(id(node))),
         )
+
+
+_QUANTITY_WORDS = {"yaw": "angular", "turn": "angular", "rate": "velocity", "speed": "velocity"}
+"""Words a model names a quantity with, as the skill's limit constants name it."""
+
+
+def _with_own_constant(
+    node: ast.Attribute, own: Sequence[str], statement: ast.stmt | None
+) -> str | None:
+    """``statement`` with the made-up message constant ``node`` replaced by the one constant
+    of the skill that names the same quantity (``Twist.YAW_RATE`` is the skill's
+    ``ANGULAR_VELOCITY_MAX``); ``None`` unless exactly one does."""
+    wanted = {_QUANTITY_WORDS.get(word, word) for word in _tokens(node.attr)}
+    matches = [name for name in own if wanted and wanted <= _tokens(name.removeprefix("self."))]
+    if statement is None or len(matches) != 1:
+        return None
+    return ast.unparse(statement).replace(ast.unparse(node), matches[0])
 
 
 def _is_zero(node: ast.expr) -> bool:
