@@ -198,18 +198,19 @@ def test_a_goal_handle_method_asked_of_the_action_client_gets_the_goal_handle_st
     ) in found
 
 
+@pytest.mark.parametrize("written", ["in_max_speed", "IN_MAX_SPEED"])
 def test_an_input_the_capability_does_not_have_is_named_with_the_inputs_it_has(
-    move_forward: tuple[Capability, SkillSpec],
+    move_forward: tuple[Capability, SkillSpec], written: str
 ) -> None:
     source = GOOD.replace(
         "speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
-        "speed = min(abs(self.in_linear_velocity), self.in_max_speed)",
+        f"speed = min(abs(self.in_linear_velocity), self.{written})",
         1,
     )
     assert [f.message for f in _names(source, move_forward)] == [
-        "self.in_max_speed is never set in this class; the capability's inputs are "
-        "self.in_distance, self.in_linear_velocity and none gives max_speed: use a constant of "
-        "the class for it"
+        f"self.{written} is never set in this class; the capability's inputs are "
+        "self.in_distance, self.in_linear_velocity and none gives max_speed: give it a value in "
+        "a local variable of this method (max_speed = ...)"
     ]
 
 

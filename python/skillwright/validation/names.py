@@ -331,11 +331,13 @@ def _hint(name: str, defined: set[str], methods: set[str], latest: list[str]) ->
     if close:
         return f"; did you mean self.{close[0]}?"
     inputs = sorted(f"self.{d}" for d in defined if d.startswith("in_"))
-    if name.startswith("in_") and inputs:
-        # A model asks for an input the capability does not have (a timeout, a tolerance).
+    wanted = name.lower().removeprefix("in_")
+    if wanted != name.lower() and inputs:
+        # A model asks for an input the capability does not have (a timeout, a tolerance);
+        # the class body is the skeleton's, so the value belongs in the method.
         return (
-            f"; the capability's inputs are {', '.join(inputs)} and none gives "
-            f"{name.removeprefix('in_')}: use a constant of the class for it"
+            f"; the capability's inputs are {', '.join(inputs)} and none gives {wanted}: give "
+            f"it a value in a local variable of this method ({wanted} = ...)"
         )
     if latest:
         # A small model invents attributes for values it means to read from a message.
