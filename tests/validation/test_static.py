@@ -416,6 +416,29 @@ def test_a_duration_message_made_from_seconds_is_split_into_its_two_fields(
     assert found.replacement == f"self.period = Duration({fields})"
 
 
+def test_the_singular_of_an_array_field_in_a_constructor_is_put_as_the_field(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "        self.start_x = self.odom_msg.pose.pose.position.x",
+        "        self.start_x = self.odom_msg.pose.pose.position.x\n"
+        "        point = JointTrajectoryPoint(position=[self.start_x], velocity=[0.0])",
+        1,
+    ).replace(
+        "from geometry_msgs.msg import Twist",
+        "from geometry_msgs.msg import Twist\nfrom trajectory_msgs.msg import JointTrajectoryPoint",
+    )
+    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    capability, spec = move_forward
+    report = check_skill(source, capability=capability, spec=spec, catalog=catalog)
+    found = [f for f in report.findings if f.check == "grounding"]
+    made = "point = JointTrajectoryPoint(positions=[self.start_x], velocities=[0.0])"
+    assert [(f.message.split(" (fields")[0], f.replacement) for f in found] == [
+        ("trajectory_msgs/msg/JointTrajectoryPoint has no field 'position' in the message", made),
+        ("trajectory_msgs/msg/JointTrajectoryPoint has no field 'velocity' in the message", made),
+    ]
+
+
 def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillSpec]) -> None:
     source = GOOD.replace(
         "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",

@@ -538,14 +538,6 @@ def _chain(node: ast.expr) -> tuple[ast.expr, list[str]]:
             return node, list(reversed(parts))
 
 
-def _walk_fields(
-    ctx: _Context, node: ast.AST, tree: FieldTree, path: Sequence[str], type_name: str
-) -> None:
-    missing = _missing_field(tree, path, type_name)
-    if missing is not None:
-        ctx.add("grounding", "error", node, missing[0])
-
-
 _SAME_AS = {
     ("geometry_msgs/msg/TransformStamped", "pose", "position"): ("transform", "translation"),
     ("geometry_msgs/msg/TransformStamped", "pose", "orientation"): ("transform", "rotation"),
@@ -612,13 +604,38 @@ def _renamed(tree: FieldTree, path: Sequence[str]) -> list[str] | None:
             continue
         if part not in current:
             vector = {"x", "y", "z"} <= set(current) and "w" not in current
-            alias = _RENAMED.get(part) or (_AXES.get(part) if vector else None)
+            alias = (
+                _RENAMED.get(part)
+                or (_AXES.get(part) if vector else None)
+                or _plural(part, current)
+            )
             if alias is None or alias not in current:
                 return None
             part, changed = alias, True
         out.append(part)
         current = current[part]
     return out if changed else None
+
+
+def _renamed_keywords(
+    call: ast.Call, tree: FieldTree, key: str, statement: ast.stmt | None
+) -> str | None:
+    """``statement`` with every keyword of ``call`` that names no field of the message put
+    as the field it means (``position=`` of a JointTrajectoryPoint is ``positions=``);
+    ``None`` unless each such keyword has one."""
+    fixed = copy.deepcopy(call)
+    changed = False
+    for keyword in fixed.keywords:
+        if keyword.arg is None or keyword.arg in tree:
+            continue
+        missing = _missing_field(tree, [keyword.arg], key)
+        meant = None if missing is None else missing[1]
+        if meant is None or len(meant) != 1:
+            return None
+        keyword.arg, changed = meant[0], True
+    if statement is None or not changed:
+        return None
+    return ast.unparse(statement).replace(ast.unparse(call), ast.unparse(fixed))
 
 
 def _split_seconds(
@@ -652,6 +669,14 @@ def _literal_seconds(node: ast.expr) -> float | None:
     value = node.value if isinstance(node, ast.Constant) else None
     if isinstance(value, int | float) and not isinstance(value, bool) and value >= 0:
         return float(value)
+    return None
+
+
+def _plural(name: str, fields: dict[str, FieldTree]) -> str | None:
+    """The array field ``name`` is the singular of (``position`` of ``positions``)."""
+    for plural in (f"{name}s", f"{name[:-1]}ies" if name.endswith("y") else ""):
+        if plural in fields:
+            return plural
     return None
 
 
@@ -852,6 +877,7 @@ def _check_fields(
                 fix = f"{publish}(Twist())"
             else:
                 fix = _twist_with_vectors(statement_of.get(id(node)), node, key, numbers)
+            renamed = _renamed_keywords(node, tree, key, statement_of.get(id(node)))
             for keyword in node.keywords:
                 if keyword.arg is None:
                     continue
@@ -859,7 +885,9 @@ def _check_fields(
                 if split is not None:
                     ctx.add("grounding", "error", keyword, *split)
                     continue
-                _walk_fields(ctx, keyword, tree, [keyword.arg], key)
+                missing = _missing_field(tree, [keyword.arg], key)
+                if missing is not None:
+                    ctx.add("grounding", "error", keyword, missing[0], renamed)
                 nested = tree.get(keyword.arg)
                 if isinstance(nested, dict) and nested and _is_scalar(keyword.value, numbers):
                     ctx.add(
