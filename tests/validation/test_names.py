@@ -23,6 +23,12 @@ def _check(source: str, inputs: tuple[Capability, SkillSpec]) -> CheckReport:
     return check_skill(source, capability=capability, spec=spec, catalog=CATALOG)
 
 
+def stopping_with(statements: str) -> str:
+    """The good skill with ``statements`` first in its stopping state."""
+    halt = '        """Halt the base."""\n'
+    return GOOD.replace(halt, halt + statements, 1)
+
+
 def _names(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:
     """The findings of the names check."""
     return [f for f in _check(source, inputs).findings if f.check == "names"]
@@ -182,12 +188,9 @@ def test_pyskillup_decorators_builtins_and_locals_are_known(
 def test_a_goal_handle_method_asked_of_the_action_client_gets_the_goal_handle_statement(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    source = GOOD.replace(
-        '        """Halt the base."""\n',
-        '        """Halt the base."""\n'
+    source = stopping_with(
         '        self.nav_client = ActionClient(self.node, NavigateToPose, "/navigate_to_pose")\n'
-        "        self.nav_client.cancel_goal_async()\n",
-        1,
+        "        self.nav_client.cancel_goal_async()\n"
     )
     found = [f.message for f in _names(source, move_forward)]
     assert (
@@ -217,12 +220,9 @@ def test_an_input_the_capability_does_not_have_is_named_with_the_inputs_it_has(
 def test_a_transform_listener_torn_down_is_a_call_left_out(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    source = GOOD.replace(
-        '        """Halt the base."""\n',
-        '        """Halt the base."""\n'
+    source = stopping_with(
         "        self.tf_listener = TransformListener(self.tf_buffer, self.node)\n"
-        "        self.tf_listener.destroy()\n",
-        1,
+        "        self.tf_listener.destroy()\n"
     )
     (found,) = [f for f in _names(source, move_forward) if "destroy" in f.message]
     assert found.message == (
@@ -236,12 +236,9 @@ def test_a_transform_listener_torn_down_is_a_call_left_out(
 def test_cancelling_all_goals_of_an_action_client_is_the_skeletons_cancel_helper(
     move_forward: tuple[Capability, SkillSpec], helper: bool
 ) -> None:
-    source = GOOD.replace(
-        '        """Halt the base."""\n',
-        '        """Halt the base."""\n'
+    source = stopping_with(
         '        self.nav_client = ActionClient(self.node, NavigateToPose, "/navigate_to_pose")\n'
-        "        self.nav_client.cancel_all_goals()\n",
-        1,
+        "        self.nav_client.cancel_all_goals()\n"
     )
     if helper:
         source = source.replace(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 import pytest
@@ -61,6 +62,18 @@ def run(source: str, inputs: tuple[Capability, SkillSpec], **kwargs: object) -> 
         retrieved=kwargs.pop("retrieved", ["/cmd_vel", "/odom"]),  # type: ignore[arg-type]
         **kwargs,  # type: ignore[arg-type]
     )
+
+
+@functools.cache
+def mr1_catalog() -> Catalog:
+    """The catalog of the shipped MR-1 recording (every message definition it holds)."""
+    return catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+
+
+def check_on_mr1(source: str, inputs: tuple[Capability, SkillSpec]) -> CheckReport:
+    """The checks of ``source`` against the MR-1's whole catalog, nothing retrieved."""
+    capability, spec = inputs
+    return check_skill(source, capability=capability, spec=spec, catalog=mr1_catalog())
 
 
 def messages(report: CheckReport, check: str | None = None) -> list[str]:
@@ -405,9 +418,7 @@ def test_a_duration_message_made_from_seconds_is_split_into_its_two_fields(
         "from geometry_msgs.msg import Twist",
         "from builtin_interfaces.msg import Duration\nfrom geometry_msgs.msg import Twist",
     )
-    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
-    capability, spec = move_forward
-    report = check_skill(source, capability=capability, spec=spec, catalog=catalog)
+    report = check_on_mr1(source, move_forward)
     (found,) = [f for f in report.findings if f.check == "grounding"]
     assert found.message.startswith(
         "builtin_interfaces/msg/Duration has no field 'seconds' (fields: nanosec, sec; both "
@@ -428,9 +439,7 @@ def test_the_singular_of_an_array_field_in_a_constructor_is_put_as_the_field(
         "from geometry_msgs.msg import Twist",
         "from geometry_msgs.msg import Twist\nfrom trajectory_msgs.msg import JointTrajectoryPoint",
     )
-    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
-    capability, spec = move_forward
-    report = check_skill(source, capability=capability, spec=spec, catalog=catalog)
+    report = check_on_mr1(source, move_forward)
     found = [f for f in report.findings if f.check == "grounding"]
     made = "point = JointTrajectoryPoint(positions=[self.start_x], velocities=[0.0])"
     assert [(f.message.split(" (fields")[0], f.replacement) for f in found] == [
@@ -477,7 +486,7 @@ def test_a_transform_lookup_gives_a_transform_stamped_whose_fields_are_checked(
         .replace("self.tf_buffer.lookup_transform(", lookup, 1)
         .replace("translation = transform.transform.translation", "translation = transform.pose")
     )
-    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    catalog = mr1_catalog()
     report = check_skill(
         source,
         capability=load_capability(SHIPPED_CAPABILITIES / "get-position.ttl").capability,
@@ -640,14 +649,12 @@ def test_a_zero_twist_made_of_numbers_is_pointed_to_twist_and_its_publish_sugges
 def test_a_constant_a_message_type_does_not_declare_is_an_error(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
-    capability, spec = move_forward
     source = GOOD.replace(
         "        self.cmd_vel_publisher.publish(Twist())\n\n    @resetting",
         "        self.cmd_vel_publisher.publish(Twist(linear=Twist.STOP))\n\n    @resetting",
         1,
     )
-    report = check_skill(source, capability=capability, spec=spec, catalog=catalog)
+    report = check_on_mr1(source, move_forward)
     assert messages(report, "grounding") == [
         "geometry_msgs/msg/Twist has no constant 'STOP' (its constants: none); the skill's "
         "own: self.LINEAR_VELOCITY_MAX"
@@ -658,14 +665,12 @@ def test_a_constant_a_message_type_does_not_declare_is_an_error(
 def test_a_made_up_constant_naming_a_limit_of_the_skill_is_that_limit(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
-    capability, spec = move_forward
     source = GOOD.replace(
         "speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
         "speed = min(abs(self.in_linear_velocity), Twist.MAX_SPEED)",
         1,
     )
-    report = check_skill(source, capability=capability, spec=spec, catalog=catalog)
+    report = check_on_mr1(source, move_forward)
     (found,) = report.findings
     assert found.message.startswith("geometry_msgs/msg/Twist has no constant 'MAX_SPEED'")
     assert found.replacement == (
@@ -693,7 +698,7 @@ def test_a_message_of_another_type_handed_to_a_handle_is_an_error_and_wrapped_wh
             "self.cmd_vel_publisher.publish(PoseStamped())",
         )
     )
-    catalog = catalog_from_inventory(load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"))
+    catalog = mr1_catalog()
     report = check_skill(
         source,
         capability=load_capability(SHIPPED_CAPABILITIES / "navigate-to-point.ttl").capability,
