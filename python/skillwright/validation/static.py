@@ -762,6 +762,17 @@ def _has_subscript(node: ast.expr) -> bool:
 
 _COMPOUND = (ast.If, ast.For, ast.While, ast.With, ast.Try, ast.FunctionDef, ast.ClassDef)
 
+
+def _simple_statements(tree: ast.AST) -> dict[int, ast.stmt]:
+    """The innermost simple (not compound) statement of every node inside one, by node id."""
+    return {
+        id(node): statement
+        for statement in ast.walk(tree)
+        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+        for node in ast.walk(statement)
+    }
+
+
 _TRANSFORM_STAMPED = "geometry_msgs/msg/TransformStamped"
 _TF_MESSAGE = "tf2_msgs/msg/TFMessage"
 
@@ -843,12 +854,7 @@ def _check_fields(
         visitor.report()
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         numbers = _numeric_names(method) | numeric_attributes
-        statement_of = {
-            id(node): statement
-            for statement in ast.walk(method)
-            if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
-            for node in ast.walk(statement)
-        }
+        statement_of = _simple_statements(method)
         published = {
             id(call.args[0]): ast.unparse(call.func)
             for call in ast.walk(method)
@@ -986,12 +992,7 @@ def _check_arguments(
     given type, the finding carries the statement that wraps it in one."""
     handles = _handle_types(cls, imports)
     classes = {type_name: name for name, type_name in imports.items()}
-    statement_of = {
-        id(node): statement
-        for statement in ast.walk(cls)
-        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
-        for node in ast.walk(statement)
-    }
+    statement_of = _simple_statements(cls)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         bound = bindings.get(method.name, {})
         for call in ast.walk(method):
@@ -1057,12 +1058,7 @@ def _check_constants(
         if isinstance(target, ast.Name) and target.id.isupper()
     ]
     mine = f"; the skill's own: {', '.join(own)}" if own else ""
-    statement_of = {
-        id(node): statement
-        for statement in ast.walk(cls)
-        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
-        for node in ast.walk(statement)
-    }
+    statement_of = _simple_statements(cls)
     for node in ast.walk(cls):
         if not (
             isinstance(node, ast.Attribute)
