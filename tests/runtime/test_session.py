@@ -98,6 +98,27 @@ def test_a_state_that_waits_forever_times_out_where_it_waits(mr1_inventory: Inve
     assert report.trace.episodes[0].virtual_seconds == pytest.approx(10.0, abs=0.5)
 
 
+def test_a_loop_that_publishes_but_never_waits_is_interrupted_as_busy_at_its_line(
+    mr1_inventory: Inventory,
+) -> None:
+    # The child talks all the time, so it is never quiet; virtual time standing still is
+    # what gives it away, well before the sandbox's CPU limit. The interrupt mostly comes
+    # while it publishes, and must still say where it was.
+    body = (
+        "        from geometry_msgs.msg import Twist\n"
+        "        publisher = self.node.create_publisher(Twist, '/cmd_vel', 10)\n"
+        "        while True:\n"
+        "            publisher.publish(Twist())\n"
+    )
+    report, source = run(mr1_inventory, body)
+
+    [finding] = report.findings
+    assert (finding.check, finding.line) == ("run.busy", line_of(source, "publisher.publish("))
+    states = [(s.name, s.outcome, s.detail) for s in report.trace.episodes[0].states]
+    assert ("execute", "interrupted", "busy") in states
+    assert report.trace.episodes[0].wall_seconds < 20.0
+
+
 def test_waiting_for_a_topic_nobody_publishes_names_the_topic(mr1_inventory: Inventory) -> None:
     body = (
         "        from geometry_msgs.msg import PoseStamped\n"

@@ -52,6 +52,11 @@ _GRACE_SECONDS = 5.0
 _STALL_SECONDS = 30.0
 """A state that uses no CPU and sends nothing for this long (wall; at least ten busy
 deadlines) is blocked in a wait the simulation cannot see (a lock, ``input()``)."""
+_SPIN_FRAMES = 200
+"""Frames a child may send without waiting in the busy deadline before it counts as spinning
+(one that starts up or sets up its handles sends far fewer)."""
+_WAITING_OPS = frozenset({"advance", "state", "phase", "stack", "hello"})
+"""Frames that show the child waited for virtual time or began something new."""
 _IMPORT_NAME = re.compile(
     r"cannot import name '(?P<name>\w+)' from '(?P<package>\w+)\.(?P<namespace>\w+)'"
 )
@@ -212,8 +217,9 @@ class Episode:
         wire = Wire(child.sock)
         deadlines = self._scenario.deadlines
         run_deadline = child.started + deadlines.run
-        last = sampled = time.monotonic()
+        last = sampled = waited = time.monotonic()
         last_cpu = child.cpu_seconds()
+        talked = 0
         interrupted_at: float | None = None
         self._interrupt_reason = "busy"
         self._stall_seconds = max(_STALL_SECONDS, 10 * deadlines.busy)
@@ -227,6 +233,13 @@ class Episode:
             if interrupted_at is not None and now - interrupted_at > _GRACE_SECONDS:
                 self._kill("busy", self._busy_message(None))
                 return
+            if interrupted_at is None and now - waited > deadlines.busy and talked > _SPIN_FRAMES:
+                # It keeps talking (publishing, logging) but never waits, so virtual time
+                # stands still: a loop without a sleep.
+                self._interrupt_reason = "busy"
+                child.interrupt()
+                interrupted_at = now
+                continue
             if interrupted_at is None and now - last > deadlines.busy:
                 # CPU time, not wall time, decides: on a busy machine a waiting child can go
                 # seconds without a turn on a core.
@@ -269,6 +282,10 @@ class Episode:
             if frame["op"] == "stack":
                 interrupted_at = None
             last = time.monotonic()
+            if frame["op"] in _WAITING_OPS:
+                waited, talked = last, 0
+            else:
+                talked += 1
 
     def _kill(self, reason: str, message: str) -> None:
         self._result.trace.ended = "killed"

@@ -129,6 +129,7 @@ def _interrupt_handler(core: object, core_module: object) -> object:
             walk = walk.f_back  # type: ignore[attr-defined]
         if core.in_io:  # type: ignore[attr-defined]
             core.deferred_interrupt = reason  # type: ignore[attr-defined]
+            core.deferred_stack = stack[::-1]  # type: ignore[attr-defined]
             return
         core.notify("stack", reason=reason, frames=stack[::-1])  # type: ignore[attr-defined]
         raise core_module.Interrupted(reason)  # type: ignore[attr-defined]

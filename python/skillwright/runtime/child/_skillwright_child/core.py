@@ -118,6 +118,7 @@ class Core:
         self._wakeups: list[float] = []
         self.in_io = False
         self.deferred_interrupt: str | None = None
+        self.deferred_stack: list[list[object]] = []
 
     # --- identity and location ---------------------------------------------------
 
@@ -164,7 +165,15 @@ class Core:
     def _raise_deferred(self) -> None:
         reason = self.deferred_interrupt
         if reason is not None and self.on_main_thread():
+            # The host learns where the skill was when the signal came, as it does from an
+            # interrupt that was not deferred.
             self.deferred_interrupt = None
+            stack, self.deferred_stack = self.deferred_stack, []
+            self.in_io = True
+            try:
+                self.wire.notify("stack", reason=reason, frames=stack, t=self.now)
+            finally:
+                self.in_io = False
             raise Interrupted(reason)
 
     # --- waiting -------------------------------------------------------------------
