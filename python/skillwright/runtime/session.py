@@ -65,6 +65,55 @@ _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
 
+class _Watch:
+    """When the host interrupts a child's state: it spins (uses CPU, or keeps talking without
+    ever waiting for virtual time) or it is blocked (silent and idle) for too long."""
+
+    def __init__(self, child: SandboxProcess, busy: float, stall: float) -> None:
+        self.child = child
+        self.busy = busy
+        self.stall = stall
+        self.last = self.sampled = self.waited = time.monotonic()
+        self.last_cpu = child.cpu_seconds()
+        self.talked = 0
+        self.interrupted_at: float | None = None
+
+    def overdue(self, now: float) -> str | None:
+        """``"busy"`` or ``"blocked"`` when the child's state should be interrupted now."""
+        if self.interrupted_at is not None:
+            return None
+        if now - self.waited > self.busy and self.talked > _SPIN_FRAMES:
+            # It keeps talking (publishing, logging) but never waits, so virtual time stands
+            # still: a loop without a sleep.
+            return "busy"
+        if now - self.last > self.busy:
+            # CPU time, not wall time, decides: on a busy machine a waiting child can go
+            # seconds without a turn on a core.
+            cpu = self.child.cpu_seconds()
+            if cpu is None or self.last_cpu is None or cpu - self.last_cpu > self.busy:
+                return "busy"
+            if now - self.last > self.stall:
+                return "blocked"
+        return None
+
+    def quiet(self) -> None:
+        """The child has gone quiet: its CPU time is noted once, as the base the busy check
+        compares with. A child that keeps talking is never sampled (reading /proc costs more
+        than an exchange)."""
+        if self.sampled < self.last:
+            self.sampled, self.last_cpu = time.monotonic(), self.child.cpu_seconds()
+
+    def heard(self, op: str) -> None:
+        """A frame of ``op`` came from the child."""
+        if op == "stack":
+            self.interrupted_at = None
+        self.last = time.monotonic()
+        if op in _WAITING_OPS:
+            self.waited, self.talked = self.last, 0
+        else:
+            self.talked += 1
+
+
 @dataclass(frozen=True)
 class EpisodePlan:
     """Which episode to run."""
@@ -217,12 +266,9 @@ class Episode:
         wire = Wire(child.sock)
         deadlines = self._scenario.deadlines
         run_deadline = child.started + deadlines.run
-        last = sampled = waited = time.monotonic()
-        last_cpu = child.cpu_seconds()
-        talked = 0
-        interrupted_at: float | None = None
+        watch = _Watch(child, deadlines.busy, max(_STALL_SECONDS, 10 * deadlines.busy))
         self._interrupt_reason = "busy"
-        self._stall_seconds = max(_STALL_SECONDS, 10 * deadlines.busy)
+        self._stall_seconds = watch.stall
         while not self._done:
             if self._cancel is not None and self._cancel.is_set():
                 raise GenerationCancelledError("the run was cancelled; nothing was kept")
@@ -230,35 +276,19 @@ class Episode:
             if now > run_deadline:
                 self._kill("run", f"the episode took longer than {deadlines.run:g} s of wall time")
                 return
-            if interrupted_at is not None and now - interrupted_at > _GRACE_SECONDS:
+            if watch.interrupted_at is not None and now - watch.interrupted_at > _GRACE_SECONDS:
                 self._kill("busy", self._busy_message(None))
                 return
-            if interrupted_at is None and now - waited > deadlines.busy and talked > _SPIN_FRAMES:
-                # It keeps talking (publishing, logging) but never waits, so virtual time
-                # stands still: a loop without a sleep.
-                self._interrupt_reason = "busy"
+            reason = watch.overdue(now)
+            if reason is not None:
+                self._interrupt_reason = reason
                 child.interrupt()
-                interrupted_at = now
+                watch.interrupted_at = now
                 continue
-            if interrupted_at is None and now - last > deadlines.busy:
-                # CPU time, not wall time, decides: on a busy machine a waiting child can go
-                # seconds without a turn on a core.
-                cpu = child.cpu_seconds()
-                spun = cpu is None or last_cpu is None or cpu - last_cpu > deadlines.busy
-                stalled = now - last > self._stall_seconds
-                if spun or stalled:
-                    self._interrupt_reason = "busy" if spun else "blocked"
-                    child.interrupt()
-                    interrupted_at = now
-                    continue
             if not wire.pending():
                 ready, _, _ = select.select([child.sock], [], [], _POLL_SECONDS)
                 if not ready:
-                    if sampled < last:
-                        # The child has gone quiet: note its CPU time once, as the base the
-                        # busy check compares with. A child that keeps talking is never
-                        # sampled (reading /proc costs more than an exchange).
-                        sampled, last_cpu = time.monotonic(), child.cpu_seconds()
+                    watch.quiet()
                     continue
             try:
                 frame = wire.receive()
@@ -279,13 +309,7 @@ class Episode:
                     wire.send(reply)
                 except OSError:
                     return
-            if frame["op"] == "stack":
-                interrupted_at = None
-            last = time.monotonic()
-            if frame["op"] in _WAITING_OPS:
-                waited, talked = last, 0
-            else:
-                talked += 1
+            watch.heard(str(frame["op"]))
 
     def _kill(self, reason: str, message: str) -> None:
         self._result.trace.ended = "killed"
