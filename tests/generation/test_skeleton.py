@@ -435,3 +435,55 @@ def test_an_arm_motion_written_with_the_move_group_helpers_reports_where_it_went
     assert (outputs["outPositionX"], outputs["outPositionY"], outputs["outPositionZ"]) == (
         pytest.approx((0.5, 0.1, 0.4), abs=0.01)
     )
+
+
+def test_a_skill_that_can_move_gets_the_halting_state_its_specification_leaves_out() -> None:
+    capability, spec = shipped("move-forward")
+    assert "aborting" not in spec.states
+    assert "stopping" in spec.states
+
+    skeleton = build_skeleton(capability, spec, [CMD_VEL, ODOM, NAVIGATE])
+
+    assert "aborting" not in skeleton.unimplemented
+    assert "stopping" in skeleton.unimplemented
+    cls = next(n for n in ast.parse(skeleton.code).body if isinstance(n, ast.ClassDef))
+    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
+    body = ast.unparse(methods["aborting"])
+    assert "self._stop_base()" in body
+    assert "self._cancel_navigate_to_pose_goal(2.0)" in body
+    assert {"_stop_base", "_cancel_navigate_to_pose_goal"} <= set(methods)
+    names = [n.name for n in cls.body if isinstance(n, ast.FunctionDef)]
+    assert names.index("stopping") < names.index("aborting") < names.index("resetting")
+
+
+def test_a_skill_that_cannot_move_gets_no_halting_state() -> None:
+    capability, spec = shipped("get-position")
+    code = build_skeleton(capability, spec, [ODOM]).code
+    assert "def aborting" not in code
+    assert "def stopping" not in code
+
+
+def test_a_fault_after_driving_leaves_the_base_at_rest_without_an_aborting_in_the_spec(
+    tmp_path: Path,
+) -> None:
+    report = _run_with_helpers(
+        "move-forward",
+        [CMD_VEL, ODOM],
+        {
+            "starting": "self._wait_until(lambda: self.odom_msg is not None, 2.0, 'odometry')",
+            "execute": """
+                command = Twist()
+                command.linear.x = 0.3
+                self.cmd_vel_publisher.publish(command)
+                time.sleep(0.5)
+                raise RuntimeError("a fault while driving")
+            """,
+            "completing": 'self.node.get_logger().info("done")',
+            "stopping": "self._stop_base()",
+            "resetting": "self._stop_base()",
+        },
+        tmp_path,
+    )
+    assert [f.check for f in report.findings if f.severity == "error"] == ["run.exception"]
+    states = [(s.name, s.outcome) for s in report.trace.episodes[0].states]
+    assert ("aborting", "done") in states

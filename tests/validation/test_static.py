@@ -124,8 +124,8 @@ def test_syntax_error_is_located(move_forward: tuple[Capability, SkillSpec]) -> 
         ("    @stopping\n", "", "no method decorated @stopping"),
         (
             "    @completing\n",
-            "    @completing\n    @aborting\n",
-            "@aborting is not in the specification",
+            "    @completing\n    @holding\n",
+            "@holding is not in the specification",
         ),
     ],
 )
@@ -627,6 +627,33 @@ def test_an_error_ignored_where_the_spec_does_not_say_abort_is_a_warning(
             "skill should go on after it",
         )
     ]
+
+
+def test_a_halting_state_that_logs_a_failure_and_goes_on_halting_is_not_flagged(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    halt = '        """Halt the base."""\n'
+    assert halt in GOOD
+    logging = halt + (
+        "        try:\n"
+        "            self._travelled()\n"
+        "        except RuntimeError as error:\n"
+        "            self.node.get_logger().error(str(error))\n"
+    )
+    findings = run(GOOD.replace(halt, logging), move_forward).findings
+    assert [f for f in findings if f.check == "failures"] == []
+
+
+def test_an_aborting_state_the_spec_lacks_is_welcome(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    halt = "    @stopping\n"
+    aborting = (
+        "    @aborting\n    def aborting(self) -> None:\n"
+        "        self.cmd_vel_publisher.publish(Twist())\n\n"
+    )
+    findings = run(GOOD.replace(halt, aborting + halt), move_forward).findings
+    assert not [f for f in findings if "aborting" in f.message], findings
 
 
 def test_a_zero_twist_made_of_numbers_is_pointed_to_twist_and_its_publish_suggested(

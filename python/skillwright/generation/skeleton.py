@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Literal
 from skillwright.capability.model import Capability, Parameter
 from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParameter
 from skillwright.generation.names import attribute_name, class_name, python_import, snake_case
-from skillwright.spec.model import SkillSpec
+from skillwright.spec.model import PACKML_STATES, SkillSpec
 
 if TYPE_CHECKING:
     from skillwright.interfaces.inventory import QosProfile
@@ -635,14 +635,59 @@ def _helpers(out: _Writer, helpers: dict[str, list[str]]) -> None:
         out.add("", *lines)
 
 
+_HALTING = {"stopping": "a Stop", "aborting": "a fault"}
+"""The states that must bring a moving robot to a halt, and what leads into each."""
+
+
+def halting_states(spec: SkillSpec, interfaces: Sequence[InterfaceRef]) -> dict[str, list[str]]:
+    """Halting states the specification leaves out although the skill can move the robot,
+    written whole: they command zero velocity and cancel the goals in progress.
+
+    Without them a fault (or a Stop) leaves the last velocity command or an action goal
+    driving the robot; a specification's author rarely thinks of that, and it is no
+    behaviour a model needs to invent.
+    """
+    twists = [i for i in interfaces if _is_twist_publisher(i)]
+    actions = [i for i in interfaces if i.kind == "action"]
+    if not twists and not actions:
+        return {}
+    states: dict[str, list[str]] = {}
+    for state, cause in _HALTING.items():
+        if state in spec.states:
+            continue
+        text = (
+            f"Added by skillwright: the specification has no {state} state, and after {cause} "
+            "the robot must not keep moving. Commands zero velocity and cancels the goals "
+            "in progress."
+        )
+        lines = [f"    @{state}", f"    def {state}(self) -> None:", *_docstring(text, "        ")]
+        if twists:
+            lines.append("        self._stop_base()")
+        for interface in actions:
+            lines += [
+                "        try:",
+                f"            self._cancel_{action_stem(interface)}_goal(2.0)",
+                "        except RuntimeError as error:",
+                "            self.node.get_logger().error(str(error))",
+            ]
+        states[state] = lines
+    return states
+
+
 def _states(
     out: _Writer,
     spec: SkillSpec,
     prologues: dict[str, list[str]],
     epilogues: dict[str, list[str]],
+    halting: dict[str, list[str]],
 ) -> list[str]:
     unimplemented: list[str] = []
-    for state, text in spec.states.items():
+    for state in PACKML_STATES:
+        if state in halting:
+            out.add("", *halting[state])
+        if state not in spec.states:
+            continue
+        text = spec.states[state]
         out.add("", f"    @{state}", f"    def {state}(self) -> None:")
         out.add(*_docstring(text, "        "))
         # The skeleton alone cannot order the behaviour between them, so the handles are
@@ -675,8 +720,14 @@ def build_skeleton(
     skill_iri = mint_skill_iri(capability, spec.name)
     parameters = _parameters(capability.inputs) + _parameters(capability.outputs)
 
+    halting = halting_states(spec, interfaces)
     offered = skeleton_helpers(interfaces, helpers or ())
-    wanted = None if helpers is None else helper_dependencies(helpers, offered)
+    halting_calls = {
+        name
+        for lines in halting.values()
+        for name in re.findall(r"self\.(_\w+)\(", "\n".join(lines))
+    }
+    wanted = None if helpers is None else helper_dependencies({*helpers, *halting_calls}, offered)
     helper_code = {n: c for n, c in offered.items() if wanted is None or n in wanted}
     prologues: dict[str, list[str]] = {}
     epilogues: dict[str, list[str]] = {}
@@ -696,7 +747,7 @@ def build_skeleton(
     _accessors(out, parameters)
     _callbacks(out, interfaces)
     _helpers(out, helper_code)
-    unimplemented = _states(out, spec, prologues, epilogues)
+    unimplemented = _states(out, spec, prologues, epilogues, halting)
 
     code = out.text()
     ast.parse(code)  # the skeleton is generated, so a syntax error here is our bug

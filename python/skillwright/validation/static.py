@@ -226,7 +226,9 @@ def _check_states(ctx: _Context, cls: ast.ClassDef, spec: SkillSpec) -> dict[str
                 "annotations", "error", cls, f"no method decorated @{state}: the spec asks for it"
             )
     for state, method in methods.items():
-        if state not in spec.states:
+        # A halting state the specification left out is welcome: the skeleton adds one to a
+        # skill that can move the robot.
+        if state not in spec.states and state not in _HALTING:
             ctx.add(
                 "annotations",
                 "warning",
@@ -294,6 +296,10 @@ def _check_placeholders(
 _ABORT = re.compile(r"\babort", re.IGNORECASE)
 
 
+_HALTING = frozenset({"stopping", "aborting"})
+"""States that bring the robot to a halt when a skill ends early."""
+
+
 def _check_swallowed_errors(
     ctx: _Context, methods: dict[str, ast.FunctionDef], spec: SkillSpec
 ) -> None:
@@ -317,7 +323,9 @@ def _check_swallowed_errors(
                     f"{caught} and carries on: log it if you like, then raise (a state that "
                     "raises aborts the skill)",
                 )
-            else:
+            elif state not in _HALTING:
+                # A halting state that logs a failed cancellation and goes on halting does
+                # right: nothing follows it that the failure could mislead.
                 ctx.add(
                     "failures",
                     "warning",
