@@ -362,3 +362,41 @@ def test_a_method_of_the_node_or_logger_called_elsewhere_comes_with_its_statemen
             "self.started = self.node.get_clock().now()",
         )
     ]
+
+
+@pytest.mark.parametrize(
+    ("call", "expected"),
+    [
+        ("self._travelled(1.0)", "too many positional arguments"),
+        ("self._travelled(limit=1.0)", "got an unexpected keyword argument 'limit'"),
+    ],
+)
+def test_a_method_of_the_class_called_with_arguments_it_does_not_take_is_found(
+    move_forward: tuple[Capability, SkillSpec], call: str, expected: str
+) -> None:
+    source = stopping_with(f"        {call}\n")
+    [finding] = _names(source, move_forward)
+    assert finding.line == next(
+        n for n, line in enumerate(source.splitlines(), start=1) if call in line
+    )
+    assert "(line 57: _travelled())" in finding.message
+    assert expected in finding.message
+
+
+def test_a_helper_missing_the_parameter_its_call_gives_is_found_and_defaults_count(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    helper = (
+        "    def _within(self, threshold, timeout):\n"
+        "        return threshold < timeout\n\n"
+        "    def _near(self, threshold, timeout=1.0):\n"
+        "        return threshold < timeout\n\n"
+        "    @stopping\n"
+    )
+    source = stopping_with(
+        "        self._within(0.05)\n        self._near(0.05)\n        self._near(*[0.05])\n"
+    ).replace("    @stopping\n", helper, 1)
+    messages = [f.message for f in _names(source, move_forward)]
+    assert len(messages) == 1
+    assert "self._within() is called" in messages[0]
+    assert "missing a required argument: 'timeout'" in messages[0]

@@ -1,12 +1,13 @@
 """Names a skill uses that nothing defines: the commonest mistakes of a small model.
 
-Three kinds, each found without running the code:
+The kinds, each found without running the code:
 
 - a name that is neither imported, defined, a builtin nor one of pySkillUp's decorators
   (``Vector3`` used without its import, ``rospy``);
 - an attribute of the skill read but set nowhere (``self.logger``, ``self.odom_sub``);
 - a method called on the node or on a handle the code made that rclpy does not have
-  (``subscription.wait_for_message``, ``self.node.get_time``).
+  (``subscription.wait_for_message``, ``self.node.get_time``);
+- a method of the class called with arguments its definition does not take.
 
 The rclpy names below are the public API of rclpy's ``Node``, ``Publisher``,
 ``Subscription``, ``Client``, ``Timer``, ``Rate``, ``ActionClient`` and the logger, as far as
@@ -19,6 +20,7 @@ import ast
 import builtins
 import copy
 import difflib
+import inspect
 import symtable
 from collections.abc import Iterator
 
@@ -732,6 +734,69 @@ def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
     return findings
 
 
+def _signature(method: ast.FunctionDef) -> inspect.Signature | None:
+    """The signature of a method of the class without ``self`` (defaults stand in as
+    ``None``); None for a static or class method or a property."""
+    if any(
+        ast.unparse(d) in {"staticmethod", "classmethod", "property"} for d in method.decorator_list
+    ):
+        return None
+    arguments = method.args
+    positional = [*arguments.posonlyargs, *arguments.args][1:]
+    first_default = len(positional) - len(arguments.defaults)
+    kind = inspect.Parameter
+    parameters = [
+        kind(
+            a.arg,
+            kind.POSITIONAL_ONLY if a in arguments.posonlyargs else kind.POSITIONAL_OR_KEYWORD,
+            default=None if index >= first_default else kind.empty,
+        )
+        for index, a in enumerate(positional)
+    ]
+    if arguments.vararg is not None:
+        parameters.append(kind(arguments.vararg.arg, kind.VAR_POSITIONAL))
+    parameters += [
+        kind(a.arg, kind.KEYWORD_ONLY, default=kind.empty if d is None else None)
+        for a, d in zip(arguments.kwonlyargs, arguments.kw_defaults, strict=True)
+    ]
+    if arguments.kwarg is not None:
+        parameters.append(kind(arguments.kwarg.arg, kind.VAR_KEYWORD))
+    return inspect.Signature(parameters)
+
+
+def _mismatched_calls(cls: ast.ClassDef) -> list[Finding]:
+    """Calls of the class's own methods with arguments their definitions do not take (a helper
+    written with a parameter more than the call that asked for it gives)."""
+    signatures = {
+        node.name: (node, signature)
+        for node in cls.body
+        if isinstance(node, ast.FunctionDef) and (signature := _signature(node)) is not None
+    }
+    findings = []
+    for call in ast.walk(cls):
+        if not isinstance(call, ast.Call):
+            continue
+        name = self_attribute(call.func)
+        if name not in signatures:
+            continue
+        starred = any(isinstance(a, ast.Starred) for a in call.args)
+        if starred or any(k.arg is None for k in call.keywords):
+            continue
+        method, signature = signatures[name]
+        try:
+            signature.bind(*call.args, **{str(k.arg): k.value for k in call.keywords})
+        except TypeError as error:
+            findings.append(
+                _finding(
+                    call,
+                    f"self.{name}() is called with arguments its definition (line "
+                    f"{method.lineno}: {name}{signature}) does not take: {error}; make the call "
+                    "and the definition agree",
+                )
+            )
+    return findings
+
+
 def check_names(
     source: str, tree: ast.Module, cls: ast.ClassDef | None, imports: dict[str, str]
 ) -> list[Finding]:
@@ -741,4 +806,5 @@ def check_names(
     findings = _undefined_names(source, tree) + _missing_nested_classes(tree, imports)
     if cls is not None:
         findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
+        findings += _mismatched_calls(cls)
     return findings
