@@ -280,6 +280,16 @@ def test_a_statement_the_checks_know_the_fix_for_is_fixed_without_the_model(
     )
 
 
+def test_a_local_variable_hiding_a_module_is_renamed_without_the_model(case: _Case) -> None:
+    hides_time = COMPLETING.replace(
+        "        self.node.get_logger().info(",
+        "        time = 0.1\n        time.sleep(time)\n        self.node.get_logger().info(",
+        1,
+    )
+    authored = _fixed_without_the_model(case, "completing", hides_time)
+    assert "        time_value = 0.1\n        time.sleep(time_value)\n" in authored.code
+
+
 def test_a_guard_that_only_raises_is_replaced_by_the_suggested_statement(case: _Case) -> None:
     guards_wrongly = STARTING.replace(
         '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")\n',

@@ -258,18 +258,38 @@ def test_cancelling_all_goals_of_an_action_client_is_the_skeletons_cancel_helper
         assert found.replacement is None
 
 
-def test_a_local_variable_that_hides_a_module_the_method_uses_is_an_error(
+def test_a_local_variable_that_hides_a_standard_module_is_renamed_in_every_statement(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    source = GOOD.replace(
-        '        """Halt the base."""\n',
-        '        """Halt the base."""\n        time = 0.5\n        time.sleep(time)\n',
-        1,
+    source = stopping_with(
+        "        time = 0.5\n"
+        "        if time > 0.2:\n"
+        "            time = 0.2\n"
+        "        time.sleep(time)\n"
     )
     found = _names(source, move_forward)
-    assert [f.message for f in found] == [
-        "time is the module time, which stopping also uses; a local variable of that name "
-        "hides it in the whole method: name the variable differently"
+    lines = source.splitlines()
+    assert [(lines[f.line - 1].strip(), f.replacement) for f in found] == [
+        ("time = 0.5", "time_value = 0.5"),
+        ("if time > 0.2:", "if time_value > 0.2:\n    time_value = 0.2"),
+        ("time.sleep(time)", "time.sleep(time_value)"),
+    ]
+    assert all("renamed to time_value" in f.message for f in found)
+
+
+def test_a_hidden_module_in_a_statement_that_cannot_be_replaced_whole_is_only_named(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = stopping_with(
+        "        time = 0.5\n        for _ in range(2):\n            time.sleep(time)\n"
+    )
+    found = _names(source, move_forward)
+    assert [(f.message, f.replacement) for f in found] == [
+        (
+            "time is the module time, which stopping also uses; a local variable of that "
+            "name hides it in the whole method: name the variable differently",
+            None,
+        )
     ]
     assert source.splitlines()[found[0].line - 1].strip() == "time = 0.5"
 

@@ -20,8 +20,10 @@ import ast
 import builtins
 import copy
 import difflib
+import importlib
 import inspect
 import symtable
+import sys
 from collections.abc import Iterator
 
 from skillwright.spec.model import PACKML_STATES
@@ -700,9 +702,76 @@ def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[F
     return findings
 
 
+def _module_uses(method: ast.AST, module: str) -> set[tuple[int, int]]:
+    """Positions of ``module`` in ``method`` where it is the standard module: the object of an
+    attribute the module has (``time.sleep``)."""
+    real = importlib.import_module(module)
+    return {
+        (node.value.lineno, node.value.col_offset)
+        for node in ast.walk(method)
+        if isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id == module
+        and hasattr(real, node.attr)
+    }
+
+
+class _Rename(ast.NodeTransformer):
+    """Renames the Name nodes at ``where`` to ``new``."""
+
+    def __init__(self, where: set[tuple[int, int]], new: str) -> None:
+        self.where = where
+        self.new = new
+
+    def visit_Name(self, node: ast.Name) -> ast.Name:
+        if (node.lineno, node.col_offset) in self.where:
+            return ast.Name(id=self.new, ctx=node.ctx)
+        return node
+
+
+def _renamed_local(method: ast.FunctionDef | ast.AsyncFunctionDef, module: str) -> list[Finding]:
+    """Findings that rename a local variable hiding the standard ``module`` everywhere in
+    ``method`` (each statement of the method that uses it, with the statement renamed); empty
+    when a statement cannot be replaced whole."""
+    modules = _module_uses(method, module)
+    local = {
+        (node.lineno, node.col_offset)
+        for node in ast.walk(method)
+        if isinstance(node, ast.Name) and node.id == module
+    } - modules
+    taken = {n.id for n in ast.walk(method) if isinstance(n, ast.Name)} | {
+        a.arg for a in ast.walk(method) if isinstance(a, ast.arg)
+    }
+    new = next(
+        f"{module}_{suffix}"
+        for suffix in ("value", "local", "var")
+        if f"{module}_{suffix}" not in taken
+    )
+    findings = []
+    for statement in method.body:
+        mine = {
+            (n.lineno, n.col_offset) for n in ast.walk(statement) if isinstance(n, ast.Name)
+        } & local
+        if not mine:
+            continue
+        if not isinstance(statement, ast.Assign | ast.AnnAssign | ast.Expr | ast.While | ast.If):
+            return []
+        renamed = _Rename(mine, new).visit(copy.deepcopy(statement))
+        findings.append(
+            _finding(
+                statement,
+                f"the local variable {module} hides the module {module} in {method.name}; "
+                f"renamed to {new} here",
+                ast.unparse(renamed),
+            )
+        )
+    return findings
+
+
 def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
     """A local variable named like a module the same method uses (``time = distance /
-    speed`` then ``time.sleep(...)``): the module is gone inside that method."""
+    speed`` then ``time.sleep(...)``): the module is gone inside that method. For a module of
+    the standard library, the variable is renamed in every statement that uses it."""
     modules = {
         (alias.asname or alias.name).split(".")[0]
         for node in tree.body
@@ -722,6 +791,12 @@ def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
         }
         for node in ast.walk(method):
             if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store) and node.id in used:
+                used.discard(node.id)
+                if node.id in sys.stdlib_module_names:
+                    renamed = _renamed_local(method, node.id)
+                    if renamed:
+                        findings += renamed
+                        continue
                 findings.append(
                     _finding(
                         node,
@@ -730,7 +805,6 @@ def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
                         "variable differently",
                     )
                 )
-                used.discard(node.id)
     return findings
 
 
