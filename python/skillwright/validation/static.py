@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.spec.model import PACKML_STATES, SkillSpec
+from skillwright.validation.first_messages import check_first_messages
 from skillwright.validation.loops import check_waits
 from skillwright.validation.model import (
     SEQUENCE_METHODS,
@@ -1355,6 +1356,7 @@ def check_skill(
         _check_timers(ctx, cls)
         ctx.findings += check_names(source, tree, cls, imports)
         ctx.findings += check_waits(cls)
+        ctx.findings += check_first_messages(cls, methods)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
             _check_constants(ctx, cls, catalog, imports)

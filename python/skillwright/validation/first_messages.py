@@ -1,0 +1,140 @@
+"""Giving up on a subscription's first message without waiting for it (check ``waits``).
+
+The skeleton keeps a subscription's latest message in ``self.X_msg``, which is ``None`` until
+the first message arrives. PySkillUp runs a state right after the one before it, so a state
+that tests ``if self.X_msg is None: raise ...`` before anything waited for that message gives
+up on a robot that is fine: the subscription was made a moment ago. Small models write this
+guard often (and the sandboxed run finds it, one slow run later). Where the guard only
+raises, the finding carries the wait that should take its place.
+
+A message counts as waited for once a state on the normal path (``starting``, ``execute``,
+``completing``) before the guard waited for it: a ``_wait_until`` or a loop whose condition
+reads it, directly or in a method of the class it calls.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Mapping
+
+from skillwright.validation.model import Finding
+
+__all__ = ["check_first_messages"]
+
+_NORMAL_PATH = ("starting", "execute", "completing")
+
+
+def _self_attribute(node: ast.AST) -> str | None:
+    if (
+        isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id == "self"
+    ):
+        return node.attr
+    return None
+
+
+def _latest_messages(cls: ast.ClassDef) -> set[str]:
+    """The ``self.X_msg`` attributes the class declares with an annotation (the skeleton's)."""
+    return {
+        name
+        for node in ast.walk(cls)
+        if isinstance(node, ast.AnnAssign)
+        and (name := _self_attribute(node.target)) is not None
+        and name.endswith("_msg")
+    }
+
+
+def _mentions(node: ast.AST, attribute: str) -> bool:
+    return any(_self_attribute(n) == attribute for n in ast.walk(node))
+
+
+def _waits_for(
+    node: ast.AST, attribute: str, methods: Mapping[str, ast.FunctionDef], depth: int = 2
+) -> bool:
+    """Whether ``node`` waits until ``self.<attribute>`` is set: ``self._wait_until`` with a
+    condition that reads it, a ``while`` loop whose test reads it, or a call of a method of
+    the class that does (``depth`` levels deep)."""
+    for inner in ast.walk(node):
+        if isinstance(inner, ast.While) and _mentions(inner.test, attribute):
+            return True
+        if not isinstance(inner, ast.Call):
+            continue
+        called = _self_attribute(inner.func)
+        if called == "_wait_until" and any(_mentions(a, attribute) for a in inner.args):
+            return True
+        callee = methods.get(called) if called is not None else None
+        if callee is not None and depth > 0 and _waits_for(callee, attribute, methods, depth - 1):
+            return True
+    return False
+
+
+def _tested(test: ast.expr, aliases: Mapping[str, str]) -> str | None:
+    """The latest-message attribute ``test`` finds missing: ``X is None`` or ``not X``, with
+    X ``self.<attribute>`` or a local variable set from it."""
+    if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+        subject: ast.expr = test.operand
+    elif (
+        isinstance(test, ast.Compare)
+        and len(test.ops) == 1
+        and isinstance(test.ops[0], ast.Is)
+        and isinstance(test.comparators[0], ast.Constant)
+        and test.comparators[0].value is None
+    ):
+        subject = test.left
+    else:
+        return None
+    if isinstance(subject, ast.Name):
+        return aliases.get(subject.id)
+    return _self_attribute(subject)
+
+
+def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef]) -> list[Finding]:
+    """Findings for guards that give up on a first message nothing waited for, with the wait
+    (and the local variables set from the message again after it) in their place."""
+    latest = _latest_messages(cls)
+    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
+    waited: set[str] = set()
+    findings = []
+    for state in _NORMAL_PATH:
+        method = states.get(state)
+        if method is None:
+            continue
+        aliases: dict[str, str] = {}
+        for statement in method.body:
+            attribute = _tested(statement.test, aliases) if isinstance(statement, ast.If) else None
+            gives_up = (
+                isinstance(statement, ast.If)
+                and not statement.orelse
+                and all(isinstance(s, ast.Raise) for s in statement.body)
+            )
+            if gives_up and attribute in latest and attribute not in waited:
+                wait = f'self._wait_until(lambda: self.{attribute} is not None, 2.0, "{attribute}")'
+                again = [
+                    f"{local} = self.{attribute}" for local, a in aliases.items() if a == attribute
+                ]
+                findings.append(
+                    Finding(
+                        check="waits",
+                        severity="error",
+                        line=statement.lineno,
+                        column=statement.col_offset + 1,
+                        message=(
+                            f"self.{attribute} stays None until the first message arrives, and "
+                            f"nothing waited for it before this guard in {state}: the state gives "
+                            "up on a robot that is fine. Wait for it (the wait raises after its "
+                            f"timeout): {wait}"
+                        ),
+                        replacement="\n".join([wait, *again]),
+                    )
+                )
+                waited.add(attribute)
+            if (
+                isinstance(statement, ast.Assign)
+                and len(statement.targets) == 1
+                and isinstance(statement.targets[0], ast.Name)
+                and (source := _self_attribute(statement.value)) in latest
+            ):
+                aliases[statement.targets[0].id] = str(source)
+            waited |= {a for a in latest if _waits_for(statement, a, methods)}
+    return findings

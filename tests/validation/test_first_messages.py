@@ -1,0 +1,97 @@
+"""Guards that give up on a subscription's first message nothing waited for."""
+
+from __future__ import annotations
+
+import pytest
+
+from skillwright.capability import Capability, load_capability
+from skillwright.spec import SkillSpec, load_spec
+from skillwright.validation.model import Finding
+from skillwright.validation.static import check_skill
+from tests.conftest import SHIPPED_CAPABILITIES
+from tests.validation.test_static import CATALOG, GOOD
+
+WAIT_IN_STARTING = (
+    "        deadline = time.time() + 2.0\n"
+    "        while self.odom_msg is None and time.time() < deadline:\n"
+    "            time.sleep(0.05)\n"
+)
+EXECUTE_DOC = '        """Drive until the distance is covered, then stop."""\n'
+WAIT = 'self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")'
+
+
+@pytest.fixture(scope="module")
+def move_forward() -> tuple[Capability, SkillSpec]:
+    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
+    return capability, load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
+
+
+def _waits(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:
+    capability, spec = inputs
+    report = check_skill(source, capability=capability, spec=spec, catalog=CATALOG)
+    return [f for f in report.findings if f.check == "waits"]
+
+
+def _execute_starting_with(statements: str, *, starting_waits: bool) -> str:
+    assert WAIT_IN_STARTING in GOOD
+    source = GOOD if starting_waits else GOOD.replace(WAIT_IN_STARTING, "", 1)
+    return source.replace(EXECUTE_DOC, EXECUTE_DOC + statements, 1)
+
+
+@pytest.mark.parametrize(
+    ("guard", "replacement"),
+    [
+        (
+            "        if self.odom_msg is None:\n            raise RuntimeError('no odometry')\n",
+            WAIT,
+        ),
+        (
+            "        odom = self.odom_msg\n"
+            "        if not odom:\n"
+            "            raise RuntimeError('no odometry')\n",
+            f"{WAIT}\nodom = self.odom_msg",
+        ),
+    ],
+)
+def test_giving_up_on_a_first_message_nothing_waited_for_is_replaced_by_the_wait(
+    move_forward: tuple[Capability, SkillSpec], guard: str, replacement: str
+) -> None:
+    source = _execute_starting_with(guard, starting_waits=False)
+    [finding] = _waits(source, move_forward)
+    assert source.splitlines()[finding.line - 1].strip().startswith("if ")
+    assert finding.severity == "error"
+    assert "nothing waited for it before this guard in execute" in finding.message
+    assert finding.replacement == replacement
+
+
+def test_a_guard_after_starting_waited_for_the_message_is_fine(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    guard = "        if self.odom_msg is None:\n            raise RuntimeError('no odometry')\n"
+    assert _waits(_execute_starting_with(guard, starting_waits=True), move_forward) == []
+
+
+def test_a_wait_in_a_helper_the_state_calls_counts(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    helper = (
+        f"    def _odometry(self):\n        {WAIT}\n        return self.odom_msg\n\n    @execute\n"
+    )
+    source = _execute_starting_with(
+        "        self._odometry()\n"
+        "        if self.odom_msg is None:\n"
+        "            raise RuntimeError('no odometry')\n",
+        starting_waits=False,
+    ).replace("    @execute\n", helper, 1)
+    assert _waits(source, move_forward) == []
+
+
+def test_a_guard_that_does_more_than_give_up_is_left_alone(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    guard = (
+        "        if self.odom_msg is None:\n"
+        "            self.node.get_logger().warning('no odometry yet')\n"
+        "            return\n"
+    )
+    assert _waits(_execute_starting_with(guard, starting_waits=False), move_forward) == []
