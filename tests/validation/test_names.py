@@ -420,3 +420,33 @@ def test_a_helper_missing_the_parameter_its_call_gives_is_found_and_defaults_cou
     assert len(messages) == 1
     assert "self._within() is called" in messages[0]
     assert "missing a required argument: 'timeout'" in messages[0]
+
+
+@pytest.mark.parametrize(
+    ("statements", "replacement"),
+    [
+        (
+            "        elapsed = self.node.get_clock().now().seconds()\n",
+            "elapsed = (self.node.get_clock().now().nanoseconds / 1e9)",
+        ),
+        (
+            "        self.begun = self.node.get_clock().now()\n        elapsed = self.begun.sec\n",
+            "elapsed = (self.begun.nanoseconds / 1e9)",
+        ),
+    ],
+)
+def test_the_seconds_of_an_rclpy_time_are_its_nanoseconds_over_1e9(
+    move_forward: tuple[Capability, SkillSpec], statements: str, replacement: str
+) -> None:
+    [finding] = _names(stopping_with(statements), move_forward)
+    assert "is an rclpy Time, which has no" in finding.message
+    assert "nanoseconds / 1e9" in finding.message
+    assert finding.replacement == replacement
+
+
+def test_a_datetime_now_is_no_rclpy_time(move_forward: tuple[Capability, SkillSpec]) -> None:
+    statements = (
+        "        self.begun = datetime.datetime.now()\n        elapsed = self.begun.second\n"
+    )
+    source = "import datetime\n" + stopping_with(statements)
+    assert _names(source, move_forward) == []

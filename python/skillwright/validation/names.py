@@ -140,6 +140,7 @@ RCLPY_API: dict[str, frozenset[str]] = {
     ),
     "rate": frozenset({"sleep", "destroy"}),
     "tf_listener": frozenset({"buffer", "unregister", "node"}),
+    "time": frozenset({"nanoseconds", "seconds_nanoseconds", "to_msg", "from_msg", "clock_type"}),
     "logger": _LOGGER,
 }
 """Attributes of rclpy's objects a skill may use, by the kind of object."""
@@ -164,6 +165,7 @@ _KIND_WORDS = {
     "rate": "a Rate",
     "tf_listener": "a tf2 TransformListener",
     "logger": "the logger",
+    "time": "an rclpy Time",
 }
 _BASE_ATTRIBUTES = frozenset({"node"})
 """What pySkillUp's ``ROS2Skill`` gives a skill."""
@@ -300,6 +302,8 @@ def _class_facts(cls: ast.ClassDef) -> tuple[set[str], dict[str, str]]:
                 )
                 if name is not None and maker in _MAKERS:
                     kinds[name] = _MAKERS[maker]
+                elif name is not None and _is_clock_now(value):
+                    kinds[name] = "time"
         elif isinstance(node, ast.For | ast.With):
             for part in ast.walk(node.target if isinstance(node, ast.For) else node):
                 if isinstance(part, ast.Attribute) and isinstance(part.ctx, ast.Store):
@@ -419,11 +423,25 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
     return findings
 
 
+def _is_clock_now(node: ast.expr) -> bool:
+    """Whether ``node`` is ``<...>.get_clock().now()``, an rclpy Time."""
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and node.func.attr == "now"
+        and isinstance(node.func.value, ast.Call)
+        and isinstance(node.func.value.func, ast.Attribute)
+        and node.func.value.func.attr == "get_clock"
+    )
+
+
 def _receiver_kind(node: ast.expr, kinds: dict[str, str]) -> str | None:
     """The rclpy kind of the object ``node`` evaluates to, where the code makes it plain."""
     name = self_attribute(node)
     if name is not None:
         return kinds.get(name)
+    if _is_clock_now(node):
+        return "time"
     if (
         isinstance(node, ast.Call)
         and isinstance(node.func, ast.Attribute)
@@ -505,6 +523,9 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
             hint = f"; {node.attr} belongs to {owner}.{node.attr}(...)"
         elif kind == "action_client" and node.attr in _GOAL_HANDLE:
             hint = _goal_handle_hint(node.value)
+        elif kind == "time" and node.attr in _SECONDS:
+            seconds = f"{ast.unparse(node.value)}.nanoseconds / 1e9"
+            hint = f"; its seconds are {seconds}"
         elif close:
             hint = f"; did you mean {close[0]}?"
         elif wait is not None:
@@ -518,6 +539,12 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
             replacement = _without_guard(guard, "")
         elif wait is not None and guard is not None:
             replacement = _without_guard(guard, wait[1])
+        elif kind == "time" and node.attr in _SECONDS and id(node) in statement_of:
+            statement = ast.unparse(statement_of[id(node)])
+            seconds = f"({ast.unparse(node.value)}.nanoseconds / 1e9)"
+            for made_up in (f"{ast.unparse(node)}()", ast.unparse(node)):
+                statement = statement.replace(made_up, seconds)
+            replacement = statement
         elif owner is not None and id(node) in statement_of:
             right = f"{owner.split(': ', 1)[1]}.{node.attr}"
             replacement = ast.unparse(statement_of[id(node)]).replace(ast.unparse(node), right)
@@ -536,6 +563,8 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
     return findings
 
 
+_SECONDS = frozenset({"seconds", "sec", "secs", "to_sec", "to_seconds", "total_seconds"})
+"""What a model reads for the seconds of an rclpy Time (ROS 1's and datetime's names)."""
 _TEARDOWN = frozenset({"destroy", "shutdown", "unregister", "close", "stop", "cleanup"})
 """Methods a model calls to tear a handle down that has no such method."""
 _CANCEL_ALL = frozenset({"cancel_all_goals", "cancel_goal", "cancel_goals", "cancel", "stop"})
