@@ -280,6 +280,29 @@ def test_a_statement_the_checks_know_the_fix_for_is_fixed_without_the_model(
     )
 
 
+def test_execute_gets_the_whole_budget_and_every_other_method_the_short_one(
+    case: _Case,
+) -> None:
+    rambling = (
+        "".join(f"        self.node.get_logger().info('step {n}')\n" for n in range(40)) + "```"
+    )
+    model = MethodScript({**GOOD, "completing": [rambling, COMPLETING]})
+    authored = case.write(model)
+    budgets = dict(zip(model.asked, (o.max_tokens for o in model.options), strict=True))
+    assert budgets == {
+        "starting": 320,
+        "execute": 400,
+        "completing": 320,
+        "stopping": 320,
+        "resetting": 320,
+    }
+    first = next(a for a in authored.attempts if a.target == "completing")
+    assert (first.finish, first.note) == (
+        "length",
+        "the answer was cut off at 320 tokens; write a shorter method",
+    )
+
+
 def test_a_local_variable_hiding_a_module_is_renamed_without_the_model(case: _Case) -> None:
     hides_time = COMPLETING.replace(
         "        self.node.get_logger().info(",

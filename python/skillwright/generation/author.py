@@ -89,7 +89,18 @@ class AuthorSettings:
     attempts: int = 3
     """Answers per method at most: the first, then repairs."""
     max_tokens: int = 768
-    """Tokens per answer at most (a method, not a file)."""
+    """Tokens per answer of ``execute`` at most (a method, not a file)."""
+    short_max_tokens: int = 320
+    """Tokens per answer of every other state and of a helper at most (never more than
+    ``max_tokens``). In the evaluation, no such answer without errors took more than 190
+    tokens; the longer ones (up to 594) rambled and were rejected anyway."""
+
+    def budget(self, kind: str, name: str) -> int:
+        """The token budget of an answer for the method ``name`` of ``kind``."""
+        if kind == "state" and name == "execute":
+            return self.max_tokens
+        return min(self.short_max_tokens, self.max_tokens)
+
     repair_temperature: float = 0.6
     """Temperature of the sampled repairs (the third attempt on)."""
     seed: int = 42
@@ -191,7 +202,10 @@ class _Author:
         self.emit(AttemptStarted(target.name, target.kind, number))
         prompt = conversation.prompt(ask, prefill, upto=target.turn_index)
         options = GenerationOptions(
-            max_tokens=self.settings.max_tokens, temperature=temperature, seed=seed, stop=STOP
+            max_tokens=self.settings.budget(target.kind, target.name),
+            temperature=temperature,
+            seed=seed,
+            stop=STOP,
         )
         started = time.perf_counter()
         stream = self.generator.stream(prompt, options, cancel=self.cancel)
@@ -248,7 +262,8 @@ class _Author:
         if reason == "length":
             return (
                 "length",
-                f"the answer was cut off at {self.settings.max_tokens} tokens; write a shorter "
+                f"the answer was cut off at {self.settings.budget(target.kind, target.name)} "
+                "tokens; write a shorter "
                 "method",
                 None,
             )

@@ -144,7 +144,12 @@ class ModelRecord(_Model):
     )
     finish_reason: str | None = None
     prefix_cache: str = Field(description="How the cached prefix was obtained.")
-    max_tokens: int | None = Field(default=None, description="Token budget of one answer.")
+    max_tokens: int | None = Field(
+        default=None, description="Token budget of one answer of execute."
+    )
+    short_max_tokens: int | None = Field(
+        default=None, description="Token budget of one answer of another state or a helper."
+    )
     attempts_allowed: int | None = Field(
         default=None, description="Answers per method at most (first + repairs)."
     )

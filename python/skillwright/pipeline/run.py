@@ -512,8 +512,15 @@ def _generate(
                     Notice(
                         "warning",
                         f"the answer for {attempt.target} (attempt {attempt.number}) hit the "
-                        f"limit of {settings.max_tokens} tokens; raise `max_tokens` of "
-                        f"{generator.model_id!r} in models.toml if methods need more",
+                        f"limit of {settings.budget(attempt.kind, attempt.target)} tokens"
+                        + (
+                            f"; raise `max_tokens` of {generator.model_id!r} in models.toml if "
+                            "methods need more"
+                            if attempt.target == "execute"
+                            else " (every method but execute gets at most "
+                            f"{settings.short_max_tokens}: a longer one should be split into "
+                            "helpers)"
+                        ),
                     )
                 )
     model_file = getattr(generator, "model_file", None)
@@ -532,6 +539,7 @@ def _generate(
         finish_reason=None if final is None else final.finish,
         prefix_cache=first_cache[0] if first_cache else "off",
         max_tokens=settings.max_tokens,
+        short_max_tokens=settings.budget("helper", ""),
         attempts_allowed=settings.attempts,
         card=authored.card,
         attempts=authored.attempts,
