@@ -40,7 +40,7 @@ __all__ = [
     "state_ask",
 ]
 
-PROMPT_VERSION = 2
+PROMPT_VERSION = 3
 """Bumped when the conversation's layout changes (recorded with every generation); 1 was the
 whole-file prompt."""
 
