@@ -391,16 +391,33 @@ def test_a_method_of_the_node_or_logger_called_elsewhere_comes_with_its_statemen
         ("self._travelled(limit=1.0)", "got an unexpected keyword argument 'limit'"),
     ],
 )
-def test_a_method_of_the_class_called_with_arguments_it_does_not_take_is_found(
+def test_a_helper_that_does_not_take_what_its_call_gives_is_found_at_its_definition(
     move_forward: tuple[Capability, SkillSpec], call: str, expected: str
 ) -> None:
     source = stopping_with(f"        {call}\n")
     [finding] = _names(source, move_forward)
-    assert finding.line == next(
-        n for n, line in enumerate(source.splitlines(), start=1) if call in line
+    lines = source.splitlines()
+    assert lines[finding.line - 1].strip().startswith("def _travelled(self)")
+    called_at = next(n for n, line in enumerate(lines, start=1) if call in line)
+    assert f"_travelled() does not take what its call at line {called_at} gives" in (
+        finding.message
     )
-    assert "(line 57: _travelled())" in finding.message
     assert expected in finding.message
+
+
+def test_a_documented_method_called_wrongly_is_found_at_the_call(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    helper = (
+        "    def _stop(self, timeout):\n"
+        '        """Stops the base."""\n'
+        "        self.cmd_vel_publisher.publish(Twist())\n\n"
+        "    @stopping\n"
+    )
+    source = stopping_with("        self._stop()\n").replace("    @stopping\n", helper, 1)
+    [finding] = _names(source, move_forward)
+    assert source.splitlines()[finding.line - 1].strip() == "self._stop()"
+    assert "missing a required argument: 'timeout'" in finding.message
 
 
 def test_a_helper_missing_the_parameter_its_call_gives_is_found_and_defaults_count(
@@ -418,7 +435,7 @@ def test_a_helper_missing_the_parameter_its_call_gives_is_found_and_defaults_cou
     ).replace("    @stopping\n", helper, 1)
     messages = [f.message for f in _names(source, move_forward)]
     assert len(messages) == 1
-    assert "self._within() is called" in messages[0]
+    assert messages[0].startswith("_within(threshold, timeout) does not take what its call")
     assert "missing a required argument: 'timeout'" in messages[0]
 
 

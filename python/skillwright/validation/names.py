@@ -869,7 +869,8 @@ def _signature(method: ast.FunctionDef) -> inspect.Signature | None:
 
 def _mismatched_calls(cls: ast.ClassDef) -> list[Finding]:
     """Calls of the class's own methods with arguments their definitions do not take (a helper
-    written with a parameter more than the call that asked for it gives)."""
+    written with a parameter more than the call that asked for it gives): found at the
+    definition of an undocumented helper, at the call of a documented one (the skeleton's)."""
     signatures = {
         node.name: (node, signature)
         for node in cls.body
@@ -889,14 +890,26 @@ def _mismatched_calls(cls: ast.ClassDef) -> list[Finding]:
         try:
             signature.bind(*call.args, **{str(k.arg): k.value for k in call.keywords})
         except TypeError as error:
-            findings.append(
-                _finding(
-                    call,
-                    f"self.{name}() is called with arguments its definition (line "
-                    f"{method.lineno}: {name}{signature}) does not take: {error}; make the call "
-                    "and the definition agree",
+            if ast.get_docstring(method) is None:
+                # A helper written for this call (as generation asks for them) should take
+                # what the call gives; the skeleton's documented helpers stay as they are.
+                findings.append(
+                    _finding(
+                        method,
+                        f"{name}{signature} does not take what its call at line {call.lineno} "
+                        f"gives ({ast.unparse(call)}: {error}); take the arguments the call "
+                        "gives, with a default for any other",
+                    )
                 )
-            )
+            else:
+                findings.append(
+                    _finding(
+                        call,
+                        f"self.{name}() is called with arguments its definition (line "
+                        f"{method.lineno}: {name}{signature}) does not take: {error}; make the "
+                        "call and the definition agree",
+                    )
+                )
     return findings
 
 
