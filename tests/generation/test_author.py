@@ -303,6 +303,47 @@ def test_execute_gets_the_whole_budget_and_every_other_method_the_short_one(
     )
 
 
+def test_a_run_error_in_a_skeleton_helper_is_repaired_at_the_call_that_led_there(
+    case: _Case,
+) -> None:
+    waits = "        self._stop_base()\n"
+    assert waits in EXECUTE
+    too_short = EXECUTE.replace(
+        waits, waits + '        self._wait_until(lambda: self.odom_msg is not None, 0.1, "rest")\n'
+    )
+    long_enough = too_short.replace('0.1, "rest"', '5.0, "rest"')
+    static = case.validate
+
+    def with_run(code: str, skeleton: Skeleton) -> list[Finding]:
+        findings = static(code, skeleton)
+        if '0.1, "rest"' not in code:
+            return findings
+        lines = code.splitlines()
+        raised = next(n for n, t in enumerate(lines, 1) if 'raise RuntimeError(f"no {what}' in t)
+        called = next(n for n, t in enumerate(lines, 1) if '0.1, "rest"' in t)
+        ran = Finding(
+            check="run.exception",
+            severity="error",
+            line=raised,
+            message="execute raised RuntimeError: no rest within 0.1 s",
+            stack=(called,),
+        )
+        return [*findings, ran]
+
+    case.validate = with_run  # type: ignore[method-assign]
+    model = MethodScript({**GOOD, "execute": [too_short, long_enough]})
+    authored = case.write(model)
+
+    assert model.asked.count("execute") == 2
+    repair = [a for a in authored.attempts if a.target == "execute"][1]
+    assert any(
+        p.startswith('`self._wait_until(lambda: self.odom_msg is not None, 0.1, "rest")`')
+        and "no rest within 0.1 s" in p
+        for p in repair.problems
+    ), repair.problems
+    assert '5.0, "rest"' in authored.code
+
+
 def test_a_local_variable_hiding_a_module_is_renamed_without_the_model(case: _Case) -> None:
     hides_time = COMPLETING.replace(
         "        self.node.get_logger().info(",

@@ -89,6 +89,27 @@ def test_an_exception_in_a_callback_is_reported_at_the_callbacks_line(
     assert "ZeroDivisionError" in report.findings[0].message
 
 
+def test_an_exception_in_a_helper_carries_the_lines_of_the_calls_that_led_there(
+    mr1_inventory: Inventory,
+) -> None:
+    source = HEAD.format(imports="", body="        self._outer()\n").replace(
+        "    @execute\n",
+        "    def _inner(self) -> None:\n"
+        "        raise RuntimeError('no result')\n\n"
+        "    def _outer(self) -> None:\n"
+        "        self._inner()\n\n"
+        "    @execute\n",
+    )
+    report = run_skill(Path("subject.py"), mr1_inventory, source=source, scenario=quick())
+
+    [finding] = report.findings
+    assert finding.line == line_of(source, "raise RuntimeError('no result')")
+    assert finding.stack == (
+        line_of(source, "        self._outer()"),
+        line_of(source, "self._inner()"),
+    )
+
+
 def test_a_state_that_waits_forever_times_out_where_it_waits(mr1_inventory: Inventory) -> None:
     report, source = run(mr1_inventory, "        time.sleep(1000.0)")
 

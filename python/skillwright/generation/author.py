@@ -29,7 +29,7 @@ import re
 import textwrap
 import threading
 import time
-from collections.abc import Callable, Collection, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -520,12 +520,33 @@ class _Judgement:
     findings: list[Finding]
 
     def mine(self, name: str) -> list[Finding] | None:
-        """The findings on method ``name``'s lines, or ``None`` if the file has no such method."""
+        """The findings on method ``name``'s lines, or ``None`` if the file has no such method.
+
+        A run's finding in a helper of the skeleton (``_result_of`` timing out) belongs to the
+        written method whose call led there, and is given at the line of that call: the
+        helper is not the model's to change, the call (its timeout, its goal) is.
+        """
         spans = method_spans(self.assembly.code, self.skeleton.class_name)
         if name not in spans:
             return None
         first, last = spans[name]
-        return [f for f in self.findings if first <= f.line <= last]
+        found = [f for f in self.findings if first <= f.line <= last]
+        owned = set(self.skeleton.helpers)
+        for finding in self.findings:
+            if not finding.stack or _method_at(spans, finding.line) not in owned:
+                continue
+            for line in reversed(finding.stack):
+                caller = _method_at(spans, line)
+                if caller is not None and caller not in owned:
+                    if caller == name:
+                        found.append(finding.model_copy(update={"line": line, "column": 0}))
+                    break
+        return found
+
+
+def _method_at(spans: Mapping[str, tuple[int, int]], line: int) -> str | None:
+    """The method whose lines hold ``line``."""
+    return next((name for name, (first, last) in spans.items() if first <= line <= last), None)
 
 
 class _Skill:

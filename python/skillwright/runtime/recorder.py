@@ -61,15 +61,23 @@ class Recorder:
         self.entries.append(entry)
 
     def finding(
-        self, check: str, message: str, *, line: int | None = None, severity: str = "error"
+        self,
+        check: str,
+        message: str,
+        *,
+        line: int | None = None,
+        severity: str = "error",
+        stack: tuple[int, ...] = (),
     ) -> None:
-        """Adds a finding (once: the same check, line and message are kept once)."""
+        """Adds a finding (once: the same check, line and message are kept once); ``stack``
+        holds the lines of the calls that led to ``line``, outermost first."""
         finding = Finding(
             check=check,
             severity="warning" if severity == "warning" else "error",
             line=self.line if line is None else max(0, int(line)),
             column=0,
             message=message,
+            stack=stack,
         )
         if finding not in self.findings:
             self.findings.append(finding)

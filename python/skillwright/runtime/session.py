@@ -65,6 +65,12 @@ _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
 
+def _outer(frames: list[Any]) -> tuple[int, ...]:
+    """The lines of the calls that led to the innermost of the skill's ``frames``
+    (``[line, function]``, outermost first)."""
+    return tuple(int(f[0]) for f in frames[:-1] if isinstance(f[0], int))
+
+
 class _Watch:
     """When the host interrupts a child's state: it spins (uses CPU, or keeps talking without
     ever waiting for virtual time) or it is blocked (silent and idle) for too long."""
@@ -481,7 +487,7 @@ class Episode:
             else:
                 check = f"run.{self._interrupt_reason}"
                 message = self._busy_message(frames)
-            recorder.finding(check, f"{state}: {message}", line=where)
+            recorder.finding(check, f"{state}: {message}", line=where, stack=_outer(frames))
         elif op == "outputs":
             values = frame.get("values")
             if isinstance(values, dict):
@@ -574,7 +580,8 @@ class Episode:
                 if message
                 else f"{phase} raised {type_name}"
             )
-        self._recorder.finding(check, text, line=line)
+        frames = [f for f in frame.get("frames", []) if isinstance(f, list) and len(f) == 2]
+        self._recorder.finding(check, text, line=line, stack=_outer(frames))
 
     def _import_problem(self, message: str) -> str:
         """What an ImportError means here: a type or package the robot does not have, or a

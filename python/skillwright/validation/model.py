@@ -62,6 +62,11 @@ class Finding(BaseModel):
         description="A statement that does what the flagged one meant, when the check knows "
         "it (e.g. the wait for a subscription's first message).",
     )
+    stack: tuple[int, ...] = Field(
+        default=(),
+        description="For a run's finding: the lines of the skill's calls that led to `line`, "
+        "outermost first (a state's call of the helper that raised); empty otherwise.",
+    )
 
 
 class CheckReport(BaseModel):
