@@ -467,3 +467,27 @@ def test_a_datetime_now_is_no_rclpy_time(move_forward: tuple[Capability, SkillSp
     )
     source = "import datetime\n" + stopping_with(statements)
     assert _names(source, move_forward) == []
+
+
+def test_an_attribute_only_ever_set_to_none_but_read_as_an_object_is_found(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = stopping_with("        self.start = None\n        x = self.start.x\n")
+    [finding] = _names(source, move_forward)
+    assert source.splitlines()[finding.line - 1].strip() == "x = self.start.x"
+    assert "self.start is only ever set to None" in finding.message
+
+
+@pytest.mark.parametrize(
+    "statements",
+    [
+        "        self.start = None\n        if self.start is not None:\n            x = self.start.x\n",
+        "        self.start = None\n        self.start = self.odom_msg.pose.pose.position\n"
+        "        x = self.start.x\n",
+        "        self.start = None\n        self.start, other = (1, 2)\n        x = self.start.real\n",
+    ],
+)
+def test_an_attribute_set_to_something_or_tested_first_is_fine(
+    move_forward: tuple[Capability, SkillSpec], statements: str
+) -> None:
+    assert _names(stopping_with(statements), move_forward) == []

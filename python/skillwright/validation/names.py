@@ -7,7 +7,8 @@ The kinds, each found without running the code:
 - an attribute of the skill read but set nowhere (``self.logger``, ``self.odom_sub``);
 - a method called on the node or on a handle the code made that rclpy does not have
   (``subscription.wait_for_message``, ``self.node.get_time``);
-- a method of the class called with arguments its definition does not take.
+- a method of the class called with arguments its definition does not take;
+- an attribute only ever set to ``None`` but read as an object (``self.start.x``).
 
 The rclpy names below are the public API of rclpy's ``Node``, ``Publisher``,
 ``Subscription``, ``Client``, ``Timer``, ``Rate``, ``ActionClient`` and the logger, as far as
@@ -418,6 +419,68 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             _finding(
                 node,
                 f"self.{name} is never set in this class{_hint(name, defined, methods, latest)}",
+            )
+        )
+    return findings
+
+
+def _none_only_attributes(cls: ast.ClassDef) -> list[Finding]:
+    """Attributes the class only ever sets to ``None`` but reads as an object (``self.start.x``
+    after ``self.start = None`` in ``__init__`` and ``resetting``, with the assignment the
+    specification asked for forgotten): the read fails whenever it runs."""
+    assigned: dict[str, list[int]] = {}
+    set_otherwise: set[str] = set()
+    for node in ast.walk(cls):
+        if isinstance(node, ast.Assign | ast.AnnAssign) and node.value is not None:
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            for target in targets:
+                name = self_attribute(target)
+                if name is None:
+                    set_otherwise |= {n for part in ast.walk(target) if (n := self_attribute(part))}
+                elif isinstance(node.value, ast.Constant) and node.value.value is None:
+                    assigned.setdefault(name, []).append(node.lineno)
+                else:
+                    set_otherwise.add(name)
+        elif isinstance(node, ast.AugAssign | ast.For | ast.With | ast.NamedExpr):
+            set_otherwise |= {
+                n
+                for part in ast.walk(node.target if not isinstance(node, ast.With) else node)
+                if isinstance(part, ast.Attribute)
+                and isinstance(part.ctx, ast.Store)
+                and (n := self_attribute(part))
+            }
+    tested = {
+        name
+        for node in ast.walk(cls)
+        if isinstance(node, ast.If | ast.While | ast.IfExp | ast.Assert)
+        for part in ast.walk(node.test)
+        if (name := self_attribute(part)) is not None
+    }
+    findings = []
+    reported: set[str] = set()
+    for node in ast.walk(cls):
+        inner = node.value if isinstance(node, ast.Attribute | ast.Subscript) else None
+        if isinstance(node, ast.Call):
+            inner = node.func
+        name = self_attribute(inner) if inner is not None else None
+        if (
+            name is None
+            or name not in assigned
+            or name in set_otherwise | tested | reported
+            or (
+                isinstance(node, ast.Attribute | ast.Subscript)
+                and not isinstance(node.ctx, ast.Load)
+            )
+        ):
+            continue
+        reported.add(name)
+        lines = ", ".join(str(line) for line in assigned[name])
+        findings.append(
+            _finding(
+                node,
+                f"self.{name} is only ever set to None (line {lines}), so {ast.unparse(node)} "
+                f"fails whenever it runs: set self.{name} to what it should hold before it is "
+                "read (where the specification says to remember it)",
             )
         )
     return findings
@@ -922,5 +985,5 @@ def check_names(
     findings = _undefined_names(source, tree) + _missing_nested_classes(tree, imports)
     if cls is not None:
         findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
-        findings += _mismatched_calls(cls)
+        findings += _mismatched_calls(cls) + _none_only_attributes(cls)
     return findings
