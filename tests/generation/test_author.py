@@ -344,6 +344,37 @@ def test_a_run_error_in_a_skeleton_helper_is_repaired_at_the_call_that_led_there
     assert '5.0, "rest"' in authored.code
 
 
+def test_a_run_error_at_an_inputs_getter_is_repaired_in_execute(case: _Case) -> None:
+    ignores_speed = EXECUTE.replace(
+        "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)", "self.LINEAR_VELOCITY_MAX"
+    )
+    static = case.validate
+
+    def with_run(code: str, skeleton: Skeleton) -> list[Finding]:
+        findings = static(code, skeleton)
+        execute = code.partition("def execute")[2].partition("@completing")[0]
+        if "self.in_linear_velocity" in execute:
+            return findings
+        lines = code.splitlines()
+        getter = next(n for n, t in enumerate(lines, 1) if 'name="inLinearVelocity"' in t)
+        ignored = Finding(
+            check="run.input",
+            severity="error",
+            line=getter,
+            message="input inLinearVelocity is never read",
+        )
+        return [*findings, ignored]
+
+    case.validate = with_run  # type: ignore[method-assign]
+    model = MethodScript({**GOOD, "execute": [ignores_speed, EXECUTE]})
+    authored = case.write(model)
+
+    assert model.asked.count("execute") == 2
+    repair = [a for a in authored.attempts if a.target == "execute"][1]
+    assert repair.problems == ["`@execute`: input inLinearVelocity is never read"]
+    assert "min(abs(self.in_linear_velocity)" in authored.code
+
+
 def test_a_local_variable_hiding_a_module_is_renamed_without_the_model(case: _Case) -> None:
     hides_time = COMPLETING.replace(
         "        self.node.get_logger().info(",

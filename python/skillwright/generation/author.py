@@ -518,13 +518,17 @@ class _Judgement:
     skeleton: Skeleton
     assembly: Assembly
     findings: list[Finding]
+    written: frozenset[str] = frozenset()
+    """The methods the model writes (states and helpers)."""
 
     def mine(self, name: str) -> list[Finding] | None:
         """The findings on method ``name``'s lines, or ``None`` if the file has no such method.
 
         A run's finding in a helper of the skeleton (``_result_of`` timing out) belongs to the
         written method whose call led there, and is given at the line of that call: the
-        helper is not the model's to change, the call (its timeout, its goal) is.
+        helper is not the model's to change, the call (its timeout, its goal) is. A run's
+        finding in no written method or helper (an input never read, at its getter) belongs
+        to ``execute``, given at its first line.
         """
         spans = method_spans(self.assembly.code, self.skeleton.class_name)
         if name not in spans:
@@ -532,6 +536,15 @@ class _Judgement:
         first, last = spans[name]
         found = [f for f in self.findings if first <= f.line <= last]
         owned = set(self.skeleton.helpers)
+        if name == "execute":
+            found += [
+                f.model_copy(update={"line": first, "column": 0})
+                for f in self.findings
+                if f.check.startswith(_LATER_STAGES)
+                and f.severity == "error"
+                and not f.stack
+                and _method_at(spans, f.line) not in self.written | owned
+            ]
         for finding in self.findings:
             if not finding.stack or _method_at(spans, finding.line) not in owned:
                 continue
@@ -615,7 +628,9 @@ class _Skill:
             author=self.model_name,
             classes=self.classes,
         )
-        judgement = _Judgement(skeleton, assembly, self.validate(assembly.code, skeleton))
+        judgement = _Judgement(
+            skeleton, assembly, self.validate(assembly.code, skeleton), frozenset(self.targets)
+        )
         for target in self.targets.values():
             attempt = pick(target)
             mine = judgement.mine(target.name)
