@@ -17,6 +17,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Mapping
 
+from skillwright.validation.loops import waits_error
 from skillwright.validation.model import Finding
 
 __all__ = ["check_first_messages"]
@@ -114,18 +115,13 @@ def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef
                     f"{local} = self.{attribute}" for local, a in aliases.items() if a == attribute
                 ]
                 findings.append(
-                    Finding(
-                        check="waits",
-                        severity="error",
-                        line=statement.lineno,
-                        column=statement.col_offset + 1,
-                        message=(
-                            f"self.{attribute} stays None until the first message arrives, and "
-                            f"nothing waited for it before this guard in {state}: the state gives "
-                            "up on a robot that is fine. Wait for it (the wait raises after its "
-                            f"timeout): {wait}"
-                        ),
-                        replacement="\n".join([wait, *again]),
+                    waits_error(
+                        statement,
+                        f"self.{attribute} stays None until the first message arrives, and "
+                        f"nothing waited for it before this guard in {state}: the state gives up "
+                        "on a robot that is fine. Wait for it (the wait raises after its "
+                        f"timeout): {wait}",
+                        "\n".join([wait, *again]),
                     )
                 )
                 waited.add(attribute)

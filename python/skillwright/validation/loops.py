@@ -20,10 +20,22 @@ import ast
 
 from skillwright.validation.model import Finding
 
-__all__ = ["check_waits"]
+__all__ = ["check_waits", "waits_error"]
 
 _CLOCK = frozenset({"monotonic", "time", "perf_counter", "now", "get_clock"})
 _WAITING = frozenset({"sleep", "spin", "spin_once", "spin_until_future_complete"})
+
+
+def waits_error(statement: ast.stmt, message: str, replacement: str | None) -> Finding:
+    """An error of the ``waits`` check at ``statement``."""
+    return Finding(
+        check="waits",
+        severity="error",
+        line=statement.lineno,
+        column=statement.col_offset + 1,
+        message=message,
+        replacement=replacement,
+    )
 
 
 def _called_name(call: ast.Call) -> str | None:
@@ -136,17 +148,12 @@ def check_waits(cls: ast.ClassDef) -> list[Finding]:
             if what is None:
                 continue
             findings.append(
-                Finding(
-                    check="waits",
-                    severity="error",
-                    line=loop.lineno,
-                    column=loop.col_offset + 1,
-                    message=(
-                        f"this loop in {method.name} waits for {what} but never sleeps: it "
-                        "spins a CPU core and keeps callbacks from running; sleep in it, e.g. "
-                        "time.sleep(0.05) at the end of its body"
-                    ),
-                    replacement=_with_sleep(loop),
+                waits_error(
+                    loop,
+                    f"this loop in {method.name} waits for {what} but never sleeps: it "
+                    "spins a CPU core and keeps callbacks from running; sleep in it, e.g. "
+                    "time.sleep(0.05) at the end of its body",
+                    _with_sleep(loop),
                 )
             )
     return findings
