@@ -19,20 +19,11 @@ from collections.abc import Mapping
 
 from skillwright.validation.loops import waits_error
 from skillwright.validation.model import Finding
+from skillwright.validation.names import self_attribute
 
 __all__ = ["check_first_messages"]
 
 _NORMAL_PATH = ("starting", "execute", "completing")
-
-
-def _self_attribute(node: ast.AST) -> str | None:
-    if (
-        isinstance(node, ast.Attribute)
-        and isinstance(node.value, ast.Name)
-        and node.value.id == "self"
-    ):
-        return node.attr
-    return None
 
 
 def _latest_messages(cls: ast.ClassDef) -> set[str]:
@@ -41,13 +32,13 @@ def _latest_messages(cls: ast.ClassDef) -> set[str]:
         name
         for node in ast.walk(cls)
         if isinstance(node, ast.AnnAssign)
-        and (name := _self_attribute(node.target)) is not None
+        and (name := self_attribute(node.target)) is not None
         and name.endswith("_msg")
     }
 
 
 def _mentions(node: ast.AST, attribute: str) -> bool:
-    return any(_self_attribute(n) == attribute for n in ast.walk(node))
+    return any(self_attribute(n) == attribute for n in ast.walk(node))
 
 
 def _waits_for(
@@ -61,7 +52,7 @@ def _waits_for(
             return True
         if not isinstance(inner, ast.Call):
             continue
-        called = _self_attribute(inner.func)
+        called = self_attribute(inner.func)
         if called == "_wait_until" and any(_mentions(a, attribute) for a in inner.args):
             return True
         callee = methods.get(called) if called is not None else None
@@ -87,7 +78,7 @@ def _tested(test: ast.expr, aliases: Mapping[str, str]) -> str | None:
         return None
     if isinstance(subject, ast.Name):
         return aliases.get(subject.id)
-    return _self_attribute(subject)
+    return self_attribute(subject)
 
 
 def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef]) -> list[Finding]:
@@ -129,7 +120,7 @@ def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef
                 isinstance(statement, ast.Assign)
                 and len(statement.targets) == 1
                 and isinstance(statement.targets[0], ast.Name)
-                and (source := _self_attribute(statement.value)) in latest
+                and (source := self_attribute(statement.value)) in latest
             ):
                 aliases[statement.targets[0].id] = str(source)
             waited |= {a for a in latest if _waits_for(statement, a, methods)}
