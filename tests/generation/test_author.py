@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import threading
-from collections.abc import Collection, Sequence
+from collections.abc import Callable, Collection, Sequence
 from functools import cache
 
 import pytest
@@ -303,6 +303,30 @@ def test_execute_gets_the_whole_budget_and_every_other_method_the_short_one(
     )
 
 
+def _line_of(code: str, text: str) -> int:
+    return next(n for n, line in enumerate(code.splitlines(), start=1) if text in line)
+
+
+def _run_also_finds(case: _Case, finding: Callable[[str], Finding | None]) -> None:
+    """Has the case's validation add ``finding(code)`` (a run's finding) when there is one."""
+    static = case.validate
+
+    def with_run(code: str, skeleton: Skeleton) -> list[Finding]:
+        found = finding(code)
+        return [*static(code, skeleton), *([found] if found is not None else [])]
+
+    case.validate = with_run  # type: ignore[method-assign]
+
+
+def _repaired_execute(case: _Case, first: str, second: str) -> tuple[Authored, list[str]]:
+    """The skill written with ``first`` and then ``second`` as execute, and what the repair
+    was told."""
+    model = MethodScript({**GOOD, "execute": [first, second]})
+    authored = case.write(model)
+    assert model.asked.count("execute") == 2
+    return authored, [a for a in authored.attempts if a.target == "execute"][1].problems
+
+
 def test_a_run_error_in_a_skeleton_helper_is_repaired_at_the_call_that_led_there(
     case: _Case,
 ) -> None:
@@ -311,36 +335,28 @@ def test_a_run_error_in_a_skeleton_helper_is_repaired_at_the_call_that_led_there
     too_short = EXECUTE.replace(
         waits, waits + '        self._wait_until(lambda: self.odom_msg is not None, 0.1, "rest")\n'
     )
-    long_enough = too_short.replace('0.1, "rest"', '5.0, "rest"')
-    static = case.validate
-
-    def with_run(code: str, skeleton: Skeleton) -> list[Finding]:
-        findings = static(code, skeleton)
-        if '0.1, "rest"' not in code:
-            return findings
-        lines = code.splitlines()
-        raised = next(n for n, t in enumerate(lines, 1) if 'raise RuntimeError(f"no {what}' in t)
-        called = next(n for n, t in enumerate(lines, 1) if '0.1, "rest"' in t)
-        ran = Finding(
-            check="run.exception",
-            severity="error",
-            line=raised,
-            message="execute raised RuntimeError: no rest within 0.1 s",
-            stack=(called,),
-        )
-        return [*findings, ran]
-
-    case.validate = with_run  # type: ignore[method-assign]
-    model = MethodScript({**GOOD, "execute": [too_short, long_enough]})
-    authored = case.write(model)
-
-    assert model.asked.count("execute") == 2
-    repair = [a for a in authored.attempts if a.target == "execute"][1]
+    _run_also_finds(
+        case,
+        lambda code: (
+            None
+            if '0.1, "rest"' not in code
+            else Finding(
+                check="run.exception",
+                severity="error",
+                line=_line_of(code, 'raise RuntimeError(f"no {what}'),
+                message="execute raised RuntimeError: no rest within 0.1 s",
+                stack=(_line_of(code, '0.1, "rest"'),),
+            )
+        ),
+    )
+    authored, problems = _repaired_execute(
+        case, too_short, too_short.replace('0.1, "rest"', '5.0, "rest"')
+    )
     assert any(
         p.startswith('`self._wait_until(lambda: self.odom_msg is not None, 0.1, "rest")`')
         and "no rest within 0.1 s" in p
-        for p in repair.problems
-    ), repair.problems
+        for p in problems
+    ), problems
     assert '5.0, "rest"' in authored.code
 
 
@@ -348,30 +364,21 @@ def test_a_run_error_at_an_inputs_getter_is_repaired_in_execute(case: _Case) -> 
     ignores_speed = EXECUTE.replace(
         "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)", "self.LINEAR_VELOCITY_MAX"
     )
-    static = case.validate
 
-    def with_run(code: str, skeleton: Skeleton) -> list[Finding]:
-        findings = static(code, skeleton)
+    def ignored(code: str) -> Finding | None:
         execute = code.partition("def execute")[2].partition("@completing")[0]
         if "self.in_linear_velocity" in execute:
-            return findings
-        lines = code.splitlines()
-        getter = next(n for n, t in enumerate(lines, 1) if 'name="inLinearVelocity"' in t)
-        ignored = Finding(
+            return None
+        return Finding(
             check="run.input",
             severity="error",
-            line=getter,
+            line=_line_of(code, 'name="inLinearVelocity"'),
             message="input inLinearVelocity is never read",
         )
-        return [*findings, ignored]
 
-    case.validate = with_run  # type: ignore[method-assign]
-    model = MethodScript({**GOOD, "execute": [ignores_speed, EXECUTE]})
-    authored = case.write(model)
-
-    assert model.asked.count("execute") == 2
-    repair = [a for a in authored.attempts if a.target == "execute"][1]
-    assert repair.problems == ["`@execute`: input inLinearVelocity is never read"]
+    _run_also_finds(case, ignored)
+    authored, problems = _repaired_execute(case, ignores_speed, EXECUTE)
+    assert problems == ["`@execute`: input inLinearVelocity is never read"]
     assert "min(abs(self.in_linear_velocity)" in authored.code
 
 
