@@ -30,7 +30,13 @@ from collections.abc import Iterator
 from skillwright.spec.model import PACKML_STATES
 from skillwright.validation.model import Finding
 
-__all__ = ["RCLPY_API", "check_names", "self_attribute"]
+__all__ = [
+    "COMPOUND_STATEMENTS",
+    "RCLPY_API",
+    "check_names",
+    "self_attribute",
+    "simple_statements",
+]
 
 PYSKILLUP_NAMES = frozenset({"skill", "skill_parameter", "skill_output", *PACKML_STATES})
 """What ``from pyskillup.decorators.decorators import *`` provides."""
@@ -571,7 +577,7 @@ def _goal_handle_hint(receiver: ast.expr) -> str:
 def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
     defined, kinds = _class_facts(cls)
     guards = _guards(cls)
-    statement_of = _simple_statements(cls)
+    statement_of = simple_statements(cls)
     findings = []
     for node in ast.walk(cls):
         if not isinstance(node, ast.Attribute) or not isinstance(node.ctx, ast.Load):
@@ -662,12 +668,25 @@ def _teardown_instead(node: ast.Attribute, kind: str, defined: set[str]) -> tupl
     )
 
 
-def _simple_statements(tree: ast.AST) -> dict[int, ast.stmt]:
+COMPOUND_STATEMENTS = (
+    ast.If,
+    ast.For,
+    ast.While,
+    ast.With,
+    ast.Try,
+    ast.FunctionDef,
+    ast.ClassDef,
+    ast.Match,
+)
+"""Statements that hold other statements."""
+
+
+def simple_statements(tree: ast.AST) -> dict[int, ast.stmt]:
     """The innermost simple (not compound) statement of every node inside one, by node id."""
     return {
         id(node): statement
         for statement in ast.walk(tree)
-        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
+        if isinstance(statement, ast.stmt) and not isinstance(statement, COMPOUND_STATEMENTS)
         for node in ast.walk(statement)
     }
 
@@ -752,23 +771,11 @@ def _replacement(statement: ast.stmt, imports: dict[str, str]) -> str | None:
     return None if fixer.unknown else ast.unparse(fixed)
 
 
-_COMPOUND = (
-    ast.If,
-    ast.For,
-    ast.While,
-    ast.With,
-    ast.Try,
-    ast.FunctionDef,
-    ast.ClassDef,
-    ast.Match,
-)
-
-
 def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[Finding]:
     """``Odometry.Pose``: message classes have constants and, for services and actions, the
     request/goal classes, but no classes for their fields. Where the field's type is a known
     geometry message, the finding carries its simple statement with that class in place."""
-    statement_of = _simple_statements(tree)
+    statement_of = simple_statements(tree)
     findings = []
     for node in ast.walk(tree):
         nested = _nested_class(node, imports)

@@ -30,7 +30,7 @@ from skillwright.validation.model import (
     FieldTree,
     Finding,
 )
-from skillwright.validation.names import check_names
+from skillwright.validation.names import COMPOUND_STATEMENTS, check_names, simple_statements
 
 __all__ = ["check_skill"]
 
@@ -712,7 +712,7 @@ class _FieldVisitor(ast.NodeVisitor):
         """(simple statement, chain, message, the chain as it should read)"""
 
     def visit(self, node: ast.AST) -> None:
-        if isinstance(node, ast.stmt) and not isinstance(node, _COMPOUND):
+        if isinstance(node, ast.stmt) and not isinstance(node, COMPOUND_STATEMENTS):
             outer, self.statement = self.statement, node
             super().visit(node)
             self.statement = outer
@@ -767,19 +767,6 @@ class _FieldVisitor(ast.NodeVisitor):
 
 def _has_subscript(node: ast.expr) -> bool:
     return any(isinstance(n, ast.Subscript) for n in ast.walk(node))
-
-
-_COMPOUND = (ast.If, ast.For, ast.While, ast.With, ast.Try, ast.FunctionDef, ast.ClassDef)
-
-
-def _simple_statements(tree: ast.AST) -> dict[int, ast.stmt]:
-    """The innermost simple (not compound) statement of every node inside one, by node id."""
-    return {
-        id(node): statement
-        for statement in ast.walk(tree)
-        if isinstance(statement, ast.stmt) and not isinstance(statement, _COMPOUND)
-        for node in ast.walk(statement)
-    }
 
 
 _TRANSFORM_STAMPED = "geometry_msgs/msg/TransformStamped"
@@ -863,7 +850,7 @@ def _check_fields(
         visitor.report()
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         numbers = _numeric_names(method) | numeric_attributes
-        statement_of = _simple_statements(method)
+        statement_of = simple_statements(method)
         published = {
             id(call.args[0]): ast.unparse(call.func)
             for call in ast.walk(method)
@@ -1001,7 +988,7 @@ def _check_arguments(
     given type, the finding carries the statement that wraps it in one."""
     handles = _handle_types(cls, imports)
     classes = {type_name: name for name, type_name in imports.items()}
-    statement_of = _simple_statements(cls)
+    statement_of = simple_statements(cls)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         bound = bindings.get(method.name, {})
         for call in ast.walk(method):
@@ -1067,7 +1054,7 @@ def _check_constants(
         if isinstance(target, ast.Name) and target.id.isupper()
     ]
     mine = f"; the skill's own: {', '.join(own)}" if own else ""
-    statement_of = _simple_statements(cls)
+    statement_of = simple_statements(cls)
     for node in ast.walk(cls):
         if not (
             isinstance(node, ast.Attribute)
