@@ -491,3 +491,13 @@ def test_an_attribute_set_to_something_or_tested_first_is_fine(
     move_forward: tuple[Capability, SkillSpec], statements: str
 ) -> None:
     assert _names(stopping_with(statements), move_forward) == []
+
+
+def test_the_renamed_variable_takes_a_name_the_method_does_not_use(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = stopping_with(
+        "        time_value = 1\n        time = 0.5 + time_value\n        time.sleep(time)\n"
+    )
+    replacements = [f.replacement for f in _names(source, move_forward)]
+    assert replacements == ["time_value2 = 0.5 + time_value", "time.sleep(time_value2)"]

@@ -23,8 +23,8 @@ import copy
 import difflib
 import importlib
 import inspect
+import itertools
 import symtable
-import sys
 from collections.abc import Iterator
 
 from skillwright.spec.model import PACKML_STATES
@@ -801,6 +801,11 @@ def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[F
     return findings
 
 
+_RENAMABLE_MODULES = frozenset({"time", "math", "datetime", "random", "os", "threading"})
+"""Standard modules a skill uses whose hiding local variable is renamed; the check imports
+them to tell their attributes from the variable's."""
+
+
 def _module_uses(method: ast.AST, module: str) -> set[tuple[int, int]]:
     """Positions of ``module`` in ``method`` where it is the standard module: the object of an
     attribute the module has (``time.sleep``)."""
@@ -841,11 +846,11 @@ def _renamed_local(method: ast.FunctionDef | ast.AsyncFunctionDef, module: str) 
     taken = {n.id for n in ast.walk(method) if isinstance(n, ast.Name)} | {
         a.arg for a in ast.walk(method) if isinstance(a, ast.arg)
     }
-    new = next(
-        f"{module}_{suffix}"
-        for suffix in ("value", "local", "var")
-        if f"{module}_{suffix}" not in taken
-    )
+    new = f"{module}_value"
+    for number in itertools.count(2):
+        if new not in taken:
+            break
+        new = f"{module}_value{number}"
     findings = []
     for statement in method.body:
         mine = {
@@ -869,8 +874,8 @@ def _renamed_local(method: ast.FunctionDef | ast.AsyncFunctionDef, module: str) 
 
 def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
     """A local variable named like a module the same method uses (``time = distance /
-    speed`` then ``time.sleep(...)``): the module is gone inside that method. For a module of
-    the standard library, the variable is renamed in every statement that uses it."""
+    speed`` then ``time.sleep(...)``): the module is gone inside that method. For the standard
+    modules skills use, the variable is renamed in every statement that uses it."""
     modules = {
         (alias.asname or alias.name).split(".")[0]
         for node in tree.body
@@ -891,7 +896,7 @@ def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
         for node in ast.walk(method):
             if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store) and node.id in used:
                 used.discard(node.id)
-                if node.id in sys.stdlib_module_names:
+                if node.id in _RENAMABLE_MODULES:
                     renamed = _renamed_local(method, node.id)
                     if renamed:
                         findings += renamed
