@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from skillwright.llm.config import Registry, load_registry
-from tests.fixtures.tiny_gguf import write_tiny_llama
+from tests.fixtures.tiny_gguf import GENERATION_WORDS, TinyLlamaSpec, write_tiny_llama
 
 
 @pytest.fixture(autouse=True)
@@ -28,6 +28,14 @@ def isolated_config(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
 def tiny_gguf(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A tiny random-weight llama GGUF file (see ``tests.fixtures.tiny_gguf``), built once."""
     return write_tiny_llama(tmp_path_factory.mktemp("models") / "tiny.gguf")
+
+
+@pytest.fixture(scope="session")
+def wordy_gguf(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The tiny model with a generation prompt's words in its vocabulary, for tests that run
+    whole generations: their 14 KB prompt is then about 6,000 tokens instead of 16,000."""
+    spec = TinyLlamaSpec(words=GENERATION_WORDS)
+    return write_tiny_llama(tmp_path_factory.mktemp("models") / "wordy.gguf", spec)
 
 
 def write_models_toml(

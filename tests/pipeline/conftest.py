@@ -9,9 +9,9 @@ import pytest
 
 from tests.conftest import SHIPPED_CAPABILITIES
 from tests.fixtures.scripted import MethodScript
-from tests.llm.conftest import isolated_config, tiny_gguf, write_models_toml
+from tests.llm.conftest import isolated_config, wordy_gguf, write_models_toml
 
-__all__ = ["SET_VELOCITY", "isolated_config", "tiny_gguf"]
+__all__ = ["SET_VELOCITY", "isolated_config", "wordy_gguf"]
 
 RECORDING = SHIPPED_CAPABILITIES / "recordings" / "mr1"
 
@@ -62,10 +62,10 @@ SET_VELOCITY = {
 
 
 @pytest.fixture
-def models_file(tmp_path: Path, tiny_gguf: Path) -> Path:
+def models_file(tmp_path: Path, wordy_gguf: Path) -> Path:
     """A models.toml whose default generation model is the tiny GGUF (large context, room for
     a scripted method)."""
-    return write_models_toml(tmp_path / "models.toml", tiny_gguf, context=8192, max_tokens=400)
+    return write_models_toml(tmp_path / "models.toml", wordy_gguf, context=8192, max_tokens=400)
 
 
 def use_model(monkeypatch: pytest.MonkeyPatch, model: MethodScript) -> None:

@@ -26,7 +26,7 @@ from skillwright.tui.screens.base import Pane
 from skillwright.tui.session import SessionState, save_session
 from skillwright.tui.workspace import Workspace
 from tests.conftest import SHIPPED_CAPABILITIES
-from tests.llm.conftest import isolated_config, tiny_gguf
+from tests.llm.conftest import isolated_config, tiny_gguf, wordy_gguf
 
 # pytest-textual-snapshot 1.0 names the snapshot suffix the syrupy 4 way (_file_extension);
 # syrupy 5 and later read file_extension and would store the SVG snapshots as .raw files.
@@ -43,6 +43,7 @@ __all__ = [
     "screen_text",
     "tiny_gguf",
     "wait_until",
+    "wordy_gguf",
 ]
 
 
@@ -52,8 +53,9 @@ second or two on an idle machine, and ten times that on a 2-core machine busy wi
 and other test runs. Only a failing test waits this long."""
 
 MODEL_RUN = 600.0
-"""Deadline of a run of the tiny model: its byte-level vocabulary makes a generation prompt
-about 12,000 tokens, evaluated in 15 s on an idle machine and in minutes on a busy one."""
+"""Deadline of a run of the tiny model: a generation prompt is about 6,000 tokens of the wordy
+tiny model (16,000 of the byte-level one), evaluated in seconds on an idle machine and in
+minutes on a busy one."""
 
 
 @pytest.fixture
@@ -72,7 +74,7 @@ def _config(isolated_config: Path, _run_cache: Path, monkeypatch: pytest.MonkeyP
     """Every TUI test gets its own configuration and data folders.
 
     The cache folder is shared by the run's TUI tests, as a user's runs share theirs: the
-    tiny model's 12,000-token prompt prefix is then evaluated once per run instead of once
+    tiny model's 6,000-token prompt prefix is then evaluated once per run instead of once
     per generating test (half a minute each on a busy machine).
     """
     monkeypatch.setenv("XDG_CACHE_HOME", str(_run_cache))
@@ -89,7 +91,7 @@ def workspace(tmp_path: Path) -> Path:
 
 def write_models(path: Path, model_file: Path, *, max_tokens: int = 32) -> Path:
     """A models.toml whose default generation model is ``tiny`` (room for the long prompt:
-    the tiny model's tokenizer spends about one token per character)."""
+    the tiny model's tokenizer spends about one token per two characters)."""
     path.write_text(
         f"""
 [defaults]
@@ -115,9 +117,9 @@ file = "{(path.parent / "ghost.gguf").as_posix()}"
 
 
 @pytest.fixture
-def models_file(tmp_path: Path, tiny_gguf: Path) -> Path:
+def models_file(tmp_path: Path, wordy_gguf: Path) -> Path:
     """The tiny model as default (32 tokens) and ``ghost``, a model whose file is missing."""
-    return write_models(tmp_path / "models.toml", tiny_gguf)
+    return write_models(tmp_path / "models.toml", wordy_gguf)
 
 
 def preset_session(workspace: Path, **values: object) -> SessionState:

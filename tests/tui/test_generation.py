@@ -238,9 +238,10 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
 async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
     workspace: Path, tmp_path: Path, tiny_gguf: Path
 ) -> None:
-    # Long enough an answer that the run is still going when the test presses Esc: the tiny
-    # model writes a few hundred tokens a second, and on a busy machine the keys below can
-    # take many seconds, so a short budget could let the whole skill be written first.
+    # The byte-level tiny model (not the wordy one) reads the prompt for seconds: the keys
+    # below are pressed while the worker is busy in llama.cpp. The answer is long enough that
+    # the run is still going when the test presses Esc: the tiny model writes a few hundred
+    # tokens a second, and on a busy machine the keys can take many seconds.
     models = write_models(tmp_path / "long.toml", tiny_gguf, max_tokens=8000)
     preset_session(workspace, **INPUTS)
     app = app_for(workspace, models)
@@ -316,14 +317,14 @@ async def test_an_invalid_specification_stops_generation_and_shows_the_form(
 
 
 async def test_quitting_during_a_generation_stops_it_and_writes_nothing(
-    workspace: Path, tmp_path: Path, tiny_gguf: Path, monkeypatch: pytest.MonkeyPatch
+    workspace: Path, tmp_path: Path, wordy_gguf: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from skillwright.pipeline import run as pipeline_run
 
     # The engine call's own outcome, whatever the app has done by then: a pipeline that ran
     # to its end after the quit would return an Outcome instead of raising.
     generation = Watch(monkeypatch, pipeline_run, "run_generation")
-    models = write_models(tmp_path / "long.toml", tiny_gguf, max_tokens=8000)
+    models = write_models(tmp_path / "long.toml", wordy_gguf, max_tokens=8000)
     preset_session(workspace, **INPUTS)
     app = app_for(workspace, models)
     async with running(app) as pilot:
