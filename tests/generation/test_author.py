@@ -392,6 +392,24 @@ def test_a_local_variable_hiding_a_module_is_renamed_without_the_model(case: _Ca
     assert "        time_value = 0.1\n        time.sleep(time_value)\n" in authored.code
 
 
+def test_an_input_the_state_clamps_in_place_is_kept_and_a_local_copy_clamped(
+    case: _Case,
+) -> None:
+    clamps = EXECUTE.replace(
+        "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)\n",
+        "        if self.in_linear_velocity > self.LINEAR_VELOCITY_MAX:\n"
+        "            self.in_linear_velocity = self.LINEAR_VELOCITY_MAX\n"
+        "        speed = abs(self.in_linear_velocity)\n",
+    )
+    authored = _fixed_without_the_model(case, "execute", clamps)
+    assert (
+        "        linear_velocity = self.in_linear_velocity\n"
+        "        if linear_velocity > self.LINEAR_VELOCITY_MAX:\n"
+        "            linear_velocity = self.LINEAR_VELOCITY_MAX\n"
+        "        speed = abs(linear_velocity)\n"
+    ) in authored.code
+
+
 def test_a_guard_that_only_raises_is_replaced_by_the_suggested_statement(case: _Case) -> None:
     guards_wrongly = STARTING.replace(
         '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")\n',

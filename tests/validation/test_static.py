@@ -454,8 +454,36 @@ def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillS
         "        self.in_linear_velocity = min(abs(self.in_linear_velocity), 0.8)\n"
         "        speed = self.in_linear_velocity",
     )
-    (text,) = messages(run(source, move_forward), "inputs")
-    assert "self.in_linear_velocity holds the capability input inLinearVelocity" in text
+    found = [f for f in run(source, move_forward).findings if f.check == "inputs"]
+    assert [f.severity for f in found] == ["error", "error"]
+    assert all(
+        "self.in_linear_velocity holds the capability input inLinearVelocity" in f.message
+        and f.message.endswith("execute works on the local copy linear_velocity instead")
+        for f in found
+    )
+    # The fix keeps the state's arithmetic on a copy: the first statement that uses the
+    # input makes it, each later one reads or writes the copy.
+    assert [f.replacement for f in found] == [
+        "linear_velocity = self.in_linear_velocity\n"
+        "linear_velocity = min(abs(linear_velocity), 0.8)",
+        "speed = linear_velocity",
+    ]
+
+
+def test_an_input_overwritten_in_a_for_loop_is_an_error_without_a_fix(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
+        "        for _ in range(2):\n"
+        "            self.in_linear_velocity = self.in_linear_velocity / 2\n"
+        "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
+    )
+    (found,) = [f for f in run(source, move_forward).findings if f.check == "inputs"]
+    write = "            self.in_linear_velocity = self.in_linear_velocity / 2"
+    assert found.line == source.splitlines().index(write) + 1
+    assert found.replacement is None
+    assert found.message.endswith("keep a derived value in a local variable")
 
 
 def test_a_handle_made_again_in_another_state_is_an_error(

@@ -459,7 +459,9 @@ def _replaceable(statement: ast.stmt) -> bool:
     """Whether a check's suggested statements may take the place of ``statement`` whole: a
     plain statement, a loop, or an ``if`` (a guard on something that does not exist, which
     the suggestion replaces by what it comes to)."""
-    return isinstance(statement, ast.Assign | ast.AnnAssign | ast.Expr | ast.While | ast.If)
+    return isinstance(
+        statement, ast.Assign | ast.AugAssign | ast.AnnAssign | ast.Expr | ast.While | ast.If
+    )
 
 
 def _statements_at(

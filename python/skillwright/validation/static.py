@@ -11,6 +11,7 @@ says to abort; interfaces retrieved but unused, or used but not retrieved.
 from __future__ import annotations
 
 import ast
+import builtins
 import copy
 import io
 import re
@@ -18,6 +19,7 @@ import tokenize
 from collections.abc import Iterable, Sequence
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
+from keyword import kwlist
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.spec.model import PACKML_STATES, SkillSpec
@@ -1157,7 +1159,8 @@ def _is_scalar(node: ast.expr, numbers: AbstractSet[str] = frozenset()) -> bool:
 
 
 def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability) -> None:
-    """Inputs are set by the client; a state that overwrites one changes the request."""
+    """Inputs are set by the client; a state that overwrites one changes the request. Where
+    it can, the fix keeps the method's arithmetic on a local copy of the input."""
     attributes = {
         re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", c.name).lower(): c.name
         for parameter in capability.inputs
@@ -1166,6 +1169,7 @@ def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability
     for method in cls.body:
         if not isinstance(method, ast.FunctionDef) or method.name == "__init__":
             continue
+        written: dict[str, ast.stmt] = {}
         for node in ast.walk(method):
             if not isinstance(node, ast.Assign | ast.AugAssign | ast.AnnAssign):
                 continue
@@ -1176,14 +1180,80 @@ def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability
                     and ast.unparse(target.value) == "self"
                     and target.attr in attributes
                 ):
-                    ctx.add(
-                        "inputs",
-                        "error",
-                        node,
-                        f"self.{target.attr} holds the capability input "
-                        f"{attributes[target.attr]}, which the client sets; do not overwrite "
-                        f"it, keep a derived value in a local variable",
-                    )
+                    written.setdefault(target.attr, node)
+        for attr, node in written.items():
+            message = (
+                f"self.{attr} holds the capability input {attributes[attr]}, which the client "
+                "sets; do not overwrite it, keep a derived value in a local variable"
+            )
+            copied = _local_copy(method, attr)
+            if copied is None:
+                ctx.add("inputs", "error", node, message)
+                continue
+            local, statements = copied
+            for statement, replacement in statements:
+                ctx.add(
+                    "inputs",
+                    "error",
+                    statement,
+                    f"{message}; {method.name} works on the local copy {local} instead",
+                    replacement,
+                )
+
+
+class _InputToLocal(ast.NodeTransformer):
+    """Replaces ``self.<attr>`` (read or written) by the local name ``local``."""
+
+    def __init__(self, attr: str, local: str) -> None:
+        self.attr = attr
+        self.local = local
+
+    def visit_Attribute(self, node: ast.Attribute) -> ast.AST:
+        if node.attr == self.attr and isinstance(node.value, ast.Name) and node.value.id == "self":
+            return ast.Name(id=self.local, ctx=node.ctx)
+        return self.generic_visit(node)
+
+
+def _local_copy(
+    method: ast.FunctionDef, attr: str
+) -> tuple[str, list[tuple[ast.stmt, str]]] | None:
+    """The local name and, per statement of ``method``'s body that uses ``self.<attr>``, the
+    statement on a local copy instead (the first one preceded by the copy); ``None`` when a
+    statement that uses it is not a plain one, an ``if`` or a ``while``, which a fix may not
+    replace whole."""
+
+    def uses(statement: ast.stmt) -> bool:
+        return any(
+            isinstance(n, ast.Attribute)
+            and n.attr == attr
+            and isinstance(n.value, ast.Name)
+            and n.value.id == "self"
+            for n in ast.walk(statement)
+        )
+
+    using = [statement for statement in method.body if uses(statement)]
+    replaceable = ast.Assign | ast.AugAssign | ast.AnnAssign | ast.Expr | ast.If | ast.While
+    if not using or not all(isinstance(statement, replaceable) for statement in using):
+        return None
+    taken = {n.id for n in ast.walk(method) if isinstance(n, ast.Name)} | {
+        a.arg for a in ast.walk(method) if isinstance(a, ast.arg)
+    }
+    base = attr.removeprefix("in_") if attr.startswith("in_") else f"{attr}_value"
+    local = base
+    number = 2
+    while local in taken or local in _KEYWORDS_AND_BUILTINS:
+        local, number = f"{base}{number}", number + 1
+    fixed = []
+    for index, statement in enumerate(using):
+        text = ast.unparse(_InputToLocal(attr, local).visit(copy.deepcopy(statement)))
+        if index == 0:
+            text = f"{local} = self.{attr}\n{text}"
+        fixed.append((statement, text))
+    return local, fixed
+
+
+_KEYWORDS_AND_BUILTINS = frozenset({*kwlist, *dir(builtins), "self", "math", "time"})
+"""Names a local copy may not take."""
 
 
 _MAKES_HANDLE = frozenset(
