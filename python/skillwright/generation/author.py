@@ -95,11 +95,16 @@ class AuthorSettings:
     ``max_tokens``). In the evaluation, no such answer without errors took more than 190
     tokens; the longer ones (up to 594) rambled and were rejected anyway."""
 
+    @property
+    def short_budget(self) -> int:
+        """The token budget of an answer for any method but ``execute``."""
+        return min(self.short_max_tokens, self.max_tokens)
+
     def budget(self, kind: str, name: str) -> int:
         """The token budget of an answer for the method ``name`` of ``kind``."""
         if kind == "state" and name == "execute":
             return self.max_tokens
-        return min(self.short_max_tokens, self.max_tokens)
+        return self.short_budget
 
     repair_temperature: float = 0.6
     """Temperature of the sampled repairs (the third attempt on)."""

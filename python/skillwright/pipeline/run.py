@@ -539,7 +539,7 @@ def _generate(
         finish_reason=None if final is None else final.finish,
         prefix_cache=first_cache[0] if first_cache else "off",
         max_tokens=settings.max_tokens,
-        short_max_tokens=settings.budget("helper", ""),
+        short_max_tokens=settings.short_budget,
         attempts_allowed=settings.attempts,
         card=authored.card,
         attempts=authored.attempts,
