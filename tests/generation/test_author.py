@@ -361,13 +361,15 @@ def test_a_run_error_in_a_skeleton_helper_is_repaired_at_the_call_that_led_there
 
 
 def test_a_run_error_at_an_inputs_getter_is_repaired_in_execute(case: _Case) -> None:
-    ignores_speed = EXECUTE.replace(
-        "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)", "self.LINEAR_VELOCITY_MAX"
+    # The input is read on a branch the run never takes: the checks see a read, the run none.
+    rarely_reads = EXECUTE.replace(
+        "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
+        "self.LINEAR_VELOCITY_MAX if self.in_distance > 0 else self.in_linear_velocity",
     )
 
     def ignored(code: str) -> Finding | None:
         execute = code.partition("def execute")[2].partition("@completing")[0]
-        if "self.in_linear_velocity" in execute:
+        if "min(abs(self.in_linear_velocity)" in execute:
             return None
         return Finding(
             check="run.input",
@@ -377,9 +379,22 @@ def test_a_run_error_at_an_inputs_getter_is_repaired_in_execute(case: _Case) -> 
         )
 
     _run_also_finds(case, ignored)
-    authored, problems = _repaired_execute(case, ignores_speed, EXECUTE)
+    authored, problems = _repaired_execute(case, rarely_reads, EXECUTE)
     assert problems == ["`@execute`: input inLinearVelocity is never read"]
     assert "min(abs(self.in_linear_velocity)" in authored.code
+
+
+def test_an_input_no_method_reads_is_repaired_in_execute(case: _Case) -> None:
+    ignores_speed = EXECUTE.replace(
+        "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)", "self.LINEAR_VELOCITY_MAX"
+    )
+    authored, problems = _repaired_execute(case, ignores_speed, EXECUTE)
+    assert problems == [
+        "`@execute`: input inLinearVelocity is never read: no method uses "
+        "self.in_linear_velocity, so the skill ignores the value it is given (a hard-coded "
+        "value in its place?)"
+    ]
+    assert not [f for f in authored.findings if f.severity == "error"]
 
 
 def test_a_local_variable_hiding_a_module_is_renamed_without_the_model(case: _Case) -> None:

@@ -486,6 +486,43 @@ def test_an_input_overwritten_in_a_for_loop_is_an_error_without_a_fix(
     assert found.message.endswith("keep a derived value in a local variable")
 
 
+def test_an_input_no_method_reads_is_an_error_at_its_getter(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
+        "        speed = self.LINEAR_VELOCITY_MAX",
+    )
+    (found,) = [f for f in run(source, move_forward).findings if f.check == "inputs"]
+    assert found.severity == "error"
+    assert (
+        found.line
+        == source.splitlines().index(
+            '    @skill_parameter(is_required=True, name="inLinearVelocity", description="Speed [m/s].")'
+        )
+        + 1
+    )
+    assert found.message.startswith(
+        "input inLinearVelocity is never read: no method uses self.in_linear_velocity"
+    )
+
+
+def test_an_output_no_method_sets_is_an_error_once_every_state_is_written(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    never_set = GOOD.replace("        self.out_distance = self._travelled()\n", "")
+    assert never_set != GOOD
+    (found,) = [f for f in run(never_set, move_forward).findings if f.check == "outputs"]
+    assert found.message.startswith("output outDistance is never set")
+    # A skeleton's states are still to be written: what they will set is not known yet.
+    unwritten = never_set.replace(
+        '        """Halt the base."""\n        self.cmd_vel_publisher.publish(Twist())',
+        '        """Halt the base."""\n        raise NotImplementedError',
+    )
+    assert "NotImplementedError" in unwritten
+    assert not [f for f in run(unwritten, move_forward).findings if f.check == "outputs"]
+
+
 def test_a_handle_made_again_in_another_state_is_an_error(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

@@ -505,6 +505,10 @@ def _score(attempt: Attempt) -> tuple[int, int, int, int]:
 _LATER_STAGES = ("run", "behaviour")
 """Check-name prefixes of findings from running the skill rather than reading it."""
 
+_EXECUTE_OWNS = (*_LATER_STAGES, "inputs", "outputs")
+"""Check-name prefixes whose errors outside any written method (at an input's or output's
+getter: an input never read, an output never set) are ``execute``'s to fix."""
+
 
 _Pick = Callable[[_Target], Attempt | None]
 
@@ -534,8 +538,8 @@ class _Judgement:
         A run's finding in a helper of the skeleton (``_result_of`` timing out) belongs to the
         written method whose call led there, and is given at the line of that call: the
         helper is not the model's to change, the call (its timeout, its goal) is. A run's
-        finding in no written method or helper (an input never read, at its getter) belongs
-        to ``execute``, given at its first line.
+        finding, or an input's or output's, in no written method or helper (an input never
+        read, at its getter) belongs to ``execute``, given at its first line.
         """
         spans = method_spans(self.assembly.code, self.skeleton.class_name)
         if name not in spans:
@@ -547,7 +551,7 @@ class _Judgement:
             found += [
                 f.model_copy(update={"line": first, "column": 0})
                 for f in self.findings
-                if f.check.startswith(_LATER_STAGES)
+                if f.check.startswith(_EXECUTE_OWNS)
                 and f.severity == "error"
                 and not f.stack
                 and _method_at(spans, f.line) not in self.written | owned

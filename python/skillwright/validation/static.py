@@ -1201,6 +1201,58 @@ def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability
                 )
 
 
+def _check_parameter_use(ctx: _Context, cls: ast.ClassDef) -> None:
+    """An input no method reads, or an output no method sets, once every state is written:
+    the skill ignores what it is asked, or reports what ``__init__`` put there. Each is
+    given at its getter, as the run gives it (generation asks ``execute`` for the fix)."""
+    getters: dict[str, tuple[str, str, str, ast.AST]] = {}
+    for node in cls.body:
+        if not isinstance(node, ast.FunctionDef):
+            continue
+        for dec in node.decorator_list:
+            kind = _decorator_name(dec) if isinstance(dec, ast.Call) else None
+            if kind not in {"skill_parameter", "skill_output"} or not isinstance(dec, ast.Call):
+                continue
+            returned = [s for s in _body_without_docstring(node) if isinstance(s, ast.Return)]
+            value = returned[0].value if len(returned) == 1 else None
+            if (
+                isinstance(value, ast.Attribute)
+                and isinstance(value.value, ast.Name)
+                and value.value.id == "self"
+            ):
+                name = _constant_text(_keyword(dec, "name")) or node.name
+                getters[node.name] = (kind, name, value.attr, dec)
+    reads: set[str] = set()
+    writes: set[str] = set()
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef) or method.name in {*getters, "__init__"}:
+            continue
+        for inner in ast.walk(method):
+            if (
+                isinstance(inner, ast.Attribute)
+                and isinstance(inner.value, ast.Name)
+                and inner.value.id == "self"
+            ):
+                (writes if isinstance(inner.ctx, ast.Store) else reads).add(inner.attr)
+    for kind, name, attr, where in getters.values():
+        if kind == "skill_parameter" and attr not in reads:
+            ctx.add(
+                "inputs",
+                "error",
+                where,
+                f"input {name} is never read: no method uses self.{attr}, so the skill "
+                "ignores the value it is given (a hard-coded value in its place?)",
+            )
+        elif kind == "skill_output" and attr not in writes:
+            ctx.add(
+                "outputs",
+                "error",
+                where,
+                f"output {name} is never set: no method assigns self.{attr}, so the getter "
+                "returns what __init__ put there",
+            )
+
+
 class _InputToLocal(ast.NodeTransformer):
     """Replaces ``self.<attr>`` (read or written) by the local name ``local``."""
 
@@ -1409,6 +1461,8 @@ def check_skill(
         _check_placeholders(ctx, tree, source, methods)
         _check_swallowed_errors(ctx, methods, spec)
         _check_input_writes(ctx, cls, capability)
+        if not any(f.check == "placeholders" and f.severity == "error" for f in ctx.findings):
+            _check_parameter_use(ctx, cls)
         _check_handles(ctx, cls)
         _check_timers(ctx, cls)
         ctx.findings += check_names(source, tree, cls, imports)
