@@ -288,6 +288,12 @@ def test_an_action_gets_helpers_for_its_goal_handle_and_attributes_for_them() ->
         assert f"self.navigate_to_pose_{attribute} = None" in init
     assert "from action_msgs.msg import GoalStatus" in skeleton.code
     assert "feedback_callback=self._on_navigate_to_pose_feedback" in skeleton.code
+    # What the result helper returns is written as text: the checks read the fields a state
+    # takes from it, and no runtime has to resolve the annotation.
+    assert (
+        'def _navigate_to_pose_result(self, timeout: float) -> "NavigateToPose.Result":'
+        in skeleton.code
+    )
     assert "MoveItErrorCodes" not in skeleton.code
     ast.parse(skeleton.code)
 

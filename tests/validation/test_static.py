@@ -448,6 +448,36 @@ def test_the_singular_of_an_array_field_in_a_constructor_is_put_as_the_field(
     ]
 
 
+def test_a_result_from_a_method_annotated_to_return_it_has_its_fields_checked(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # The skeleton's result helpers say what they return, as text nothing has to resolve.
+    source = (
+        GOOD.replace(
+            "from geometry_msgs.msg import Twist",
+            "from geometry_msgs.msg import Twist\nfrom nav2_msgs.action import BackUp",
+        )
+        .replace(
+            "    @starting\n",
+            '    def _backup_result(self, timeout: float) -> "BackUp.Result":\n'
+            "        return BackUp.Result()\n\n"
+            "    @starting\n",
+        )
+        .replace(
+            "        self.out_distance = self._travelled()\n",
+            "        self.out_distance = self._travelled()\n"
+            "        result = self._backup_result(5.0)\n"
+            "        if not result.success:\n"
+            "            raise RuntimeError(f'backed up for {result.total_elapsed_time}')\n",
+        )
+    )
+    report = check_on_mr1(source, move_forward)
+    found = [f.message for f in report.findings if f.check == "grounding"]
+    assert [m.split(" (fields")[0] for m in found] == [
+        "nav2_msgs/action/BackUp.Result has no field 'success' in the message"
+    ]
+
+
 def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillSpec]) -> None:
     source = GOOD.replace(
         "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",

@@ -606,7 +606,9 @@ def _action_helpers(interface: InterfaceRef) -> dict[str, list[str]]:
             f"        self.{stem}_feedback = message.feedback",
         ],
         f"_{stem}_result": [
-            f"    def _{stem}_result(self, timeout: float):",
+            # The annotation is text: the checks read it (the fields of the result), and no
+            # runtime has to resolve it.
+            f'    def _{stem}_result(self, timeout: float) -> "{type_class(interface)}.Result":',
             f'        """Waits for the result of the goal sent with self._send_{stem}_goal and',
             "        returns it; raises RuntimeError if none was sent, none came within",
             '        ``timeout`` s or the goal did not succeed."""',

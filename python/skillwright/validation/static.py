@@ -794,11 +794,30 @@ def _with_transforms(catalog: Catalog) -> Catalog:
     return catalog.model_copy(update={"fields": {**catalog.fields, _TRANSFORM_STAMPED: transforms}})
 
 
+def _returned_messages(cls: ast.ClassDef, imports: dict[str, str]) -> dict[str, str]:
+    """Methods of the class annotated to return a message (``-> "NavigateToPose.Result"``,
+    as the skeleton's result helpers are): method name -> ``pkg/action/Type.Result``."""
+    out: dict[str, str] = {}
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef) or method.returns is None:
+            continue
+        annotation = method.returns
+        if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
+            text = annotation.value
+        else:
+            text = ast.unparse(annotation)
+        head, _, tail = text.partition(".")
+        if head in imports and (not tail or tail in _NESTED_TYPES):
+            out[method.name] = imports[head] + (f".{tail}" if tail else "")
+    return out
+
+
 def _message_bindings(
     cls: ast.ClassDef, uses: Sequence[_Use], catalog: Catalog, imports: dict[str, str]
 ) -> dict[str, dict[str, str]]:
     """Per method: which local names / self attributes hold which message type."""
     callbacks = {u.callback: u.type_name for u in uses if u.callback and u.type_name}
+    returns = _returned_messages(cls, imports)
     stored: dict[str, str] = {}
     per_method: dict[str, dict[str, str]] = {}
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
@@ -820,6 +839,8 @@ def _message_bindings(
                 head, _, tail = func.partition(".")
                 if head in imports and (not tail or tail in _NESTED_TYPES):
                     key = imports[head] + (f".{tail}" if tail else "")
+                elif head == "self" and tail in returns:
+                    key = returns[tail]
             elif isinstance(value, ast.Name) and value.id in bound:
                 key = bound[value.id]
             if key is None:
