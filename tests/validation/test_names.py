@@ -105,6 +105,26 @@ def test_names_nothing_defines_are_errors_located_at_their_use(
     assert changed[:20] in source.splitlines()[finding.line - 1]
 
 
+def test_a_message_asked_of_a_subscription_is_waited_for_once_and_taken_from_the_callback(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # What the eval's MR-1 get-distance answer did: wait, guard, then keep the message.
+    source = GOOD.replace(
+        "        self.start_x = self.odom_msg.pose.pose.position.x\n",
+        "        self.odom_subscription.wait_for_messages(timeout_sec=2.0)\n"
+        "        if not self.odom_subscription.get_last_message():\n"
+        '            raise RuntimeError("no odometry within 2 s")\n'
+        "        odom = self.odom_subscription.get_last_message()\n"
+        "        self.start_x = odom.pose.pose.position.x\n",
+        1,
+    )
+    found = [f for f in _names(source, move_forward) if "Subscription" in f.message]
+    wait = 'self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")'
+    # The first asks for the wait; the guard and the second ask are then left out, and the
+    # message is taken from where the callback keeps it.
+    assert [f.replacement for f in found] == [wait, "", "odom = self.odom_msg"]
+
+
 def test_a_local_variable_other_methods_read_from_the_skill_is_found_where_it_is_made(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

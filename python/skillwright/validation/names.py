@@ -534,10 +534,10 @@ _KIND_HINTS = {
 }
 
 
-def _latest_message_wait(receiver: ast.expr, defined: set[str]) -> tuple[str, str] | None:
+def _latest_message_wait(receiver: ast.expr, defined: set[str]) -> tuple[str, str, str] | None:
     """For ``self.X_subscription`` whose callback keeps ``self.X_msg`` (the skeleton's way):
-    a hint and the statement that waits for the first message, which a small model copies
-    more readily than advice."""
+    a hint, the statement that waits for the first message (which a small model copies more
+    readily than advice) and the attribute that holds the latest message."""
     name = self_attribute(receiver)
     if name is None or not name.endswith("_subscription"):
         return None
@@ -549,7 +549,38 @@ def _latest_message_wait(receiver: ast.expr, defined: set[str]) -> tuple[str, st
         f"; its callback keeps the latest message in self.{latest}: wait for the first one with "
         f"{statement}",
         statement,
+        latest,
     )
+
+
+def _latest_message_fix(
+    node: ast.Attribute,
+    wait: tuple[str, str, str],
+    waited: bool,
+    guard: ast.If | None,
+    statement: ast.stmt | None,
+) -> str | None:
+    """What takes the place of the statement that asks a subscription for its message
+    (``node``): the wait for the first message, unless the method ``waited`` already, then
+    the statement with the latest message in place of the made-up call (``scan =
+    self.scan_subscription.get_last_message()`` keeps ``scan``)."""
+    ready = "" if waited else wait[1]
+    if guard is not None:
+        return _without_guard(guard, ready)
+    if statement is None:
+        return None
+    if (
+        isinstance(statement, ast.Expr)
+        and isinstance(statement.value, ast.Call)
+        and statement.value.func is node
+    ):
+        return ready
+    asked: ast.expr = node
+    for inner in ast.walk(statement):
+        if isinstance(inner, ast.Call) and inner.func is node:
+            asked = inner
+    text = ast.unparse(statement).replace(ast.unparse(asked), f"self.{wait[2]}")
+    return "\n".join(filter(None, [ready, text]))
 
 
 _GOAL_HANDLE = frozenset({"get_result_async", "cancel_goal_async", "accepted", "status"})
@@ -578,9 +609,18 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
     defined, kinds = _class_facts(cls)
     guards = _guards(cls)
     statement_of = simple_statements(cls)
+    method_of = {
+        id(node): method.name
+        for method in cls.body
+        if isinstance(method, ast.FunctionDef | ast.AsyncFunctionDef)
+        for node in ast.walk(method)
+    }
+    # (method, latest-message attribute) whose wait a fix has put in already
+    waited: set[tuple[str | None, str]] = set()
     findings = []
-    for node in ast.walk(cls):
-        if not isinstance(node, ast.Attribute) or not isinstance(node.ctx, ast.Load):
+    attributes = [n for n in ast.walk(cls) if isinstance(n, ast.Attribute)]
+    for node in sorted(attributes, key=lambda n: (n.lineno, n.col_offset)):
+        if not isinstance(node.ctx, ast.Load):
             continue
         kind = _receiver_kind(node.value, kinds)
         if kind is None or node.attr in RCLPY_API[kind]:
@@ -601,13 +641,17 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
             hint = wait[0]
         else:
             hint = _KIND_HINTS.get(kind, "")
-        replacement = wait[1] if wait is not None else None
+        replacement = None
         guard = guards.get(id(node))
         if kind == "publisher" and guard is not None:
             hint = "; a publisher is ready from create_publisher until it is destroyed"
             replacement = _without_guard(guard, "")
-        elif wait is not None and guard is not None:
-            replacement = _without_guard(guard, wait[1])
+        elif wait is not None:
+            key = (method_of.get(id(node)), wait[2])
+            replacement = _latest_message_fix(
+                node, wait, key in waited, guard, statement_of.get(id(node))
+            )
+            waited.add(key)
         elif kind == "time" and node.attr in _SECONDS and id(node) in statement_of:
             statement = ast.unparse(statement_of[id(node)])
             seconds = f"({ast.unparse(node.value)}.nanoseconds / 1e9)"
