@@ -478,6 +478,41 @@ def test_a_result_from_a_method_annotated_to_return_it_has_its_fields_checked(
     ]
 
 
+def test_waiting_for_the_result_of_a_goal_nothing_sends_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    helpers = (
+        "    def _send_backup_goal(self, goal, timeout: float) -> None:\n"
+        "        self.backup_goal = goal\n\n"
+        '    def _backup_result(self, timeout: float) -> "BackUp.Result":\n'
+        "        return BackUp.Result()\n\n"
+        "    @starting\n"
+    )
+    waits = (
+        GOOD.replace(
+            "from geometry_msgs.msg import Twist",
+            "from geometry_msgs.msg import Twist\nfrom nav2_msgs.action import BackUp",
+        )
+        .replace("    @starting\n", helpers)
+        .replace(
+            "        self.out_distance = self._travelled()\n",
+            "        self.out_distance = self._travelled()\n        self._backup_result(5.0)\n",
+        )
+    )
+    (found,) = [
+        f for f in check_on_mr1(waits, move_forward).findings if "nothing sends" in f.message
+    ]
+    assert found.severity == "error"
+    assert "send it first with self._send_backup_goal(goal, timeout)" in found.message
+    sends = waits.replace(
+        "        self._backup_result(5.0)\n",
+        "        self._send_backup_goal(BackUp.Goal(), 5.0)\n        self._backup_result(5.0)\n",
+    )
+    assert not [
+        f for f in check_on_mr1(sends, move_forward).findings if "nothing sends" in f.message
+    ]
+
+
 def test_overwriting_an_input_is_an_error(move_forward: tuple[Capability, SkillSpec]) -> None:
     source = GOOD.replace(
         "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",

@@ -1329,6 +1329,35 @@ _KEYWORDS_AND_BUILTINS = frozenset({*kwlist, *dir(builtins), "self", "math", "ti
 """Names a local copy may not take."""
 
 
+def _check_goal_results(ctx: _Context, cls: ast.ClassDef) -> None:
+    """A goal's result waited for (the skeleton's ``self._X_result(...)``) in a class that
+    never sends that goal (``self._X_goal(...)`` is never called): the wait can only fail."""
+    methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef)}
+    calls = [
+        node
+        for node in ast.walk(cls)
+        if isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and isinstance(node.func.value, ast.Name)
+        and node.func.value.id == "self"
+    ]
+    called = {call.func.attr for call in calls if isinstance(call.func, ast.Attribute)}
+    for call in calls:
+        assert isinstance(call.func, ast.Attribute)
+        name = call.func.attr
+        stem = name.removeprefix("_").removesuffix("_result")
+        send = f"_send_{stem}_goal"
+        if not name.endswith("_result") or send not in methods or send in called:
+            continue
+        ctx.add(
+            "names",
+            "error",
+            call,
+            f"self.{name}(...) waits for the result of a goal nothing sends: send it first "
+            f"with self.{send}(goal, timeout), and then wait for its result",
+        )
+
+
 _MAKES_HANDLE = frozenset(
     {
         "create_publisher",
@@ -1485,6 +1514,7 @@ def check_skill(
         if not any(f.check == "placeholders" and f.severity == "error" for f in ctx.findings):
             _check_parameter_use(ctx, cls)
         _check_handles(ctx, cls)
+        _check_goal_results(ctx, cls)
         _check_timers(ctx, cls)
         ctx.findings += check_names(source, tree, cls, imports)
         ctx.findings += check_waits(cls)
