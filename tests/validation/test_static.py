@@ -472,10 +472,80 @@ def test_a_result_from_a_method_annotated_to_return_it_has_its_fields_checked(
         )
     )
     report = check_on_mr1(source, move_forward)
-    found = [f.message for f in report.findings if f.check == "grounding"]
-    assert [m.split(" (fields")[0] for m in found] == [
+    (found,) = [f for f in report.findings if f.check == "grounding"]
+    assert found.message.startswith(
         "nav2_msgs/action/BackUp.Result has no field 'success' in the message"
-    ]
+    )
+    # The helper raises when the goal did not succeed: the guard that raises on a made-up
+    # outcome field comes to nothing.
+    assert found.message.endswith(
+        "the helper that returned result raises RuntimeError when the goal did not succeed, "
+        "so this test is not needed"
+    )
+    assert found.replacement == ""
+
+
+@pytest.mark.parametrize(
+    ("guard", "replacement"),
+    [
+        # a positive test comes to its body
+        (
+            "        if result.success:\n            self.out_distance = 1.0\n",
+            "self.out_distance = 1.0",
+        ),
+        # a guard with an else, or one that does more than raise, is the model's to repair
+        (
+            "        if not result.success:\n            raise RuntimeError('no')\n"
+            "        else:\n            self.out_distance = 1.0\n",
+            None,
+        ),
+        (
+            "        if not result.success:\n            self.out_distance = 0.0\n"
+            "            raise RuntimeError('no')\n",
+            None,
+        ),
+    ],
+)
+def test_a_guard_on_a_made_up_outcome_field_of_a_checked_result(
+    move_forward: tuple[Capability, SkillSpec], guard: str, replacement: str | None
+) -> None:
+    source = (
+        GOOD.replace(
+            "from geometry_msgs.msg import Twist",
+            "from geometry_msgs.msg import Twist\nfrom nav2_msgs.action import BackUp",
+        )
+        .replace(
+            "    @starting\n",
+            '    def _backup_result(self, timeout: float) -> "BackUp.Result":\n'
+            "        return BackUp.Result()\n\n"
+            "    @starting\n",
+        )
+        .replace(
+            "        self.out_distance = self._travelled()\n",
+            "        self.out_distance = self._travelled()\n"
+            "        result = self._backup_result(5.0)\n" + guard,
+        )
+    )
+    (found,) = [f for f in check_on_mr1(source, move_forward).findings if f.check == "grounding"]
+    assert found.replacement == replacement
+
+
+def test_a_made_up_field_of_a_result_nothing_checked_keeps_its_guard(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # A result built here, not returned by a helper that raises on failure.
+    source = GOOD.replace(
+        "from geometry_msgs.msg import Twist",
+        "from geometry_msgs.msg import Twist\nfrom nav2_msgs.action import BackUp",
+    ).replace(
+        "        self.out_distance = self._travelled()\n",
+        "        self.out_distance = self._travelled()\n"
+        "        result = BackUp.Result()\n"
+        "        if not result.success:\n            raise RuntimeError('no')\n",
+    )
+    (found,) = [f for f in check_on_mr1(source, move_forward).findings if f.check == "grounding"]
+    assert "not needed" not in found.message
+    assert found.replacement is None
 
 
 def test_waiting_for_the_result_of_a_goal_nothing_sends_is_an_error(

@@ -36,6 +36,7 @@ __all__ = [
     "check_names",
     "self_attribute",
     "simple_statements",
+    "without_guard",
 ]
 
 PYSKILLUP_NAMES = frozenset({"skill", "skill_parameter", "skill_output", *PACKML_STATES})
@@ -566,7 +567,7 @@ def _latest_message_fix(
     self.scan_subscription.get_last_message()`` keeps ``scan``)."""
     ready = "" if waited else wait[1]
     if guard is not None:
-        return _without_guard(guard, ready)
+        return without_guard(guard, ready)
     if statement is None:
         return None
     if (
@@ -645,7 +646,7 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
         guard = guards.get(id(node))
         if kind == "publisher" and guard is not None:
             hint = "; a publisher is ready from create_publisher until it is destroyed"
-            replacement = _without_guard(guard, "")
+            replacement = without_guard(guard, "")
         elif wait is not None:
             key = (method_of.get(id(node)), wait[2])
             replacement = _latest_message_fix(
@@ -747,7 +748,7 @@ def _guards(cls: ast.ClassDef) -> dict[int, ast.If]:
     return out
 
 
-def _without_guard(guard: ast.If, readying: str) -> str | None:
+def without_guard(guard: ast.If, readying: str) -> str | None:
     """What ``guard`` comes to once ``readying`` (statements; empty when the handle is always
     ready) has run: those and the body for ``if X.m():``, those alone for ``if not X.m():
     raise ...``; ``None`` for other guards."""

@@ -32,7 +32,12 @@ from skillwright.validation.model import (
     FieldTree,
     Finding,
 )
-from skillwright.validation.names import COMPOUND_STATEMENTS, check_names, simple_statements
+from skillwright.validation.names import (
+    COMPOUND_STATEMENTS,
+    check_names,
+    simple_statements,
+    without_guard,
+)
 
 __all__ = ["check_skill"]
 
@@ -705,13 +710,23 @@ def _exists(tree: FieldTree, path: Sequence[str]) -> bool:
 class _FieldVisitor(ast.NodeVisitor):
     """Checks attribute chains on names and self-attributes whose message type is known."""
 
-    def __init__(self, ctx: _Context, catalog: Catalog, bound: dict[str, str]) -> None:
+    def __init__(
+        self,
+        ctx: _Context,
+        catalog: Catalog,
+        bound: dict[str, str],
+        checked: AbstractSet[str] = frozenset(),
+    ) -> None:
         self.ctx = ctx
         self.catalog = catalog
         self.bound = bound  # "name" or "self.attr" -> field-tree key
+        self.checked = checked
+        """Names holding a result a helper returns only when the goal succeeded."""
         self.statement: ast.stmt | None = None
         self.found: list[tuple[ast.stmt | None, ast.Attribute, str, str | None]] = []
-        """(simple statement, chain, message, the chain as it should read)"""
+        """(simple statement or guard, chain, message, the chain as it should read)"""
+        self.outcome_guards: dict[int, str] = {}
+        """Guards on a made-up field of such a result -> what they come to (statements)."""
 
     def visit(self, node: ast.AST) -> None:
         if isinstance(node, ast.stmt) and not isinstance(node, COMPOUND_STATEMENTS):
@@ -721,9 +736,35 @@ class _FieldVisitor(ast.NodeVisitor):
             return
         super().visit(node)
 
+    def visit_If(self, node: ast.If) -> None:
+        outer, self.statement = self.statement, node
+        self.visit(node.test)
+        self.statement = outer
+        for statement in [*node.body, *node.orelse]:
+            self.visit(statement)
+
+    def _outcome_guard(self, root: ast.expr, message: str) -> str:
+        """``message``, and the guard's fix when the statement is an ``if`` on a made-up
+        field of a result its helper returns only after the goal succeeded (``if not
+        result.success: raise ...``): the guard tests what is already known."""
+        guard = self.statement
+        if not isinstance(guard, ast.If) or not (
+            isinstance(root, ast.Name) and root.id in self.checked
+        ):
+            return message
+        instead = None if guard.orelse else without_guard(guard, "")
+        if instead is None:
+            return message
+        self.outcome_guards[id(guard)] = instead
+        return (
+            f"{message}; the helper that returned {root.id} raises RuntimeError when the goal "
+            "did not succeed, so this test is not needed"
+        )
+
     def report(self) -> None:
-        """Adds the findings; each carries its statement with every chain in it that has a
-        clear fix fixed, when all of them have one."""
+        """Adds the findings; each carries its simple statement with every chain in it that
+        has a clear fix fixed, when all of them have one; a guard on the outcome of a
+        checked result carries what the guard comes to."""
         by_statement: dict[int, list[tuple[ast.Attribute, str | None]]] = {}
         for statement, chain, _, fixed in self.found:
             if statement is not None:
@@ -731,7 +772,14 @@ class _FieldVisitor(ast.NodeVisitor):
         for statement, chain, message, _ in self.found:
             fixes = by_statement.get(id(statement), []) if statement is not None else []
             replacement = None
-            if statement is not None and fixes and all(f is not None for _, f in fixes):
+            if statement is not None and id(statement) in self.outcome_guards:
+                replacement = self.outcome_guards[id(statement)]
+            elif (
+                isinstance(statement, ast.stmt)
+                and not isinstance(statement, ast.If)
+                and fixes
+                and all(f is not None for _, f in fixes)
+            ):
                 text = ast.unparse(statement)
                 for wrong, right in fixes:
                     text = text.replace(ast.unparse(wrong), str(right))
@@ -762,6 +810,8 @@ class _FieldVisitor(ast.NodeVisitor):
                     whole = _chain(node)[1]
                     prefix = whole[: len(whole) - len(path)]
                     right = ".".join([ast.unparse(root), *prefix, *fixed])
+                elif fixed is None:
+                    message = self._outcome_guard(root, message)
                 self.found.append((self.statement, node, message, right))
             return
         self.generic_visit(node)
@@ -810,6 +860,22 @@ def _returned_messages(cls: ast.ClassDef, imports: dict[str, str]) -> dict[str, 
         if head in imports and (not tail or tail in _NESTED_TYPES):
             out[method.name] = imports[head] + (f".{tail}" if tail else "")
     return out
+
+
+def _checked_results(method: ast.FunctionDef, helpers: AbstractSet[str]) -> set[str]:
+    """Local names of ``method`` assigned the return of one of ``helpers``: the skeleton's
+    result helpers, which return an action's result only when its goal succeeded."""
+    return {
+        node.targets[0].id
+        for node in ast.walk(method)
+        if isinstance(node, ast.Assign)
+        and len(node.targets) == 1
+        and isinstance(node.targets[0], ast.Name)
+        and isinstance(node.value, ast.Call)
+        and isinstance(node.value.func, ast.Attribute)
+        and ast.unparse(node.value.func.value) == "self"
+        and node.value.func.attr in helpers
+    }
 
 
 def _message_bindings(
@@ -867,8 +933,13 @@ def _check_fields(
     _check_arguments(ctx, cls, catalog, imports, bindings)
     numeric_attributes = _numeric_attributes(cls)
     known = _with_transforms(catalog)
+    helpers = {
+        name for name, key in _returned_messages(cls, imports).items() if key.endswith(".Result")
+    }
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        visitor = _FieldVisitor(ctx, known, bindings.get(method.name, {}))
+        visitor = _FieldVisitor(
+            ctx, known, bindings.get(method.name, {}), _checked_results(method, helpers)
+        )
         visitor.generic_visit(method)
         visitor.report()
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
