@@ -448,28 +448,37 @@ def test_the_singular_of_an_array_field_in_a_constructor_is_put_as_the_field(
     ]
 
 
-def test_a_result_from_a_method_annotated_to_return_it_has_its_fields_checked(
-    move_forward: tuple[Capability, SkillSpec],
-) -> None:
-    # The skeleton's result helpers say what they return, as text nothing has to resolve.
-    source = (
+def with_backup(execute: str, helpers: str = "") -> str:
+    """GOOD with the BackUp action imported, ``helpers`` (methods) before its states and
+    ``execute`` (statements) at the end of its execute state."""
+    return (
         GOOD.replace(
             "from geometry_msgs.msg import Twist",
             "from geometry_msgs.msg import Twist\nfrom nav2_msgs.action import BackUp",
         )
-        .replace(
-            "    @starting\n",
-            '    def _backup_result(self, timeout: float) -> "BackUp.Result":\n'
-            "        return BackUp.Result()\n\n"
-            "    @starting\n",
-        )
+        .replace("    @starting\n", helpers + "    @starting\n")
         .replace(
             "        self.out_distance = self._travelled()\n",
-            "        self.out_distance = self._travelled()\n"
-            "        result = self._backup_result(5.0)\n"
-            "        if not result.success:\n"
-            "            raise RuntimeError(f'backed up for {result.total_elapsed_time}')\n",
+            "        self.out_distance = self._travelled()\n" + execute,
         )
+    )
+
+
+BACKUP_RESULT = (
+    '    def _backup_result(self, timeout: float) -> "BackUp.Result":\n'
+    "        return BackUp.Result()\n\n"
+)
+"""A result helper as the skeleton writes it: annotated with what it returns, as text."""
+
+
+def test_a_result_from_a_method_annotated_to_return_it_has_its_fields_checked(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = with_backup(
+        "        result = self._backup_result(5.0)\n"
+        "        if not result.success:\n"
+        "            raise RuntimeError(f'backed up for {result.total_elapsed_time}')\n",
+        BACKUP_RESULT,
     )
     report = check_on_mr1(source, move_forward)
     (found,) = [f for f in report.findings if f.check == "grounding"]
@@ -509,23 +518,7 @@ def test_a_result_from_a_method_annotated_to_return_it_has_its_fields_checked(
 def test_a_guard_on_a_made_up_outcome_field_of_a_checked_result(
     move_forward: tuple[Capability, SkillSpec], guard: str, replacement: str | None
 ) -> None:
-    source = (
-        GOOD.replace(
-            "from geometry_msgs.msg import Twist",
-            "from geometry_msgs.msg import Twist\nfrom nav2_msgs.action import BackUp",
-        )
-        .replace(
-            "    @starting\n",
-            '    def _backup_result(self, timeout: float) -> "BackUp.Result":\n'
-            "        return BackUp.Result()\n\n"
-            "    @starting\n",
-        )
-        .replace(
-            "        self.out_distance = self._travelled()\n",
-            "        self.out_distance = self._travelled()\n"
-            "        result = self._backup_result(5.0)\n" + guard,
-        )
-    )
+    source = with_backup("        result = self._backup_result(5.0)\n" + guard, BACKUP_RESULT)
     (found,) = [f for f in check_on_mr1(source, move_forward).findings if f.check == "grounding"]
     assert found.replacement == replacement
 
@@ -534,14 +527,9 @@ def test_a_made_up_field_of_a_result_nothing_checked_keeps_its_guard(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
     # A result built here, not returned by a helper that raises on failure.
-    source = GOOD.replace(
-        "from geometry_msgs.msg import Twist",
-        "from geometry_msgs.msg import Twist\nfrom nav2_msgs.action import BackUp",
-    ).replace(
-        "        self.out_distance = self._travelled()\n",
-        "        self.out_distance = self._travelled()\n"
+    source = with_backup(
         "        result = BackUp.Result()\n"
-        "        if not result.success:\n            raise RuntimeError('no')\n",
+        "        if not result.success:\n            raise RuntimeError('no')\n"
     )
     (found,) = [f for f in check_on_mr1(source, move_forward).findings if f.check == "grounding"]
     assert "not needed" not in found.message
@@ -553,22 +541,9 @@ def test_waiting_for_the_result_of_a_goal_nothing_sends_is_an_error(
 ) -> None:
     helpers = (
         "    def _send_backup_goal(self, goal, timeout: float) -> None:\n"
-        "        self.backup_goal = goal\n\n"
-        '    def _backup_result(self, timeout: float) -> "BackUp.Result":\n'
-        "        return BackUp.Result()\n\n"
-        "    @starting\n"
+        "        self.backup_goal = goal\n\n" + BACKUP_RESULT
     )
-    waits = (
-        GOOD.replace(
-            "from geometry_msgs.msg import Twist",
-            "from geometry_msgs.msg import Twist\nfrom nav2_msgs.action import BackUp",
-        )
-        .replace("    @starting\n", helpers)
-        .replace(
-            "        self.out_distance = self._travelled()\n",
-            "        self.out_distance = self._travelled()\n        self._backup_result(5.0)\n",
-        )
-    )
+    waits = with_backup("        self._backup_result(5.0)\n", helpers)
     (found,) = [
         f for f in check_on_mr1(waits, move_forward).findings if "nothing sends" in f.message
     ]
