@@ -28,8 +28,17 @@ def _feed(text: str, chunk: int = 5) -> tuple[bool, int]:
         "        x = 1\n        self.node.get_logger().info('again')\n        time.sleep(0.1)\n"
         * 4,
         "        value = " + "self.odom_msg.pose + " * 30,
+        # MR-1 mapping's completing state: five lines of one f-string twice, then the
+        # 320-token budget ran out before a third copy could show the loop
+        "        self.node.get_logger().info(\n"
+        + "".join(
+            f'            f"map {name}: {{self.map_msg.info.{name}}}, "\n'
+            for name in ("width", "height", "resolution", "origin", "map_load_time")
+        )
+        * 2
+        + '            f"map width: "\n',
     ],
-    ids=["one line", "a block of lines", "one long line"],
+    ids=["one line", "a block of lines", "one long line", "a long block twice"],
 )
 def test_a_loop_is_found_before_the_text_ends(text: str) -> None:
     looped, at = _feed(text)
@@ -80,3 +89,18 @@ def test_a_line_repeated_under_different_conditions_is_not_a_loop() -> None:
 def test_a_line_repeated_after_the_same_line_is_a_loop() -> None:
     text = "        if blocked:\n            self._stop_base()\n" * 5
     assert _feed(text)[0]
+
+
+def test_a_short_block_twice_is_not_a_loop() -> None:
+    # Real code stops the base and says so under two conditions in a row.
+    text = (
+        "        if self.scan_msg.ranges[0] < 0.3:\n"
+        "            self._stop_base()\n"
+        "            raise RuntimeError('blocked')\n"
+    ) * 2
+    assert not _feed(text)[0]
+
+
+def test_a_long_block_of_short_lines_twice_is_not_a_loop() -> None:
+    text = "        try:\n            x()\n        except E:\n            y()\n" * 2
+    assert not _feed(text)[0]

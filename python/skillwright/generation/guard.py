@@ -19,8 +19,11 @@ class RepetitionGuard:
 
     A loop is one of: a substantial line (at least ``min_line`` characters) seen
     ``line_repeats`` times after the same line among the last ``window`` lines, or twice as
-    often after any lines; a block of 2 to 8 lines repeated ``block_repeats`` times in a row;
-    or the tail of an unbroken line that is one short pattern repeated (``...x = x = x = x``).
+    often after any lines; a block of 2 to 8 lines repeated ``block_repeats`` times in a row,
+    or twice in a row when it is ``long_block`` or more substantial lines (a short method's
+    budget ends before a third copy of a long block: the model had repeated the five lines
+    of an f-string twice when 320 tokens ran out); or the tail of an unbroken line that is
+    one short pattern repeated (``...x = x = x = x``).
     A line alone is not enough: real code repeats ``self._stop_base()`` under each condition
     that ends a motion, and it was cut off as a loop.
     """
@@ -32,11 +35,13 @@ class RepetitionGuard:
         window: int = 40,
         min_line: int = 12,
         block_repeats: int = 3,
+        long_block: int = 4,
     ) -> None:
         self.line_repeats = line_repeats
         self.window = window
         self.min_line = min_line
         self.block_repeats = block_repeats
+        self.long_block = long_block
         self.lines: list[str] = []
         self.partial = ""
         self.reason: str | None = None
@@ -69,15 +74,17 @@ class RepetitionGuard:
 
     def _block_loop(self) -> bool:
         for size in range(2, 9):
-            needed = size * self.block_repeats
-            if len(self.lines) < needed:
-                break
-            tail = self.lines[-needed:]
-            block = tail[:size]
-            if not any(line.strip() for line in block):
+            block = self.lines[-size:]
+            long = size >= self.long_block and all(
+                len(line.strip()) >= self.min_line for line in block
+            )
+            repeats = 2 if long else self.block_repeats
+            needed = size * repeats
+            if len(self.lines) < needed or not any(line.strip() for line in block):
                 continue
-            if all(tail[i * size : (i + 1) * size] == block for i in range(self.block_repeats)):
-                self.reason = f"a block of {size} lines {self.block_repeats} times"
+            tail = self.lines[-needed:]
+            if all(tail[i * size : (i + 1) * size] == block for i in range(repeats)):
+                self.reason = f"a block of {size} lines {repeats} times"
                 return True
         return False
 
