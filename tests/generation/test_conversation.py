@@ -17,6 +17,8 @@ from skillwright.generation.conversation import (
     repair_ask,
     state_ask,
 )
+from skillwright.generation.model import InterfaceRef
+from skillwright.generation.skeleton import helper_summaries
 
 CARD_LINES = (
     "Skill ",
@@ -55,6 +57,22 @@ def test_example_cards_are_written_as_the_card_builder_writes_them() -> None:
         handles = [line for line in lines if line.startswith("- ")]
         assert handles
         assert all(line.startswith("- self.") for line in handles)
+
+
+def test_example_action_helpers_read_as_the_card_builder_writes_them() -> None:
+    # The example teaches what the real card says; a stale copy taught the 1.5B model to
+    # test result.success after a helper that already raises when the goal failed.
+    document = yaml.safe_load(EXAMPLES_PATH.read_text(encoding="utf-8"))
+    cards = "\n".join(example["card"] for example in document["examples"])
+    dock = InterfaceRef(
+        name="/dock_robot",
+        kind="action",
+        type_name="opennav_docking_msgs/action/DockRobot",
+        role="call",
+    )
+    for name, summary in helper_summaries([dock]).items():
+        if "dock_robot" in name:
+            assert summary in cards, name
 
 
 def test_examples_are_of_capabilities_nobody_evaluates() -> None:
