@@ -392,7 +392,7 @@ def test_an_input_no_method_reads_is_repaired_in_execute(case: _Case) -> None:
     assert problems == [
         "`@execute`: input inLinearVelocity is never read: no method uses "
         "self.in_linear_velocity, so the skill ignores the value it is given (a hard-coded "
-        "value in its place?)"
+        "value in its place?); use self.in_linear_velocity (float, m/s) where the skill needs it"
     ]
     assert not [f for f in authored.findings if f.severity == "error"]
 

@@ -624,6 +624,11 @@ def test_an_output_no_method_sets_is_an_error_once_every_state_is_written(
     assert never_set != GOOD
     (found,) = [f for f in run(never_set, move_forward).findings if f.check == "outputs"]
     assert found.message.startswith("output outDistance is never set")
+    # what to store, as the capability says it
+    assert found.message.endswith(
+        "store the value it reports (float, m; abs(outDistance - inDistance) <= 0.02) in "
+        "self.out_distance before execute ends"
+    )
     # A skeleton's states are still to be written: what they will set is not known yet.
     unwritten = never_set.replace(
         '        """Halt the base."""\n        self.cmd_vel_publisher.publish(Twist())',

@@ -1293,11 +1293,32 @@ def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability
                 )
 
 
-def _check_parameter_use(ctx: _Context, cls: ast.ClassDef) -> None:
+def _parameter_detail(capability: Capability, name: str, annotation: str | None) -> str:
+    """What the capability says of its parameter (or component) ``name``, as the task card
+    puts it: the getter's type and the unit (``float, m``), then the constraints that name it
+    (``abs(outDistance - inDistance) <= 0.02``)."""
+    for parameter in [*capability.inputs, *capability.outputs]:
+        component = next((c for c in parameter.components if c.name == name), None)
+        if parameter.name != name and component is None:
+            continue
+        unit = (component or parameter.element).unit
+        names = {name, parameter.name}
+        named = [
+            c.text
+            for c in capability.constraints
+            if any(re.search(rf"\b{re.escape(n)}\b", c.text) for n in names)
+        ]
+        kind = ", ".join(filter(None, [annotation, unit]))
+        return "; ".join(filter(None, [kind, *named]))
+    return ""
+
+
+def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capability) -> None:
     """An input no method reads, or an output no method sets, once every state is written:
     the skill ignores what it is asked, or reports what ``__init__`` put there. Each is
-    given at its getter, as the run gives it (generation asks ``execute`` for the fix)."""
-    getters: dict[str, tuple[str, str, str, ast.AST]] = {}
+    given at its getter, as the run gives it (generation asks ``execute`` for the fix), with
+    what the capability says the parameter is, so that the fix knows what to use or store."""
+    getters: dict[str, tuple[str, str, str, ast.AST, str]] = {}
     for node in cls.body:
         if not isinstance(node, ast.FunctionDef):
             continue
@@ -1313,7 +1334,9 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef) -> None:
                 and value.value.id == "self"
             ):
                 name = _constant_text(_keyword(dec, "name")) or node.name
-                getters[node.name] = (kind, name, value.attr, dec)
+                annotation = ast.unparse(node.returns) if node.returns is not None else None
+                detail = _parameter_detail(capability, name, annotation)
+                getters[node.name] = (kind, name, value.attr, dec, detail)
     reads: set[str] = set()
     writes: set[str] = set()
     for method in cls.body:
@@ -1326,14 +1349,16 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef) -> None:
                 and inner.value.id == "self"
             ):
                 (writes if isinstance(inner.ctx, ast.Store) else reads).add(inner.attr)
-    for kind, name, attr, where in getters.values():
+    for kind, name, attr, where, detail in getters.values():
+        about = f" ({detail})" if detail else ""
         if kind == "skill_parameter" and attr not in reads:
             ctx.add(
                 "inputs",
                 "error",
                 where,
                 f"input {name} is never read: no method uses self.{attr}, so the skill "
-                "ignores the value it is given (a hard-coded value in its place?)",
+                "ignores the value it is given (a hard-coded value in its place?); use "
+                f"self.{attr}{about} where the skill needs it",
             )
         elif kind == "skill_output" and attr not in writes:
             ctx.add(
@@ -1341,7 +1366,8 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef) -> None:
                 "error",
                 where,
                 f"output {name} is never set: no method assigns self.{attr}, so the getter "
-                "returns what __init__ put there",
+                f"returns what __init__ put there; store the value it reports{about} in "
+                f"self.{attr} before execute ends",
             )
 
 
@@ -1583,7 +1609,7 @@ def check_skill(
         _check_swallowed_errors(ctx, methods, spec)
         _check_input_writes(ctx, cls, capability)
         if not any(f.check == "placeholders" and f.severity == "error" for f in ctx.findings):
-            _check_parameter_use(ctx, cls)
+            _check_parameter_use(ctx, cls, capability)
         _check_handles(ctx, cls)
         _check_goal_results(ctx, cls)
         _check_timers(ctx, cls)
