@@ -13,8 +13,10 @@ from typing import Any
 import pytest
 from textual.pilot import Pilot
 from textual.widgets import Input, Select, TabbedContent, TextArea
+from textual.widgets.input import Selection
 
 from skillwright.pipeline import GenerationRequest, run_generation
+from skillwright.tui.screens.base import Pane
 from skillwright.tui.screens.history import HistoryPane
 from tests.tui.conftest import app_for, preset_session, wait_until
 
@@ -33,11 +35,14 @@ def _inputs(workspace: Path, tab: str) -> None:
 
 
 def _focus_in_active_tab(app: Any) -> bool:
-    """The focus is in the tab shown (its first activation can come late on a busy machine),
-    so the footer shows that tab's keys."""
+    """The focus is on the main widget of the tab shown, or in the tab when it has none (its
+    first activation can come late on a busy machine), so the footer shows that tab's keys."""
     tabs = app.query_one("#tabs", TabbedContent)
     pane = tabs.get_pane(tabs.active)
-    return app.focused is not None and pane in app.focused.ancestors_with_self
+    if app.focused is None or pane not in app.focused.ancestors_with_self:
+        return False
+    primaries = [p.primary for p in pane.query(Pane) if p.primary]
+    return not primaries or any(app.focused in pane.query(p) for p in primaries)
 
 
 def _settled(
@@ -61,6 +66,11 @@ def _settled(
         app.clear_notifications()
         for widget in [*app.query(Input), *app.query(TextArea)]:
             widget.cursor_blink = False
+        if isinstance(app.focused, Input):
+            # Whether the focused input's text is selected depends on how its focus arrived
+            # (Textual selects on a widget's focus, not on focus the app's own brings back),
+            # which varied from run to run on a busy machine: the snapshot shows it selected.
+            app.focused.selection = Selection(0, len(app.focused.value))
         await pilot.wait_for_scheduled_animations()
         await pilot.pause()
 
