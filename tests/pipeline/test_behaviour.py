@@ -64,6 +64,9 @@ def test_a_generated_skill_that_runs_clean_passes_the_run_and_the_simulation(
     assert record.simulation is not None
     assert record.simulation.passed, [v.message for v in record.simulation.verdicts]
     assert record.simulation.scenario == "arc"
+    # every scenario of the capability, each verdict with its own
+    assert record.simulation.others == ["clipped"]
+    assert {v.scenario for v in record.simulation.verdicts} == {"arc", "clipped"}
     assert any(v.kind == "constraint" and v.passed for v in record.simulation.verdicts)
     assert record.simulation.plot == "simulation.png"
     assert (outcome.out_dir / "simulation.png").read_bytes().startswith(b"\x89PNG")

@@ -6,8 +6,11 @@ Static checks cannot tell whether a skill works. Once a candidate passes them, i
   robot's simulated graph, with the kinematic world moving the base, in the capability's
   default scenario (the first of :func:`skillwright.sim.scenario.scenarios_for`: the shipped
   scenario file for the capability, else one derived from its parameters), and
-* **simulated** (:func:`skillwright.sim.validate.validate_skill`): in MuJoCo in the same
-  scenario, judged by the oracles derived from the capability model.
+* **simulated** (:func:`skillwright.sim.validate.validate_skill`): in MuJoCo in that
+  scenario and the capability's others (a skill that only works where the default scenario
+  puts the robot is not one to trust: MR-1 get-distance took the index of the nearest range
+  among the valid ones for its index in the scan, right in a walled room and 13 degrees off
+  in a corridor with open ends), judged by the oracles derived from the capability model.
 
 Both report findings at the skill's lines, so :func:`Behaviour.validator` hands them to the
 repair loop exactly like static findings: the method holding the line is asked for again.
@@ -220,7 +223,7 @@ class Behaviour:
         return result
 
     def simulate(self, code: str, *, repairing: bool = False) -> SimResult:
-        """Validates ``code`` (once per distinct code) in MuJoCo in the default scenario."""
+        """Validates ``code`` (once per distinct code) in MuJoCo in every scenario."""
         key = _digest(code)
         if key in self._sims:
             return self._sims[key]
@@ -229,14 +232,12 @@ class Behaviour:
         started = time.perf_counter()
         budget = _Budget(self.sim_seconds, self.cancel)
         try:
-            scenarios = self.scenarios()
-            chosen = scenarios.model_copy(update={"scenarios": [self.default_scenario()]})
             with budget.running() as cancel:
                 report = validate_skill(
                     self.skill_path,
                     self.capability,
                     self.inventory,
-                    scenarios=chosen,
+                    scenarios=self.scenarios(),
                     output_dir=self.work_dir / key[:16],
                     source=code,
                     cancel=cancel,
@@ -335,8 +336,9 @@ class Behaviour:
             )
         scenario = report.scenarios[0]
         verdicts = [
-            VerdictRecord(episode=episode.episode, **verdict.model_dump())
-            for episode in scenario.episodes
+            VerdictRecord(scenario=each.name, episode=episode.episode, **verdict.model_dump())
+            for each in report.scenarios
+            for episode in each.episodes
             for verdict in episode.verdicts
         ]
         normal = next((e for e in scenario.episodes if e.episode == "normal"), None)
@@ -344,6 +346,7 @@ class Behaviour:
         return SimulationRecord(
             passed=report.passed,
             scenario=scenario.name,
+            others=[each.name for each in report.scenarios[1:]],
             scenario_source=report.scenario_source,
             world=scenario.world,
             inputs=scenario.inputs,

@@ -143,7 +143,8 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
         failed = [v for v in simulation.verdicts if v.passed is False]
         for verdict_record in failed:
             console.print(
-                f"  ✗ {verdict_record.episode} {verdict_record.oracle}: {verdict_record.message}",
+                f"  ✗ {simulation.verdict_place(verdict_record)} {verdict_record.oracle}: "
+                f"{verdict_record.message}",
                 highlight=False,
                 markup=False,
             )
@@ -151,7 +152,7 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
         verdict = "[green]passed[/]" if simulation.passed else "[red]failed[/]"
         plot = f"; plot: {outcome.out_dir / simulation.plot}" if simulation.plot else ""
         console.print(
-            f"simulation {verdict} in {simulation.scenario}: {judged - len(failed)}/{judged} "
+            f"simulation {verdict} in {simulation.where}: {judged - len(failed)}/{judged} "
             f"verdicts passed{plot}",
             highlight=False,
         )
@@ -233,7 +234,7 @@ def generate(
 
     Stages: inputs, retrieval, skeleton, model, generation (the model writes each state,
     then repairs what the checks find), checks, run (the states in the sandbox against the
-    simulated graph), simulate (MuJoCo, the capability's default scenario and its oracles),
+    simulated graph), simulate (MuJoCo, every scenario of the capability and its oracles),
     outputs (progress on stderr). Run and simulate follow only static checks without
     errors; their findings also go back to the model. Without an installed model the
     skeleton is written and said so.

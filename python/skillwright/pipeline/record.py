@@ -215,6 +215,7 @@ class RunRecord(_Model):
 class VerdictRecord(_Model):
     """One oracle's verdict on one run in the simulation."""
 
+    scenario: str | None = Field(default=None, description="The scenario it was judged in.")
     episode: str = Field(description="`normal`, or `stop` (a Stop during execute).")
     oracle: str
     kind: str = Field(description="Family: outcome, constraint, truth, limit, contact, rest, ...")
@@ -228,11 +229,20 @@ class VerdictRecord(_Model):
 
 
 class SimulationRecord(_Model):
-    """The simulate stage: the skill in MuJoCo in the capability's default scenario."""
+    """The simulate stage: the skill in MuJoCo in every scenario of the capability."""
 
-    passed: bool = Field(description="Simulated, every oracle passed and no error was found.")
+    passed: bool = Field(
+        description="Simulated, every oracle of every scenario passed and no error was found."
+    )
     skipped: str | None = Field(default=None, description="Why it did not run, if it did not.")
-    scenario: str | None = Field(default=None, description="The scenario's name.")
+    scenario: str | None = Field(
+        default=None,
+        description="The default scenario's name (the first): world, inputs and plot are its.",
+    )
+    others: list[str] = Field(
+        default_factory=list,
+        description="The capability's other scenarios, simulated too (their verdicts name them).",
+    )
     scenario_source: str | None = Field(default=None, description="Where it came from.")
     world: str | None = None
     inputs: dict[str, Any] = Field(default_factory=dict)
@@ -248,6 +258,20 @@ class SimulationRecord(_Model):
     repair_runs: int = Field(
         default=0, description="Simulations made while the model repaired its answers."
     )
+
+    @property
+    def where(self) -> str:
+        """The scenarios simulated, for a summary line."""
+        if not self.others:
+            return str(self.scenario)
+        return f"{self.scenario} and {len(self.others)} more scenario(s)"
+
+    def verdict_place(self, verdict: VerdictRecord) -> str:
+        """Where ``verdict`` was given, for a line of its own: the episode, after the
+        scenario's name when there were several."""
+        if self.others and verdict.scenario:
+            return f"{verdict.scenario} {verdict.episode}"
+        return verdict.episode
 
 
 class GenerationRecord(_Model):

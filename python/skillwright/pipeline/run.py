@@ -707,7 +707,7 @@ def _sim_summary(simulation: SimulationRecord) -> str:
     judged = [v for v in simulation.verdicts if v.passed is not None]
     failed = sorted({v.oracle for v in judged if v.passed is False})
     speed = f", {simulation.speed:.0f}x real time" if simulation.speed else ""
-    head = f"{simulation.scenario}: {len(judged) - len(failed)}/{len(judged)} verdicts passed"
+    head = f"{simulation.where}: {len(judged) - len(failed)}/{len(judged)} verdicts passed"
     return head + speed + (f"; failed {', '.join(failed)}" if failed else "")
 
 
@@ -739,7 +739,7 @@ def _behaviour_stages(
         stages.check_cancel()
     if behaviour.sim_enabled:
         with stages.stage(
-            "simulate", "MuJoCo, the capability's default scenario and its oracles"
+            "simulate", "MuJoCo, every scenario of the capability and its oracles"
         ) as s:
             result = behaviour.simulate(code)
             plot = result.plot

@@ -357,9 +357,9 @@ class GenerationPane(Pane):
                 failed = [v for v in judged if v.passed is False]
                 mark = "✓" if simulation.passed else "✗"
                 lines.append(
-                    f"{mark} sim {simulation.scenario} {len(judged) - len(failed)}/{len(judged)}"
+                    f"{mark} sim {simulation.where} {len(judged) - len(failed)}/{len(judged)}"
                 )
-                lines += [f"  ✗ {v.episode} {v.oracle}" for v in failed]
+                lines += [f"  ✗ {simulation.verdict_place(v)} {v.oracle}" for v in failed]
             if simulation.plot:
                 lines.append(f"plot: {simulation.plot}")
         return lines
