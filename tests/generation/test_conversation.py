@@ -60,8 +60,7 @@ def test_example_cards_are_written_as_the_card_builder_writes_them() -> None:
 
 
 def test_example_action_helpers_read_as_the_card_builder_writes_them() -> None:
-    # The example teaches what the real card says; a stale copy taught the 1.5B model to
-    # test result.success after a helper that already raises when the goal failed.
+    # The example teaches what the real card says.
     document = yaml.safe_load(EXAMPLES_PATH.read_text(encoding="utf-8"))
     cards = "\n".join(example["card"] for example in document["examples"])
     dock = InterfaceRef(

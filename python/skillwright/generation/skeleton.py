@@ -495,8 +495,7 @@ def helper_summaries(interfaces: Sequence[InterfaceRef]) -> dict[str, str]:
         )
         out[f"_{stem}_result"] = (
             f"self._{stem}_result(timeout) waits for its {cls}.Result and returns it, else "
-            "raises RuntimeError (also when the goal did not succeed, so the result needs no "
-            "success test); timeout is the longest the whole goal may take"
+            "raises RuntimeError (also when the goal did not succeed)"
         )
         out[f"_cancel_{stem}_goal"] = (
             f"self._cancel_{stem}_goal(timeout) cancels it if it is in progress"
