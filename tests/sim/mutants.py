@@ -23,6 +23,7 @@ KINDS = (
     "exceeds the speed limit",
     "drives into the obstacle",
     "made-up output",
+    "out of its range",
 )
 
 
@@ -297,6 +298,13 @@ MUTANTS: tuple[BehaviourMutant, ...] = (
             ),
         ),
         ("output:outHeading", "constraint:headingReported"),
+    ),
+    BehaviourMutant(
+        "get_position",
+        "out of its range",
+        "heading_wraps",
+        (("self.out_heading = yaw % (2.0 * math.pi)", "self.out_heading = yaw"),),
+        ("constraint:headingNotNegative",),
     ),
     BehaviourMutant(
         "get_position",

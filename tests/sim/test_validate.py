@@ -10,6 +10,7 @@ from skillwright.capability.model import Capability
 from skillwright.interfaces.inventory import Inventory
 from skillwright.sim.scenario import scenarios_for
 from skillwright.sim.validate import validate_skill
+from tests.sim.mutants import MUTANTS as BEHAVIOUR_MUTANTS
 
 HERE = Path(__file__).parent
 SKILL = HERE / "skills" / "move_forward.py"
@@ -109,6 +110,24 @@ def test_a_mutant_fails_the_oracle_that_describes_its_fault(
     assert all(text[line - 1].lstrip().startswith("def ") for line in lines), (
         "findings point at state methods"
     )
+
+
+def test_a_heading_outside_the_interval_its_capability_promises_fails_its_constraint(
+    tmp_path: Path, mr1_capabilities: dict[str, Capability], mr1_inventory: Inventory
+) -> None:
+    # Angles are equal on the circle (-1.2 = 5.08), so only the capability's own bounds on
+    # outHeading tell an unwrapped yaw from the [0, 2*pi) heading it promises.
+    (mutant,) = [m for m in BEHAVIOUR_MUTANTS if m.id == "get_position:out-of-its-range"]
+    skill = tmp_path / "get_position.py"
+    skill.write_text(mutant.source(), encoding="utf-8")
+    report = validate_skill(
+        skill, mr1_capabilities["get-position"], mr1_inventory, only=[mutant.scenario]
+    )
+    failed = {
+        v.oracle for e in report.scenarios[0].episodes for v in e.verdicts if v.passed is False
+    }
+    # what the simulator measures is wrapped; what the skill reports is not
+    assert failed == {"constraint:headingNotNegative"}
 
 
 def test_only_selects_scenarios_and_the_shipped_ones_are_used_by_default(
