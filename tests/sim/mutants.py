@@ -152,6 +152,18 @@ MUTANTS: tuple[BehaviourMutant, ...] = (
     ),
     BehaviourMutant(
         "rotate",
+        "out of its range",
+        "long_way_clockwise",
+        (
+            (
+                "self.out_heading = self._heading() % (2.0 * math.pi)",
+                "self.out_heading = self._heading()",
+            ),
+        ),
+        ("constraint:headingNotNegative",),
+    ),
+    BehaviourMutant(
+        "rotate",
         "made-up output",
         "quarter_left",
         (
