@@ -143,6 +143,10 @@ def test_a_local_variable_other_methods_read_from_the_skill_is_found_where_it_is
         "assign it as self.timer = ... here"
     ]
     assert "timer = self.node.create_timer" in source.splitlines()[found[0].line - 1]
+    # the fix keeps the value on the skill where it is made
+    assert found[0].replacement == (
+        "timer = self.node.create_timer(0.05, self._travelled)\nself.timer = timer"
+    )
 
 
 def test_a_local_variable_of_another_method_is_found_where_it_is_used(

@@ -414,11 +414,18 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             # is where it is made, so the finding goes there.
             method, assignment = local[name]
             readers = " and ".join(_readers(cls, name))
+            # The assignment, and the value kept on the skill right after it.
+            keep = (
+                f"{ast.unparse(assignment)}\nself.{name} = {name}"
+                if isinstance(assignment, ast.Assign) and len(assignment.targets) == 1
+                else None
+            )
             findings.append(
                 _finding(
                     assignment,
                     f"{name} is a local variable of {method.name}, but {readers} read self.{name}: "
                     f"assign it as self.{name} = ... here",
+                    keep,
                 )
             )
             continue

@@ -810,6 +810,9 @@ class _FieldVisitor(ast.NodeVisitor):
                     whole = _chain(node)[1]
                     prefix = whole[: len(whole) - len(path)]
                     right = ".".join([ast.unparse(root), *prefix, *fixed])
+                    # the whole expression: "it is transform.translation.x" read as no change
+                    # when the variable itself is called transform
+                    message = message.replace(f"; it is {'.'.join(fixed)}", f"; it is {right}")
                 elif fixed is None:
                     message = self._outcome_guard(root, message)
                 self.found.append((self.statement, node, message, right))
