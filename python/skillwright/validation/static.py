@@ -775,7 +775,7 @@ class _FieldVisitor(ast.NodeVisitor):
             if statement is not None and id(statement) in self.outcome_guards:
                 replacement = self.outcome_guards[id(statement)]
             elif (
-                isinstance(statement, ast.stmt)
+                statement is not None
                 and not isinstance(statement, ast.If)
                 and fixes
                 and all(f is not None for _, f in fixes)
@@ -882,11 +882,11 @@ def _checked_results(method: ast.FunctionDef, helpers: AbstractSet[str]) -> set[
 
 
 def _message_bindings(
-    cls: ast.ClassDef, uses: Sequence[_Use], catalog: Catalog, imports: dict[str, str]
+    cls: ast.ClassDef, uses: Sequence[_Use], returns: dict[str, str], imports: dict[str, str]
 ) -> dict[str, dict[str, str]]:
-    """Per method: which local names / self attributes hold which message type."""
+    """Per method: which local names / self attributes hold which message type (``returns``:
+    the class's methods annotated to return a message, as :func:`_returned_messages` finds)."""
     callbacks = {u.callback: u.type_name for u in uses if u.callback and u.type_name}
-    returns = _returned_messages(cls, imports)
     stored: dict[str, str] = {}
     per_method: dict[str, dict[str, str]] = {}
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
@@ -932,13 +932,12 @@ def _check_fields(
     catalog: Catalog,
     imports: dict[str, str],
 ) -> None:
-    bindings = _message_bindings(cls, uses, catalog, imports)
+    returns = _returned_messages(cls, imports)
+    bindings = _message_bindings(cls, uses, returns, imports)
     _check_arguments(ctx, cls, catalog, imports, bindings)
     numeric_attributes = _numeric_attributes(cls)
     known = _with_transforms(catalog)
-    helpers = {
-        name for name, key in _returned_messages(cls, imports).items() if key.endswith(".Result")
-    }
+    helpers = {name for name, key in returns.items() if key.endswith(".Result")}
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         visitor = _FieldVisitor(
             ctx, known, bindings.get(method.name, {}), _checked_results(method, helpers)
@@ -1434,17 +1433,15 @@ def _check_goal_results(ctx: _Context, cls: ast.ClassDef) -> None:
     never sends that goal (``self._X_goal(...)`` is never called): the wait can only fail."""
     methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef)}
     calls = [
-        node
+        (node, node.func.attr)
         for node in ast.walk(cls)
         if isinstance(node, ast.Call)
         and isinstance(node.func, ast.Attribute)
         and isinstance(node.func.value, ast.Name)
         and node.func.value.id == "self"
     ]
-    called = {call.func.attr for call in calls if isinstance(call.func, ast.Attribute)}
-    for call in calls:
-        assert isinstance(call.func, ast.Attribute)
-        name = call.func.attr
+    called = {name for _, name in calls}
+    for call, name in calls:
         stem = name.removeprefix("_").removesuffix("_result")
         send = f"_send_{stem}_goal"
         if not name.endswith("_result") or send not in methods or send in called:
