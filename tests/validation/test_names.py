@@ -225,6 +225,31 @@ def test_a_goal_handle_method_asked_of_the_action_client_gets_the_goal_handle_st
     ) in found
 
 
+def test_an_invented_constant_is_named_with_the_constants_the_skeleton_has(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace("self.LINEAR_VELOCITY_MAX)", "self.SPEED_LIMIT)", 1)
+    assert [f.message for f in _names(source, move_forward)] == [
+        "self.SPEED_LIMIT is never set in this class; the skeleton's constants (the "
+        "resource's requirements) are self.LINEAR_VELOCITY_MAX and none is SPEED_LIMIT: give "
+        "it a value in a local variable of this method (speed_limit = ...)"
+    ]
+
+
+def test_a_constant_read_where_the_capability_states_no_limits_says_so(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # The idiom of the worked examples, copied for a capability without resource requirements.
+    source = "".join(
+        line for line in GOOD.splitlines(keepends=True) if "LINEAR_VELOCITY_MAX =" not in line
+    )
+    assert [f.message for f in _names(source, move_forward)] == [
+        "self.LINEAR_VELOCITY_MAX is never set in this class; the capability states no limits, "
+        "so the skeleton defines no constants and none is LINEAR_VELOCITY_MAX: give it a value "
+        "in a local variable of this method (linear_velocity_max = ...)"
+    ]
+
+
 @pytest.mark.parametrize("written", ["in_max_speed", "IN_MAX_SPEED"])
 def test_an_input_the_capability_does_not_have_is_named_with_the_inputs_it_has(
     move_forward: tuple[Capability, SkillSpec], written: str

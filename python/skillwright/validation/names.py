@@ -355,6 +355,19 @@ def _hint(name: str, defined: set[str], methods: set[str], latest: list[str]) ->
             f"; the capability's inputs are {', '.join(inputs)} and none gives {wanted}: give "
             f"it a value in a local variable of this method ({wanted} = ...)"
         )
+    if name.isupper():
+        # The worked examples clamp to the skeleton's constants (the resource's requirements);
+        # a model copies the idiom for a capability that states no such limit.
+        constants = sorted(f"self.{d}" for d in defined if d.isupper())
+        have = (
+            f"the skeleton's constants (the resource's requirements) are {', '.join(constants)}"
+            if constants
+            else "the capability states no limits, so the skeleton defines no constants"
+        )
+        return (
+            f"; {have} and none is {name}: give it a value in a local variable of this "
+            f"method ({name.lower()} = ...)"
+        )
     if latest:
         # A small model invents attributes for values it means to read from a message.
         return f"; the latest messages are in {', '.join(latest)}: read the field from there"
