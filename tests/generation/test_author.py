@@ -227,9 +227,11 @@ def test_a_repair_continues_the_answer_from_the_statement_with_the_first_error(
     assert ".send(" not in authored.code
 
 
-def test_a_repair_is_prefilled_with_the_statement_the_check_suggests(case: _Case) -> None:
-    # The second error has no suggestion, so the model is asked; its answer starts with the
-    # first error's statement already fixed.
+def test_the_checks_fix_what_they_can_and_the_repair_continues_from_their_fix(
+    case: _Case,
+) -> None:
+    # The second error has no suggestion, so the model is asked after the checks fixed the
+    # first; its answer starts with that statement already in place.
     waits_wrongly = STARTING.replace(
         '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry on /odom")\n',
         "        self.odom_subscription.wait_for_message(timeout_sec=2.0)\n"
@@ -245,8 +247,8 @@ def test_a_repair_is_prefilled_with_the_statement_the_check_suggests(case: _Case
         '        self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")\n'
     )
     tries = [a for a in authored.attempts if a.target == "starting"]
-    assert [a.finish for a in tries] == ["stop", "stop"]
-    assert tries[1].errors == 0
+    assert [(a.finish, a.errors) for a in tries] == [("stop", 2), ("fixed", 1), ("stop", 0)]
+    assert "spin_forever" in repair.messages[-1].content
     assert "wait_for_message" not in authored.code
 
 
@@ -395,6 +397,54 @@ def test_an_input_no_method_reads_is_repaired_in_execute(case: _Case) -> None:
         "value in its place?); use self.in_linear_velocity (float, m/s) where the skill needs it"
     ]
     assert not [f for f in authored.findings if f.severity == "error"]
+
+
+# Resetting sets no output, so execute is the only method that does.
+_NO_RESET = {**GOOD, "resetting": [STOPPING]}
+
+
+def test_an_output_never_set_is_repaired_by_completing_its_assignment_after_the_method(
+    case: _Case,
+) -> None:
+    forgets = EXECUTE.replace(
+        "        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x\n", ""
+    )
+    model = MethodScript(
+        {
+            **_NO_RESET,
+            "execute": [forgets, "self.odom_msg.twist.twist.linear.x\n        return\n```"],
+        }
+    )
+    authored = case.write(model)
+    assert model.asked.count("execute") == 2
+    kept = model.prompts[-1].answer_prefix.removeprefix("```python\n")
+    assert kept == (
+        "    @execute\n    def execute(self) -> None:\n"
+        + forgets.removesuffix("```")
+        + "        self.out_linear_velocity = "
+    )
+    assert "output outLinearVelocity is never set" in model.prompts[-1].messages[-1].content
+    assert not [f for f in authored.findings if f.severity == "error"], authored.findings
+    assert (
+        "        self.out_distance = travelled\n"
+        "        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x\n"
+        "        return\n"
+    ) in authored.code
+
+
+def test_an_output_is_set_before_the_return_that_ends_the_method(case: _Case) -> None:
+    forgets = EXECUTE.replace(
+        "        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x\n",
+        "        return\n",
+    )
+    model = MethodScript(
+        {**_NO_RESET, "execute": [forgets, "self.odom_msg.twist.twist.linear.x\n```"]}
+    )
+    case.write(model)
+    kept = model.prompts[-1].answer_prefix
+    assert kept.endswith(
+        "        self.out_distance = travelled\n        self.out_linear_velocity = "
+    )
 
 
 def test_a_local_variable_hiding_a_module_is_renamed_without_the_model(case: _Case) -> None:

@@ -421,6 +421,32 @@ def _resume_point(target: _Target, code: str, judgement: _Judgement, error: Find
     return kept
 
 
+_UNSET_OUTPUT = re.compile(r"no method assigns self\.(\w+)")
+
+
+def _unset_output(finding: Finding) -> str | None:
+    """The attribute of the output that ``finding`` says no method sets, if it says so."""
+    found = _UNSET_OUTPUT.search(finding.message) if finding.check == "outputs" else None
+    return found.group(1) if found else None
+
+
+def _output_resume(target: _Target, code: str, attribute: str) -> str:
+    """``code`` whole (but a ``return`` that ends it), then the start of the statement that
+    sets the output ``attribute``: a small model told three times that an output is never
+    set wrote the same method again, and completes an assignment it is handed."""
+    method = parse_method(code)
+    if method is None:
+        return target.prefill
+    lines = code.splitlines(keepends=True)
+    last = method.body[-1]
+    end = last.lineno - 1 if isinstance(last, ast.Return) else last.end_lineno or last.lineno
+    kept = "".join(lines[:end])
+    if not kept.endswith("\n"):
+        kept += "\n"
+    first = lines[method.body[0].lineno - 1]
+    return f"{kept}{first[: len(first) - len(first.lstrip())]}self.{attribute} = "
+
+
 def _indented(replacement: str, line: str) -> str:
     """``replacement`` (statements; empty for none) indented as ``line`` is."""
     if not replacement:
@@ -432,8 +458,9 @@ def _apply_replacements(
     target: _Target, code: str, judgement: _Judgement, errors: Sequence[Finding]
 ) -> str | None:
     """``code`` (the answer of ``target`` in the judged file) with each flagged statement
-    replaced by the one its finding suggests; ``None`` unless every error has one that
-    applies and the result is a different method that parses."""
+    whose finding suggests one replaced by it; ``None`` unless at least one applies and the
+    result is a different method that parses. The errors without a suggestion stay for the
+    model, which then repairs a method with fewer of them."""
     method = parse_method(code)
     if method is None or not errors:
         return None
@@ -442,11 +469,11 @@ def _apply_replacements(
     for error in errors:
         found = _statements_at(judgement, target.name, error.line, error.column)
         if error.replacement is None or found is None or not _replaceable(found[1]):
-            return None
+            continue
         top, inner = found
         mine = next((s for s in method.body if ast.unparse(s) == ast.unparse(top)), None)
         if mine is None:
-            return None
+            continue
         first = mine.lineno + inner.lineno - top.lineno
         spans[(first, mine.lineno + (inner.end_lineno or inner.lineno) - top.lineno)] = (
             error.replacement
@@ -664,14 +691,20 @@ class _Skill:
             if last.code is None:
                 out.append((target, _problems(last, [], lines), target.prefill))
             elif last.errors and mine is not None:
-                first = min((f for f in mine if f.severity == "error"), key=lambda f: f.line)
-                start = _resume_point(target, last.code, judgement, first)
+                errors = [f for f in mine if f.severity == "error"]
+                unset = [a for f in errors if (a := _unset_output(f)) is not None]
+                others = [f for f in errors if _unset_output(f) is None]
+                if others:
+                    first = min(others, key=lambda f: f.line)
+                    start = _resume_point(target, last.code, judgement, first)
+                else:
+                    start = _output_resume(target, last.code, unset[0])
                 out.append((target, _problems(last, mine, lines), start))
         return out
 
     def fixes(self, judgement: _Judgement) -> list[tuple[_Target, str, list[str]]]:
-        """Methods whose every error comes with the statement to put in its place, with the
-        latest answer so fixed and what was fixed."""
+        """Methods with errors that come with the statement to put in their place, with the
+        latest answer so fixed and what it was told (the errors left are the repair's)."""
         lines = judgement.assembly.code.splitlines()
         out = []
         for target in self.targets.values():
