@@ -502,15 +502,21 @@ def test_a_result_from_a_method_annotated_to_return_it_has_its_fields_checked(
             "        if result.success:\n            self.out_distance = 1.0\n",
             "self.out_distance = 1.0",
         ),
-        # a guard with an else, or one that does more than raise, is the model's to repair
+        # a negative test comes to its else; what a failed goal would do never runs
         (
             "        if not result.success:\n            raise RuntimeError('no')\n"
             "        else:\n            self.out_distance = 1.0\n",
-            None,
+            "self.out_distance = 1.0",
         ),
         (
             "        if not result.success:\n            self.out_distance = 0.0\n"
             "            raise RuntimeError('no')\n",
+            "",
+        ),
+        # a test of more than the field is the model's to repair
+        (
+            "        if result.success and self.in_distance > 0.0:\n"
+            "            self.out_distance = 1.0\n",
             None,
         ),
     ],

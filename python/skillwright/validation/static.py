@@ -36,7 +36,6 @@ from skillwright.validation.names import (
     COMPOUND_STATEMENTS,
     check_names,
     simple_statements,
-    without_guard,
 )
 
 __all__ = ["check_skill"]
@@ -743,19 +742,29 @@ class _FieldVisitor(ast.NodeVisitor):
         for statement in [*node.body, *node.orelse]:
             self.visit(statement)
 
-    def _outcome_guard(self, root: ast.expr, message: str) -> str:
+    def _outcome_guard(self, root: ast.expr, chain: ast.Attribute, message: str) -> str:
         """``message``, and the guard's fix when the statement is an ``if`` on a made-up
         field of a result its helper returns only after the goal succeeded (``if not
-        result.success: raise ...``): the guard tests what is already known."""
+        result.success: raise ...``): the guard tests what is already known, so it comes to
+        its body when it tests the field and to its ``else`` when it tests the negation
+        (what a failed goal would have done never runs: the helper raised instead)."""
         guard = self.statement
         if not isinstance(guard, ast.If) or not (
             isinstance(root, ast.Name) and root.id in self.checked
         ):
             return message
-        instead = None if guard.orelse else without_guard(guard, "")
-        if instead is None:
+        test = guard.test
+        if ast.unparse(test) == ast.unparse(chain):
+            taken = guard.body
+        elif (
+            isinstance(test, ast.UnaryOp)
+            and isinstance(test.op, ast.Not)
+            and ast.unparse(test.operand) == ast.unparse(chain)
+        ):
+            taken = guard.orelse
+        else:
             return message
-        self.outcome_guards[id(guard)] = instead
+        self.outcome_guards[id(guard)] = "\n".join(ast.unparse(s) for s in taken)
         return (
             f"{message}; the helper that returned {root.id} raises RuntimeError when the goal "
             "did not succeed, so this test is not needed"
@@ -814,7 +823,7 @@ class _FieldVisitor(ast.NodeVisitor):
                     # when the variable itself is called transform
                     message = message.replace(f"; it is {'.'.join(fixed)}", f"; it is {right}")
                 elif fixed is None:
-                    message = self._outcome_guard(root, message)
+                    message = self._outcome_guard(root, node, message)
                 self.found.append((self.statement, node, message, right))
             return
         self.generic_visit(node)
