@@ -155,6 +155,43 @@ def test_waiting_for_a_topic_nobody_publishes_names_the_topic(mr1_inventory: Inv
     assert ("run.no_data", "warning", line_of(source, "create_subscription")) in checks
 
 
+@pytest.mark.parametrize(("patience", "still_running"), [(1.0, True), (9.0, False)])
+def test_a_result_wait_that_gives_up_on_a_running_goal_says_the_wait_was_too_short(
+    mr1_inventory: Inventory, patience: float, still_running: bool
+) -> None:
+    # The skeleton's result helper, and a goal 2 m away: the kinematic world's Nav2 needs
+    # longer than a second for it and reaches it within nine (then the skill raises anyway).
+    body = (
+        "        from nav2_msgs.action import NavigateToPose\n"
+        "        from rclpy.action import ActionClient\n"
+        "        client = ActionClient(self.node, NavigateToPose, '/navigate_to_pose')\n"
+        "        goal = NavigateToPose.Goal()\n"
+        "        goal.pose.header.frame_id = 'map'\n"
+        "        goal.pose.pose.position.x = 2.0\n"
+        "        goal.pose.pose.orientation.w = 1.0\n"
+        "        sent = client.send_goal_async(goal)\n"
+        "        while not sent.done():\n"
+        "            time.sleep(0.02)\n"
+        "        result = sent.result().get_result_async()\n"
+        f"        deadline = time.monotonic() + {patience}\n"
+        "        while not result.done():\n"
+        "            if time.monotonic() > deadline:\n"
+        f"                raise RuntimeError('no result of the /navigate_to_pose goal within {patience:g} s')\n"
+        "            time.sleep(0.02)\n"
+        "        raise RuntimeError('no result of the /navigate_to_pose goal within 0 s')\n"
+    )
+    source = HEAD.format(imports="", body=body)
+    report = run_skill(
+        Path("subject.py"), mr1_inventory, source=source, scenario=quick(world="kinematic")
+    )
+
+    [finding] = [f for f in report.findings if f.check == "run.exception"]
+    assert "no result of the /navigate_to_pose goal" in finding.message
+    assert ("the goal was still running" in finding.message) is still_running
+    if still_running:
+        assert f"still running after {patience:g} s, so the wait gave up" in finding.message
+
+
 def test_a_skill_that_writes_garbage_to_the_runtimes_socket_is_a_protocol_finding(
     mr1_inventory: Inventory,
 ) -> None:

@@ -61,6 +61,8 @@ _IMPORT_NAME = re.compile(
     r"cannot import name '(?P<name>\w+)' from '(?P<package>\w+)\.(?P<namespace>\w+)'"
 )
 _NO_MODULE = re.compile(r"No module named '(?P<module>[\w.]+)'")
+_RESULT_WAIT = re.compile(r"no result of the (?P<action>\S+) goal within (?P<timeout>[\d.]+) s")
+"""The skeleton's result helper giving up (``_result_of``'s RuntimeError)."""
 _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
@@ -580,8 +582,28 @@ class Episode:
                 if message
                 else f"{phase} raised {type_name}"
             )
+            text += self._still_running(message)
         frames = [f for f in frame.get("frames", []) if isinstance(f, list) and len(f) == 2]
         self._recorder.finding(check, text, line=line, stack=_outer(frames))
+
+    def _still_running(self, message: str) -> str:
+        """What to add when a wait for a goal's result gave up while the server was still
+        working on the goal: the wait, not the robot, was too short."""
+        wait = _RESULT_WAIT.search(message)
+        if wait is None:
+            return ""
+        running = [
+            goal
+            for goal, _ in self._graph.active_goals()
+            if goal.action == wait["action"] and not goal.cancel_requested
+        ]
+        if not running:
+            return ""
+        return (
+            f"; the goal was still running after {wait['timeout']} s, so the wait gave up, not "
+            "the robot: a result wait has to last as long as the whole goal can take (for a "
+            "motion, its distance over the robot's speed, with a margin)"
+        )
 
     def _import_problem(self, message: str) -> str:
         """What an ImportError means here: a type or package the robot does not have, or a
