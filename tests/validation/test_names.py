@@ -231,8 +231,8 @@ def test_an_invented_constant_is_named_with_the_constants_the_skeleton_has(
     source = GOOD.replace("self.LINEAR_VELOCITY_MAX)", "self.SPEED_LIMIT)", 1)
     assert [f.message for f in _names(source, move_forward)] == [
         "self.SPEED_LIMIT is never set in this class; the skeleton's constants (the "
-        "resource's requirements) are self.LINEAR_VELOCITY_MAX and none is SPEED_LIMIT: give "
-        "it a value in a local variable of this method (speed_limit = ...)"
+        "resource's requirements) are self.LINEAR_VELOCITY_MAX and none is SPEED_LIMIT: use one "
+        "of them, or leave the limit out"
     ]
 
 
@@ -245,8 +245,8 @@ def test_a_constant_read_where_the_capability_states_no_limits_says_so(
     )
     assert [f.message for f in _names(source, move_forward)] == [
         "self.LINEAR_VELOCITY_MAX is never set in this class; the capability states no limits, "
-        "so the skeleton defines no constants and none is LINEAR_VELOCITY_MAX: give it a value "
-        "in a local variable of this method (linear_velocity_max = ...)"
+        "so the skeleton defines no constants: leave the limit out (a value made up for "
+        "LINEAR_VELOCITY_MAX is one nobody gave), and work with the inputs and the messages"
     ]
 
 

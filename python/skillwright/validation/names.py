@@ -358,15 +358,20 @@ def _hint(name: str, defined: set[str], methods: set[str], latest: list[str]) ->
     if name.isupper():
         # The worked examples clamp to the skeleton's constants (the resource's requirements);
         # a model copies the idiom for a capability that states no such limit.
+        # Told to give it a value in a local variable, the model wrote
+        # `linear_velocity_max = self.LINEAR_VELOCITY_MAX`; a number it made up would be a
+        # limit nobody gave (and may break a constraint such as outVelocity = inVelocity).
         constants = sorted(f"self.{d}" for d in defined if d.isupper())
-        have = (
-            f"the skeleton's constants (the resource's requirements) are {', '.join(constants)}"
-            if constants
-            else "the capability states no limits, so the skeleton defines no constants"
-        )
+        if constants:
+            return (
+                f"; the skeleton's constants (the resource's requirements) are "
+                f"{', '.join(constants)} and none is {name}: use one of them, or leave the "
+                "limit out"
+            )
         return (
-            f"; {have} and none is {name}: give it a value in a local variable of this "
-            f"method ({name.lower()} = ...)"
+            "; the capability states no limits, so the skeleton defines no constants: leave "
+            f"the limit out (a value made up for {name} is one nobody gave), and work with the "
+            "inputs and the messages"
         )
     if latest:
         # A small model invents attributes for values it means to read from a message.
