@@ -623,6 +623,32 @@ def test_an_input_no_method_reads_is_an_error_at_its_getter(
     )
 
 
+@pytest.mark.parametrize(
+    ("uses", "error"),
+    [
+        ("        speed = self.LINEAR_VELOCITY_MAX", True),
+        ("        speed = min(abs(linear_velocity), self.LINEAR_VELOCITY_MAX)", False),
+    ],
+)
+def test_an_input_copied_into_a_local_that_nothing_reads_is_still_ignored(
+    move_forward: tuple[Capability, SkillSpec], uses: str, error: bool
+) -> None:
+    source = GOOD.replace(
+        "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)",
+        f"        linear_velocity = self.in_linear_velocity\n{uses}",
+    )
+    found = [f.message for f in run(source, move_forward).findings if f.check == "inputs"]
+    assert found == (
+        [
+            "input inLinearVelocity is never used: execute copies self.in_linear_velocity into "
+            "linear_velocity and nothing reads linear_velocity, so the skill ignores the value "
+            "it is given; use linear_velocity (float, m/s) where the skill needs it"
+        ]
+        if error
+        else []
+    )
+
+
 def test_an_output_no_method_sets_is_an_error_once_every_state_is_written(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

@@ -38,7 +38,7 @@ from skillwright.validation.names import (
     simple_statements,
 )
 
-__all__ = ["check_skill"]
+__all__ = ["check_skill", "local_name"]
 
 _HANDLE_CALLS = {
     "create_publisher": "topic",
@@ -1350,19 +1350,37 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 getters[node.name] = (kind, name, value.attr, dec, detail)
     reads: set[str] = set()
     writes: set[str] = set()
+    idle: dict[str, tuple[str, str]] = {}
+    """attribute -> (method, local) for a copy (``local = self.attr``) nothing then reads."""
     for method in cls.body:
         if not isinstance(method, ast.FunctionDef) or method.name in {*getters, "__init__"}:
             continue
+        copies = _idle_copies(method)
         for inner in ast.walk(method):
             if (
                 isinstance(inner, ast.Attribute)
                 and isinstance(inner.value, ast.Name)
                 and inner.value.id == "self"
             ):
-                (writes if isinstance(inner.ctx, ast.Store) else reads).add(inner.attr)
+                if isinstance(inner.ctx, ast.Store):
+                    writes.add(inner.attr)
+                elif id(inner) in copies:
+                    idle.setdefault(inner.attr, (method.name, copies[id(inner)]))
+                else:
+                    reads.add(inner.attr)
     for kind, name, attr, where, detail in getters.values():
         about = f" ({detail})" if detail else ""
-        if kind == "skill_parameter" and attr not in reads:
+        if kind == "skill_parameter" and attr not in reads and attr in idle:
+            method_name, local = idle[attr]
+            ctx.add(
+                "inputs",
+                "error",
+                where,
+                f"input {name} is never used: {method_name} copies self.{attr} into {local} "
+                f"and nothing reads {local}, so the skill ignores the value it is given; use "
+                f"{local}{about} where the skill needs it",
+            )
+        elif kind == "skill_parameter" and attr not in reads:
             ctx.add(
                 "inputs",
                 "error",
@@ -1380,6 +1398,36 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 f"returns what __init__ put there; store the value it reports{about} in "
                 f"self.{attr} before execute ends",
             )
+
+
+def _idle_copies(method: ast.FunctionDef) -> dict[int, str]:
+    """``id`` of the ``self.<attr>`` of each ``local = self.<attr>`` in ``method`` whose local
+    nothing in the method reads -> the local."""
+    loaded = {
+        n.id for n in ast.walk(method) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)
+    }
+    return {
+        id(node.value): target.id
+        for node in ast.walk(method)
+        if isinstance(node, ast.Assign)
+        and len(node.targets) == 1
+        and isinstance(target := node.targets[0], ast.Name)
+        and target.id not in loaded
+        and isinstance(node.value, ast.Attribute)
+        and isinstance(node.value.value, ast.Name)
+        and node.value.value.id == "self"
+    }
+
+
+def local_name(attr: str, taken: AbstractSet[str]) -> str:
+    """The local variable that holds a copy of ``self.<attr>``: ``velocity`` for
+    ``in_velocity``, numbered when ``taken`` (or a keyword, builtin or module) has it."""
+    base = attr.removeprefix("in_") if attr.startswith("in_") else f"{attr}_value"
+    local = base
+    number = 2
+    while local in taken or local in _KEYWORDS_AND_BUILTINS:
+        local, number = f"{base}{number}", number + 1
+    return local
 
 
 class _InputToLocal(ast.NodeTransformer):
@@ -1419,11 +1467,7 @@ def _local_copy(
     taken = {n.id for n in ast.walk(method) if isinstance(n, ast.Name)} | {
         a.arg for a in ast.walk(method) if isinstance(a, ast.arg)
     }
-    base = attr.removeprefix("in_") if attr.startswith("in_") else f"{attr}_value"
-    local = base
-    number = 2
-    while local in taken or local in _KEYWORDS_AND_BUILTINS:
-        local, number = f"{base}{number}", number + 1
+    local = local_name(attr, taken)
     fixed = []
     for index, statement in enumerate(using):
         text = ast.unparse(_InputToLocal(attr, local).visit(copy.deepcopy(statement)))
