@@ -104,6 +104,7 @@ class _Case:
         model: MethodScript,
         *,
         attempts: int = 3,
+        run_repairs: int = 1,
         cancel: threading.Event | None = None,
     ) -> Authored:
         return author_skill(
@@ -113,7 +114,7 @@ class _Case:
             self.spec,
             self.items,
             self.validate,
-            settings=AuthorSettings(attempts=attempts, max_tokens=400),
+            settings=AuthorSettings(attempts=attempts, run_repairs=run_repairs, max_tokens=400),
             cancel=cancel,
         )
 
@@ -362,6 +363,55 @@ def test_a_run_error_in_a_skeleton_helper_is_repaired_at_the_call_that_led_there
     assert '5.0, "rest"' in authored.code
 
 
+def _rest_too_short(case: _Case) -> str:
+    """execute waiting 0.1 s for rest, which the case's run then finds too short."""
+    waits = "        self._stop_base()\n"
+    _run_also_finds(
+        case,
+        lambda code: (
+            None
+            if '0.1, "rest"' not in code
+            else Finding(
+                check="run.exception",
+                severity="error",
+                line=_line_of(code, '0.1, "rest"'),
+                message="execute raised RuntimeError: no rest within 0.1 s",
+            )
+        ),
+    )
+    return EXECUTE.replace(
+        waits, waits + '        self._wait_until(lambda: self.odom_msg is not None, 0.1, "rest")\n'
+    )
+
+
+@pytest.mark.parametrize(("run_repairs", "answers"), [(1, 3), (0, 2)])
+def test_a_run_error_after_the_static_repairs_used_the_attempts_gets_its_own_repair(
+    case: _Case, run_repairs: int, answers: int
+) -> None:
+    too_short = _rest_too_short(case)
+    static_error = too_short.replace(
+        "        self._stop_base()\n", "        self.cmd_vel_publisher.send(Twist())\n"
+    )
+    model = MethodScript(
+        {**GOOD, "execute": [static_error, too_short, too_short.replace("0.1,", "5.0,")]}
+    )
+    authored = case.write(model, attempts=2, run_repairs=run_repairs)
+    assert model.asked.count("execute") == answers
+    left = [f.message for f in authored.findings if f.severity == "error"]
+    assert left == ([] if run_repairs else ["execute raised RuntimeError: no rest within 0.1 s"])
+
+
+def test_a_static_error_left_after_the_attempts_gets_no_repair_of_the_runs(
+    case: _Case,
+) -> None:
+    wrong = """        self.logger.info("done")\n```"""
+    model = MethodScript({**GOOD, "completing": [wrong], "execute": [_rest_too_short(case)]})
+    authored = case.write(model, attempts=1)
+    assert model.asked.count("completing") == 1
+    assert model.asked.count("execute") == 1
+    assert any("self.logger" in f.message for f in authored.findings)
+
+
 def test_a_run_error_at_an_inputs_getter_is_repaired_in_execute(case: _Case) -> None:
     # The input is read on a branch the run never takes: the checks see a read, the run none.
     rarely_reads = EXECUTE.replace(
@@ -386,17 +436,29 @@ def test_a_run_error_at_an_inputs_getter_is_repaired_in_execute(case: _Case) -> 
     assert "min(abs(self.in_linear_velocity)" in authored.code
 
 
-def test_an_input_no_method_reads_is_repaired_in_execute(case: _Case) -> None:
+def test_an_input_no_method_reads_is_repaired_in_execute_from_a_copy_of_it(
+    case: _Case,
+) -> None:
     ignores_speed = EXECUTE.replace(
         "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)", "self.LINEAR_VELOCITY_MAX"
     )
-    authored, problems = _repaired_execute(case, ignores_speed, EXECUTE)
+    uses_copy = EXECUTE.replace("abs(self.in_linear_velocity)", "abs(linear_velocity)")
+    model = MethodScript({**GOOD, "execute": [ignores_speed, uses_copy]})
+    authored = case.write(model)
+    assert model.prompts[-1].answer_prefix.endswith(
+        "    def execute(self) -> None:\n        linear_velocity = self.in_linear_velocity\n"
+    )
+    problems = [a for a in authored.attempts if a.target == "execute"][1].problems
     assert problems == [
         "`@execute`: input inLinearVelocity is never read: no method uses "
         "self.in_linear_velocity, so the skill ignores the value it is given (a hard-coded "
         "value in its place?); use self.in_linear_velocity (float, m/s) where the skill needs it"
     ]
     assert not [f for f in authored.findings if f.severity == "error"]
+    assert (
+        "        linear_velocity = self.in_linear_velocity\n"
+        "        speed = min(abs(linear_velocity), self.LINEAR_VELOCITY_MAX)\n"
+    ) in authored.code
 
 
 # Resetting sets no output, so execute is the only method that does.

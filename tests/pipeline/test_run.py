@@ -168,6 +168,7 @@ def test_the_model_writes_each_state_and_the_skill_passes_the_checks(
     assert all(a.chosen and a.errors == 0 for a in record.model.attempts)
     assert record.model.max_tokens == 400
     assert record.model.attempts_allowed == 3
+    assert record.model.run_repairs_allowed == 1
     assert record.model.card is not None
     assert record.model.card.startswith("Skill SetVelocity")
     assert set(record.timings) >= {"model", "generation", "checks"}

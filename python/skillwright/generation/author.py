@@ -58,6 +58,7 @@ from skillwright.llm.base import GenerationOptions, TextGenerator
 from skillwright.spec.model import SkillSpec
 from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
+from skillwright.validation.static import local_name
 
 __all__ = [
     "AttemptFinished",
@@ -88,6 +89,10 @@ class AuthorSettings:
 
     attempts: int = 3
     """Answers per method at most: the first, then repairs."""
+    run_repairs: int = 1
+    """Repairs beyond ``attempts`` once the static checks pass and only the run's or the
+    simulation's findings are left: those come last, often after the static repairs used the
+    attempts up (the demo's navigate-to-point got no repair for its 5-s result wait)."""
     max_tokens: int = 768
     """Tokens per answer of ``execute`` at most (a method, not a file)."""
     short_max_tokens: int = 320
@@ -430,6 +435,29 @@ def _unset_output(finding: Finding) -> str | None:
     return found.group(1) if found else None
 
 
+_UNREAD_INPUT = re.compile(r"^input \w+ is never (?:read|used): .*?self\.(\w+)")
+
+
+def _unread_input(finding: Finding) -> str | None:
+    """The attribute of the input that ``finding`` says the skill ignores, if it says so."""
+    found = _UNREAD_INPUT.search(finding.message) if finding.check == "inputs" else None
+    return found.group(1) if found else None
+
+
+def _inputs_resume(target: _Target, attributes: Sequence[str]) -> str:
+    """The method's start with a local copy of each input it ignored, for the model to go on
+    from: cap2skill collision-avoidance wrote an execute that ignored its four inputs three
+    times over after being told so, and a small model uses the variables it is handed. A
+    copy that nothing then reads is still an input never used (the checks say so)."""
+    taken: set[str] = set()
+    lines = []
+    for attribute in dict.fromkeys(attributes):
+        local = local_name(attribute, taken)
+        taken.add(local)
+        lines.append(f"        {local} = self.{attribute}\n")
+    return target.prefill + "".join(lines)
+
+
 def _output_resume(target: _Target, code: str, attribute: str) -> str:
     """``code`` whole (but a ``return`` that ends it), then the start of the statement that
     sets the output ``attribute``: a small model told three times that an output is never
@@ -518,6 +546,13 @@ def _holds(statement: ast.stmt, line: int, column: int) -> bool:
     start = (statement.lineno, statement.col_offset + 1 if column else 0)
     end = (statement.end_lineno or statement.lineno, statement.end_col_offset or 10**6)
     return start <= (line, column) <= end
+
+
+def _only_later_stages(judgement: _Judgement) -> bool:
+    """Whether the file passed the static checks and only the run or simulation found
+    errors."""
+    errors = [f for f in judgement.findings if f.severity == "error"]
+    return bool(errors) and all(f.check.startswith(_LATER_STAGES) for f in errors)
 
 
 def _score(attempt: Attempt) -> tuple[int, int, int, int]:
@@ -693,10 +728,15 @@ class _Skill:
             elif last.errors and mine is not None:
                 errors = [f for f in mine if f.severity == "error"]
                 unset = [a for f in errors if (a := _unset_output(f)) is not None]
-                others = [f for f in errors if _unset_output(f) is None]
+                unread = [a for f in errors if (a := _unread_input(f)) is not None]
+                others = [
+                    f for f in errors if _unset_output(f) is None and _unread_input(f) is None
+                ]
                 if others:
                     first = min(others, key=lambda f: f.line)
                     start = _resume_point(target, last.code, judgement, first)
+                elif unread:
+                    start = _inputs_resume(target, unread)
                 else:
                     start = _output_resume(target, last.code, unset[0])
                 out.append((target, _problems(last, mine, lines), start))
@@ -741,6 +781,12 @@ class _Skill:
         )
         self.author.emit(AttemptFinished(attempt))
 
+    def repair_failing(self, judgement: _Judgement) -> None:
+        """Asks again for every method that failed, then for helpers the repairs call."""
+        for target, problems, prefill in self.failing(judgement):
+            self.repair(target, problems, prefill)
+        self.write_helpers()  # a repair may call a helper nobody has written yet
+
     def repair(self, target: _Target, problems: list[str], prefill: str) -> None:
         # A repair branches off where the method was first asked for: the same request with
         # everything found so far, continuing the latest answer up to its first error.
@@ -769,7 +815,7 @@ def author_skill(
     skill.write_states(spec)
     skill.write_helpers()
     judgement = skill.judge(_latest)
-    rounds = fixes = 0
+    rounds = fixes = later = 0
     # The checks' own fixes cost no model time, so they also follow the last repairs.
     while skill.failing(judgement):
         fixable = skill.fixes(judgement) if fixes < _MAX_FIX_ROUNDS else []
@@ -779,9 +825,10 @@ def author_skill(
                 skill.fix(target, code, problems)
         elif rounds < settings.attempts - 1:
             rounds += 1
-            for target, problems, prefill in skill.failing(judgement):
-                skill.repair(target, problems, prefill)
-            skill.write_helpers()  # a repair may call a helper nobody has written yet
+            skill.repair_failing(judgement)
+        elif later < settings.run_repairs and _only_later_stages(judgement):
+            later += 1
+            skill.repair_failing(judgement)
         else:
             break
         judgement = skill.judge(_latest)

@@ -184,7 +184,8 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
     default=3,
     show_default=True,
     type=click.IntRange(1, 10),
-    help="Answers the model may give per method: the first, then repairs from the findings.",
+    help="Answers the model may give per method: the first, then repairs from the findings "
+    "(and one more for the run's and simulation's findings once the static checks pass).",
 )
 @click.option(
     "--no-run",

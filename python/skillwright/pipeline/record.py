@@ -153,6 +153,11 @@ class ModelRecord(_Model):
     attempts_allowed: int | None = Field(
         default=None, description="Answers per method at most (first + repairs)."
     )
+    run_repairs_allowed: int | None = Field(
+        default=None,
+        description="Repairs beyond attempts_allowed once only the run's or simulation's "
+        "findings are left.",
+    )
     card: str | None = Field(default=None, description="The task card the model was given.")
     attempts: list[Attempt] = Field(
         default_factory=list, description="Every answer, in the order asked, with its verdict."

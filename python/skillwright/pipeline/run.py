@@ -541,6 +541,7 @@ def _generate(
         max_tokens=settings.max_tokens,
         short_max_tokens=settings.short_budget,
         attempts_allowed=settings.attempts,
+        run_repairs_allowed=settings.run_repairs,
         card=authored.card,
         attempts=authored.attempts,
         states_written=list(authored.assembly.written),
