@@ -72,6 +72,17 @@ def test_resetting_ends_with_the_skeletons_release_of_the_handles() -> None:
     assert "raise NotImplementedError" not in body
 
 
+def test_a_helper_annotated_with_typing_names_gets_their_import() -> None:
+    skeleton = _skeleton([CMD_VEL, ODOM])
+    helper = (
+        "    def _nearest(self, ranges: List[float]) -> Optional[float]:\n"
+        "        return min(ranges, default=None)\n"
+    )
+    result = assemble(skeleton, {}, {"_nearest": helper})
+    assert "from typing import List" in result.code
+    assert "from typing import Optional" in result.code
+
+
 def test_imports_and_init_attributes_the_behaviour_needs_are_added() -> None:
     skeleton = _skeleton([CMD_VEL, ODOM])
     classes = message_classes([_inventory().interface("/cmd_vel"), _inventory().interface("/odom")])

@@ -55,9 +55,12 @@ _KNOWN_CLASSES = {
     **dict.fromkeys(
         ("Twist", "Vector3", "Point", "Pose", "PoseStamped", "Quaternion"), "geometry_msgs.msg"
     ),
+    **dict.fromkeys(("Any", "Dict", "List", "Optional", "Sequence", "Tuple"), "typing"),
 }
 """Classes the written code may use beyond the interfaces' own: every ROS 2 install has the
-geometry messages (a command the base helper makes, a goal's pose)."""
+geometry messages (a command the base helper makes, a goal's pose), and a helper's
+annotations name typing's (a helper annotated ``ranges: List[float]`` failed the checks
+for want of its import)."""
 
 
 def parse_method(text: str) -> ast.FunctionDef | None:
