@@ -401,6 +401,28 @@ def test_a_run_error_after_the_static_repairs_used_the_attempts_gets_its_own_rep
     assert left == ([] if run_repairs else ["execute raised RuntimeError: no rest within 0.1 s"])
 
 
+def test_an_answer_whose_file_was_not_run_does_not_beat_one_whose_run_found_errors(
+    case: _Case,
+) -> None:
+    # The run's repair calls a helper whose answer fails the checks, so nothing runs: its
+    # zero run errors are unknown ones, and the answer the run judged stays.
+    too_short = _rest_too_short(case)
+    calls_helper = EXECUTE.replace(
+        "        self._stop_base()\n", "        self._stop_base()\n        self._report()\n"
+    )
+    helper = """) -> None:\n        self.logger.info("done")\n```"""
+    model = MethodScript({**GOOD, "execute": [too_short, calls_helper], "_report": [helper]})
+    authored = case.write(model, attempts=1)
+    assert model.asked.count("execute") == 2
+    tries = [a for a in authored.attempts if a.target == "execute"]
+    assert [(a.errors, a.behaviour_errors, a.chosen) for a in tries] == [
+        (1, 1, True),
+        (0, None, False),
+    ]
+    assert "_report" not in authored.code
+    assert [f.check for f in authored.findings if f.severity == "error"] == ["run.exception"]
+
+
 def test_a_static_error_left_after_the_attempts_gets_no_repair_of_the_runs(
     case: _Case,
 ) -> None:
@@ -685,7 +707,8 @@ def test_an_answer_only_the_run_faults_beats_one_the_static_checks_stop(case: _C
         settings=AuthorSettings(attempts=3, max_tokens=400),
     )
     tries = [a for a in authored.attempts if a.target == "completing"]
-    assert [(a.errors, a.behaviour_errors) for a in tries] == [(1, 0), (1, 1), (1, 0)]
+    # The run follows only a file the static checks pass: the others' behaviour is unknown.
+    assert [(a.errors, a.behaviour_errors) for a in tries] == [(1, None), (1, 1), (1, None)]
     assert [a.chosen for a in tries] == [False, True, False]
     assert "faults when run" in authored.code
 

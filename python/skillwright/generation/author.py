@@ -548,6 +548,20 @@ def _holds(statement: ast.stmt, line: int, column: int) -> bool:
     return start <= (line, column) <= end
 
 
+def _called(states: Mapping[str, str], helpers: Mapping[str, str]) -> dict[str, str]:
+    """The ``helpers`` (name -> code) the ``states`` call or hand over as callbacks, directly
+    or through each other: a helper written for an answer that was not kept is dead code,
+    and its errors are not the file's."""
+    reached: dict[str, str] = {}
+    pending = list(states.values())
+    while pending:
+        for name in re.findall(r"self\.(\w+)", pending.pop()):  # a call, or a callback
+            if name in helpers and name not in reached:
+                reached[name] = helpers[name]
+                pending.append(helpers[name])
+    return {name: code for name, code in helpers.items() if name in reached}
+
+
 def _only_later_stages(judgement: _Judgement) -> bool:
     """Whether the file passed the static checks and only the run or simulation found
     errors."""
@@ -557,10 +571,17 @@ def _only_later_stages(judgement: _Judgement) -> bool:
 
 def _score(attempt: Attempt) -> tuple[int, int, int, int]:
     """Lower is better: unusable answers last, then errors the static checks find (an answer
-    that passed them got further), then the run's and simulation's errors, then warnings."""
+    that passed them got further), then the run's and simulation's errors (an answer whose
+    file did not get that far after one that did), then warnings."""
     if attempt.code is None or attempt.errors is None:
         return (1, 10**6, 10**6, 10**6)
-    later = attempt.behaviour_errors or 0
+    later = attempt.behaviour_errors
+    if later is None:
+        # Not run: another method's static error stopped the file. Zero run errors then
+        # says nothing, so the answer ranks behind one whose run was judged (cap2skill
+        # collision-avoidance's final execute "beat" one with four simulation findings only
+        # because a helper it called failed the checks and nothing ran).
+        return (0, attempt.errors, 10**6, attempt.warnings or 0)
     return (0, attempt.errors - later, later, attempt.warnings or 0)
 
 
@@ -691,6 +712,7 @@ class _Skill:
             attempt = pick(target)
             if attempt is not None and attempt.code is not None:
                 (states if target.kind == "state" else helpers)[target.name] = attempt.code
+        helpers = _called(states, helpers)
         used = usage(self.full, {**states, **helpers})
         skeleton = self.build_skeleton(used.interfaces, used.helpers)
         assembly = assemble(
@@ -704,6 +726,12 @@ class _Skill:
         judgement = _Judgement(
             skeleton, assembly, self.validate(assembly.code, skeleton), frozenset(self.targets)
         )
+        # The run and the simulation follow only a file without static errors: in any other,
+        # an answer's behaviour is not known, which is not the same as none found.
+        measured = not any(
+            f.severity == "error" and not f.check.startswith(_LATER_STAGES)
+            for f in judgement.findings
+        )
         for target in self.targets.values():
             attempt = pick(target)
             mine = judgement.mine(target.name)
@@ -712,7 +740,9 @@ class _Skill:
             errors = [f for f in mine if f.severity == "error"]
             attempt.errors = len(errors)
             attempt.warnings = len(mine) - attempt.errors
-            attempt.behaviour_errors = sum(f.check.startswith(_LATER_STAGES) for f in errors)
+            attempt.behaviour_errors = (
+                sum(f.check.startswith(_LATER_STAGES) for f in errors) if measured else None
+            )
         return judgement
 
     def failing(self, judgement: _Judgement) -> list[tuple[_Target, list[str], str]]:
@@ -837,8 +867,9 @@ def author_skill(
     choices = {name: _best(t) or _latest(t) for name, t in skill.targets.items()}
     judgement = skill.judge(lambda t: choices[t.name])
     for target in skill.targets.values():
+        kept = judgement.mine(target.name) is not None
         for attempt in target.attempts:
-            attempt.chosen = attempt is choices[target.name] and attempt.code is not None
+            attempt.chosen = kept and attempt is choices[target.name] and attempt.code is not None
     return Authored(
         code=judgement.assembly.code,
         findings=judgement.findings,

@@ -117,6 +117,7 @@ class Attempt(BaseModel):
     behaviour_errors: int | None = Field(
         default=None,
         description="Of its errors, those the sandboxed run or the simulation found (an answer "
-        "that got that far beats one the static checks stopped).",
+        "that got that far beats one the static checks stopped); null when its file did not "
+        "get that far (a static error anywhere in it).",
     )
     chosen: bool = Field(default=False, description="Whether the final skill holds it.")
