@@ -236,13 +236,53 @@ def test_an_invented_constant_is_named_with_the_constants_the_skeleton_has(
     ]
 
 
+def _without_constants(source: str) -> str:
+    """``source`` without the skeleton's class constants, as for a capability that states no
+    resource requirements."""
+    return "".join(
+        line for line in source.splitlines(keepends=True) if "LINEAR_VELOCITY_MAX =" not in line
+    )
+
+
+@pytest.mark.parametrize(
+    ("reads", "replacement"),
+    [
+        # a clamp to the made-up limit goes
+        (
+            "        speed = abs(self.in_linear_velocity)\n"
+            "        if speed > self.LINEAR_VELOCITY_MAX:\n"
+            "            speed = self.LINEAR_VELOCITY_MAX\n",
+            "",
+        ),
+        (
+            "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)\n",
+            "speed = abs(self.in_linear_velocity)",
+        ),
+        # what the limit would stand for otherwise is the model's to say
+        ("        speed = self.LINEAR_VELOCITY_MAX / 2\n", None),
+        (
+            "        speed = abs(self.in_linear_velocity)\n"
+            "        if speed > self.LINEAR_VELOCITY_MAX:\n"
+            "            raise ValueError('too fast')\n",
+            None,
+        ),
+    ],
+)
+def test_a_made_up_limit_the_capability_does_not_state_is_left_out_where_that_is_plain(
+    move_forward: tuple[Capability, SkillSpec], reads: str, replacement: str | None
+) -> None:
+    source = _without_constants(GOOD).replace(
+        "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)\n", reads
+    )
+    (found,) = _names(source, move_forward)
+    assert found.replacement == replacement
+
+
 def test_a_constant_read_where_the_capability_states_no_limits_says_so(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
     # The idiom of the worked examples, copied for a capability without resource requirements.
-    source = "".join(
-        line for line in GOOD.splitlines(keepends=True) if "LINEAR_VELOCITY_MAX =" not in line
-    )
+    source = _without_constants(GOOD)
     assert [f.message for f in _names(source, move_forward)] == [
         "self.LINEAR_VELOCITY_MAX is never set in this class; the capability states no limits, "
         "so the skeleton defines no constants: leave the limit out (a value made up for "

@@ -447,13 +447,67 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
                 )
             )
             continue
+        hint = _hint(name, defined, methods, latest)
+        unlimited = name.isupper() and not any(d.isupper() for d in defined)
         findings.append(
             _finding(
                 node,
-                f"self.{name} is never set in this class{_hint(name, defined, methods, latest)}",
+                f"self.{name} is never set in this class{hint}",
+                _without_limit(cls, node, name) if unlimited else None,
             )
         )
     return findings
+
+
+class _DropLimit(ast.NodeTransformer):
+    """``min(x, self.<name>)`` or ``max(...)`` of two becomes ``x``."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        if (
+            isinstance(node.func, ast.Name)
+            and node.func.id in {"min", "max"}
+            and len(node.args) == 2
+            and not node.keywords
+        ):
+            others = [a for a in node.args if self_attribute(a) != self.name]
+            if len(others) == 1:
+                return others[0]
+        return node
+
+
+def _without_limit(cls: ast.ClassDef, node: ast.AST, name: str) -> str | None:
+    """What the statement that reads the made-up limit ``self.<name>`` at ``node`` comes to
+    without the limit, where that is plain: a clamp ``if x > self.<name>: x = self.<name>``
+    goes, ``min(x, self.<name>)`` is ``x``; ``None`` otherwise. The capability states no
+    limits, so the skill has none to apply, and the attribute would fail when read."""
+
+    def reads(part: ast.AST) -> bool:
+        return any(self_attribute(n) == name for n in ast.walk(part))
+
+    # ast.walk goes breadth first: the innermost statement holding the read comes last.
+    holding = [
+        s
+        for s in ast.walk(cls)
+        if isinstance(s, ast.stmt)
+        and not isinstance(s, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef)
+        and any(n is node for n in ast.walk(s))
+    ]
+    statement = holding[-1] if holding else None
+    if (
+        isinstance(statement, ast.If)
+        and not statement.orelse
+        and reads(statement.test)
+        and all(isinstance(s, ast.Assign) and reads(s.value) for s in statement.body)
+    ):
+        return ""
+    if not isinstance(statement, ast.Assign | ast.AnnAssign | ast.AugAssign | ast.Expr):
+        return None
+    kept = _DropLimit(name).visit(copy.deepcopy(statement))
+    return None if reads(kept) else ast.unparse(kept)
 
 
 def _none_only_attributes(cls: ast.ClassDef) -> list[Finding]:
