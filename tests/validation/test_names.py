@@ -192,6 +192,44 @@ def test_an_attribute_close_to_a_method_name_suggests_calling_the_method(
     ]
 
 
+HALT = (
+    "    def _halt(self) -> None:\n"
+    '        """Commands zero velocity; returns once published."""\n'
+    "        self.cmd_vel_publisher.publish(Twist())\n\n"
+    "    @execute\n"
+)
+
+
+def test_the_value_of_a_method_that_returns_nothing_is_an_error_at_its_use(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
+    source = GOOD.replace("    @execute\n", HALT, 1).replace(
+        stop,
+        "        halted = self._halt()\n"
+        "        if not halted:\n"
+        "            self._halt()\n"
+        "        later = lambda: self._halt()\n"
+        "        later()\n"
+        "        self.out_distance",
+        1,
+    )
+    found = _names(source, move_forward)
+    assert [(f.message, f.replacement) for f in found] == [
+        (
+            f"self._halt() returns nothing (its definition, line {_line(source, 'def _halt')}, "
+            "says -> None) (Commands zero velocity), so its value is always None: call it as a "
+            "statement of its own",
+            "self._halt()",
+        )
+    ]
+    assert found[0].line == _line(source, "halted = self._halt()")
+
+
+def _line(source: str, text: str) -> int:
+    return next(n for n, line in enumerate(source.splitlines(), 1) if text in line)
+
+
 def test_the_good_skill_uses_no_undefined_name(move_forward: tuple[Capability, SkillSpec]) -> None:
     assert not _names(GOOD, move_forward)
 

@@ -1066,6 +1066,51 @@ def _signature(method: ast.FunctionDef) -> inspect.Signature | None:
     return inspect.Signature(parameters)
 
 
+def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
+    """Results used of the class's own methods that are annotated to return None (``result =
+    self._send_x_goal(goal, 5.0)`` and then ``result.success``): the value is always None.
+    An assignment of it is fixed to the call alone."""
+    nothing = {
+        node.name: node
+        for node in cls.body
+        if isinstance(node, ast.FunctionDef)
+        and isinstance(node.returns, ast.Constant)
+        and node.returns.value is None
+    }
+    findings = []
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef):
+            continue
+        # A statement's own call, a callback's lambda and a return pass the None on harmlessly.
+        plain = {
+            id(n.value if isinstance(n, ast.Expr | ast.Return) else n.body)
+            for n in ast.walk(method)
+            if isinstance(n, ast.Expr | ast.Return | ast.Lambda)
+        }
+        assigned = {
+            id(s.value): s
+            for s in ast.walk(method)
+            if isinstance(s, ast.Assign) and len(s.targets) == 1
+        }
+        for call in ast.walk(method):
+            name = self_attribute(call.func) if isinstance(call, ast.Call) else None
+            if name not in nothing or id(call) in plain:
+                continue
+            doc = (ast.get_docstring(nothing[name]) or "").split(";")[0].replace("``", "")
+            about = f" ({' '.join(doc.split())})" if doc else ""
+            assignment = assigned.get(id(call))
+            findings.append(
+                _finding(
+                    call,
+                    f"self.{name}() returns nothing (its definition, line "
+                    f"{nothing[name].lineno}, says -> None){about}, so its value is always "
+                    "None: call it as a statement of its own",
+                    ast.unparse(call) if assignment is not None else None,
+                )
+            )
+    return findings
+
+
 def _mismatched_calls(cls: ast.ClassDef) -> list[Finding]:
     """Calls of the class's own methods with arguments their definitions do not take (a helper
     written with a parameter more than the call that asked for it gives): found at the
@@ -1121,5 +1166,5 @@ def check_names(
     findings = _undefined_names(source, tree) + _missing_nested_classes(tree, imports)
     if cls is not None:
         findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
-        findings += _mismatched_calls(cls) + _none_only_attributes(cls)
+        findings += _mismatched_calls(cls) + _none_only_attributes(cls) + _used_nothing(cls)
     return findings
