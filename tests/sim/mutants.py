@@ -24,6 +24,7 @@ KINDS = (
     "drives into the obstacle",
     "made-up output",
     "out of its range",
+    "keeps invalid readings",
 )
 
 
@@ -337,6 +338,18 @@ MUTANTS: tuple[BehaviourMutant, ...] = (
             ),
         ),
         ("output:outAngle",),
+    ),
+    BehaviourMutant(
+        "get_distance_to_nearest_object",
+        "keeps invalid readings",
+        "dropouts",
+        (
+            (
+                "if math.isfinite(distance) and scan.range_min <= distance <= scan.range_max:",
+                "if distance == distance:",
+            ),
+        ),
+        ("output:outDistance",),
     ),
     BehaviourMutant(
         "get_distance_to_nearest_object",

@@ -92,6 +92,25 @@ def test_scans_have_the_recorded_geometry_and_see_the_corridor(mr1_inventory: In
     assert world.truth.nearest[-1][1] == pytest.approx(1.0, abs=0.005)
 
 
+def test_a_lidar_with_dropouts_reports_some_beams_as_nan_or_zero(mr1_inventory: Inventory) -> None:
+    def ranges(noise: Noise) -> list[float]:
+        _, host = _world(mr1_inventory, "walled_room", (7.5, 2.0, math.pi / 2), seed=3, noise=noise)
+        host.run_until(0.25)
+        return list(host.messages("/scan")[-1][1]["ranges"])
+
+    clean = ranges(Noise())
+    dropped = ranges(Noise(scan_invalid=0.2))
+    nan = sum(math.isnan(r) for r in dropped)
+    zero = sum(r == 0.0 for r in dropped)
+    # about 36 of each in 360 beams
+    assert 20 < nan < 55, nan
+    assert 20 < zero < 55, zero
+    assert not any(math.isnan(r) or r == 0.0 for r in clean)
+    # The other beams keep the noise they would have had.
+    kept = [(a, b) for a, b in zip(clean, dropped, strict=True) if not math.isnan(b) and b != 0.0]
+    assert all(a == b for a, b in kept)
+
+
 def test_driving_into_the_obstacle_is_a_contact_and_the_chassis_stops_at_it(
     mr1_inventory: Inventory,
 ) -> None:

@@ -89,6 +89,12 @@ class NoiseSpec(_Model):
     scan: float | None = Field(default=None, ge=0, description="Range noise [m].")
     imu: float | None = Field(default=None, ge=0, description="Yaw rate noise [rad/s].")
     localisation: float | None = Field(default=None, ge=0, description="Pose noise [m].")
+    scan_invalid: float | None = Field(
+        default=None,
+        ge=0,
+        le=1,
+        description="Share of scan beams reported invalid (half NaN, half 0.0 below range_min).",
+    )
 
 
 class Scenario(_Model):

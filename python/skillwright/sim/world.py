@@ -75,6 +75,9 @@ class Noise:
     """Yaw rate noise [rad/s]."""
     localisation: float = 0.005
     """Noise of the localisation pose and of ``map -> odom`` [m]; a tenth of it in rad."""
+    scan_invalid: float = 0.0
+    """Share of a scan's beams reported as invalid, half as NaN and half as 0.0 (below
+    ``range_min``), as lidar drivers report dropouts; none by default."""
 
     @classmethod
     def none(cls) -> Noise:
@@ -167,6 +170,8 @@ class MujocoWorld:
         self._mj = mujoco
         self._np = np
         self._rng = np.random.default_rng(config.seed)
+        # Dropouts draw from their own stream: every other noise stays what it was.
+        self._dropouts = np.random.default_rng([config.seed, 1])
         self.model, self._beams = self._model(config.world_file)
         self.data = mujoco.MjData(self.model)
         self.dt = float(self.model.opt.timestep)
@@ -852,6 +857,12 @@ class MujocoWorld:
             if noise is not None:
                 noisy[finite] += noise
             noisy[finite & (noisy < geometry.range_min)] = np.inf
+            share = self.config.noise.scan_invalid
+            if share:
+                dropped = self._dropouts.random(noisy.size) < share
+                halves = self._dropouts.random(noisy.size) < 0.5
+                noisy[dropped & halves] = np.nan
+                noisy[dropped & ~halves] = 0.0
             self._publish(
                 topic,
                 {
