@@ -333,25 +333,7 @@ def _repaired_execute(case: _Case, first: str, second: str) -> tuple[Authored, l
 def test_a_run_error_in_a_skeleton_helper_is_repaired_at_the_call_that_led_there(
     case: _Case,
 ) -> None:
-    waits = "        self._stop_base()\n"
-    assert waits in EXECUTE
-    too_short = EXECUTE.replace(
-        waits, waits + '        self._wait_until(lambda: self.odom_msg is not None, 0.1, "rest")\n'
-    )
-    _run_also_finds(
-        case,
-        lambda code: (
-            None
-            if '0.1, "rest"' not in code
-            else Finding(
-                check="run.exception",
-                severity="error",
-                line=_line_of(code, 'raise RuntimeError(f"no {what}'),
-                message="execute raised RuntimeError: no rest within 0.1 s",
-                stack=(_line_of(code, '0.1, "rest"'),),
-            )
-        ),
-    )
+    too_short = _rest_too_short(case, in_helper=True)
     authored, problems = _repaired_execute(
         case, too_short, too_short.replace('0.1, "rest"', '5.0, "rest"')
     )
@@ -363,22 +345,25 @@ def test_a_run_error_in_a_skeleton_helper_is_repaired_at_the_call_that_led_there
     assert '5.0, "rest"' in authored.code
 
 
-def _rest_too_short(case: _Case) -> str:
-    """execute waiting 0.1 s for rest, which the case's run then finds too short."""
+def _rest_too_short(case: _Case, *, in_helper: bool = False) -> str:
+    """execute waiting 0.1 s for rest, which the case's run then finds too short: at the
+    call, or ``in_helper`` at the skeleton helper's raise with the call as its stack."""
     waits = "        self._stop_base()\n"
-    _run_also_finds(
-        case,
-        lambda code: (
-            None
-            if '0.1, "rest"' not in code
-            else Finding(
-                check="run.exception",
-                severity="error",
-                line=_line_of(code, '0.1, "rest"'),
-                message="execute raised RuntimeError: no rest within 0.1 s",
-            )
-        ),
-    )
+    assert waits in EXECUTE
+
+    def finding(code: str) -> Finding | None:
+        if '0.1, "rest"' not in code:
+            return None
+        call = _line_of(code, '0.1, "rest"')
+        return Finding(
+            check="run.exception",
+            severity="error",
+            line=_line_of(code, 'raise RuntimeError(f"no {what}') if in_helper else call,
+            message="execute raised RuntimeError: no rest within 0.1 s",
+            stack=(call,) if in_helper else (),
+        )
+
+    _run_also_finds(case, finding)
     return EXECUTE.replace(
         waits, waits + '        self._wait_until(lambda: self.odom_msg is not None, 0.1, "rest")\n'
     )
