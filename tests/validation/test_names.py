@@ -43,6 +43,11 @@ def _names(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:
             "Vector3 is not defined: import it",
         ),
         (
+            "command.linear.x = speed",
+            "command.linear.x = velocity",
+            "velocity is not defined: no statement of this method assigns it before it is read",
+        ),
+        (
             'self.node.get_logger().info(f"{self.in_distance}',
             'self.logger.info(f"{self.in_distance}',
             "self.logger is never set in this class; log with self.node.get_logger()",
@@ -83,6 +88,7 @@ def _names(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:
     ],
     ids=[
         "unimported class",
+        "unassigned variable",
         "logger on the skill",
         "misspelt attribute",
         "subscription method",

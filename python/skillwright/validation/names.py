@@ -241,6 +241,13 @@ def _undefined_message(name: str, tree: ast.Module) -> str:
                     f"{name} is a local variable of {owner} and does not exist here: use what "
                     f"{owner} stored on the skill{kept}, or get the value again here"
                 )
+    if name[:1].islower():
+        # A variable, not a class: the demo's navigate-to-point read result after the checks
+        # took out its assignment from a method that returns nothing.
+        return (
+            f"{name} is not defined: no statement of this method assigns it before it is "
+            f"read; assign {name} first, or use what the skeleton defines"
+        )
     return (
         f"{name} is not defined: import it (message classes come from the interfaces' "
         "packages, e.g. geometry_msgs.msg) or use what the skeleton defines"
