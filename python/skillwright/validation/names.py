@@ -363,11 +363,9 @@ def _hint(name: str, defined: set[str], methods: set[str], latest: list[str]) ->
             f"it a value in a local variable of this method ({wanted} = ...)"
         )
     if name.isupper():
-        # The worked examples clamp to the skeleton's constants (the resource's requirements);
-        # a model copies the idiom for a capability that states no such limit.
-        # Told to give it a value in a local variable, the model wrote
-        # `linear_velocity_max = self.LINEAR_VELOCITY_MAX`; a number it made up would be a
-        # limit nobody gave (and may break a constraint such as outVelocity = inVelocity).
+        # The worked examples clamp to the skeleton's constants (the resource's requirements),
+        # and a model copies the idiom where the capability states no limit. A value it made
+        # up would be a limit nobody gave (and may break outVelocity = inVelocity).
         constants = sorted(f"self.{d}" for d in defined if d.isupper())
         if constants:
             return (
@@ -1095,7 +1093,7 @@ def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
             if isinstance(n, ast.Expr | ast.Return | ast.Lambda)
         }
         assigned = {
-            id(s.value): s
+            id(s.value)
             for s in ast.walk(method)
             if isinstance(s, ast.Assign) and len(s.targets) == 1
         }
@@ -1105,14 +1103,13 @@ def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
                 continue
             doc = (ast.get_docstring(nothing[name]) or "").split(";")[0].replace("``", "")
             about = f" ({' '.join(doc.split())})" if doc else ""
-            assignment = assigned.get(id(call))
             findings.append(
                 _finding(
                     call,
                     f"self.{name}() returns nothing (its definition, line "
                     f"{nothing[name].lineno}, says -> None){about}, so its value is always "
                     "None: call it as a statement of its own",
-                    ast.unparse(call) if assignment is not None else None,
+                    ast.unparse(call) if id(call) in assigned else None,
                 )
             )
     return findings
