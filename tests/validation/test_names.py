@@ -634,3 +634,39 @@ def test_the_renamed_variable_takes_a_name_the_method_does_not_use(
     )
     replacements = [f.replacement for f in _names(source, move_forward)]
     assert replacements == ["time_value2 = 0.5 + time_value", "time.sleep(time_value2)"]
+
+
+GOAL_HELPERS = (
+    "    def _send_dock_goal(self, goal, timeout: float) -> None:\n"
+    '        """Sends goal to /dock and waits until the server accepts it."""\n'
+    "        self.dock_result_future = None\n\n"
+    '    def _dock_result(self, timeout: float) -> "Dock.Result":\n'
+    '        """Waits for the result of the goal sent with self._send_dock_goal."""\n'
+    "        return self.dock_result_future.result().result\n\n"
+    "    @execute\n"
+)
+
+
+@pytest.mark.parametrize("read", [True, False])
+def test_a_goal_sends_value_used_as_its_result_is_fixed_to_a_wait_for_the_result(
+    move_forward: tuple[Capability, SkillSpec], read: bool
+) -> None:
+    use = "        self.node.get_logger().info(f'{result}')\n" if read else ""
+    source = GOOD.replace("    @execute\n", GOAL_HELPERS, 1).replace(
+        "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance",
+        f"        result = self._send_dock_goal(None, 5.0)\n{use}"
+        "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance",
+        1,
+    )
+    [found] = [f for f in _names(source, move_forward) if "returns nothing" in f.message]
+    if read:
+        assert found.message.endswith(
+            "call it as a statement of its own, then wait for the result: "
+            "result = self._dock_result(60.0)"
+        )
+        assert found.replacement == (
+            "self._send_dock_goal(None, 5.0)\nresult = self._dock_result(60.0)"
+        )
+    else:
+        assert found.message.endswith("call it as a statement of its own")
+        assert found.replacement == "self._send_dock_goal(None, 5.0)"

@@ -24,6 +24,7 @@ import difflib
 import importlib
 import inspect
 import itertools
+import re
 import symtable
 from collections.abc import Iterator
 
@@ -1082,6 +1083,9 @@ def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
         and isinstance(node.returns, ast.Constant)
         and node.returns.value is None
     }
+    methods = {
+        node.name for node in cls.body if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+    }
     findings = []
     for method in cls.body:
         if not isinstance(method, ast.FunctionDef):
@@ -1093,7 +1097,7 @@ def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
             if isinstance(n, ast.Expr | ast.Return | ast.Lambda)
         }
         assigned = {
-            id(s.value)
+            id(s.value): s.targets[0]
             for s in ast.walk(method)
             if isinstance(s, ast.Assign) and len(s.targets) == 1
         }
@@ -1103,16 +1107,44 @@ def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
                 continue
             doc = (ast.get_docstring(nothing[name]) or "").split(";")[0].replace("``", "")
             about = f" ({' '.join(doc.split())})" if doc else ""
-            findings.append(
-                _finding(
-                    call,
-                    f"self.{name}() returns nothing (its definition, line "
-                    f"{nothing[name].lineno}, says -> None){about}, so its value is always "
-                    "None: call it as a statement of its own",
-                    ast.unparse(call) if id(call) in assigned else None,
-                )
+            message = (
+                f"self.{name}() returns nothing (its definition, line {nothing[name].lineno}, "
+                f"says -> None){about}, so its value is always None: call it as a statement "
+                "of its own"
             )
+            fix = ast.unparse(call) if id(call) in assigned else None
+            wait = _result_wait(name, methods, assigned.get(id(call)), method)
+            if fix is not None and wait is not None:
+                message += f", then wait for the result: {wait}"
+                fix += f"\n{wait}"
+            findings.append(_finding(call, message, fix))
     return findings
+
+
+RESULT_WAIT_SECONDS = 60.0
+"""The timeout of a result wait that the checks write in place of a goal send's value: long
+enough for a motion across a room, short enough that a lost goal ends the skill."""
+
+
+def _result_wait(
+    name: str, methods: set[str], target: ast.expr | None, method: ast.FunctionDef
+) -> str | None:
+    """``result = self._x_result(60.0)`` when ``name`` is the skeleton's goal send of an
+    action (``_send_x_goal``) with a result helper, and the method reads the variable
+    ``target`` that was meant to hold the result (``result = self._send_x_goal(...)`` and
+    then ``result.success``)."""
+    sent = re.fullmatch(r"_send_(\w+)_goal", name)
+    if sent is None or f"_{sent.group(1)}_result" not in methods:
+        return None
+    if not isinstance(target, ast.Name):
+        return None
+    read = any(
+        isinstance(n, ast.Name) and n.id == target.id and isinstance(n.ctx, ast.Load)
+        for n in ast.walk(method)
+    )
+    if not read:
+        return None
+    return f"{target.id} = self._{sent.group(1)}_result({RESULT_WAIT_SECONDS!r})"
 
 
 def _mismatched_calls(cls: ast.ClassDef) -> list[Finding]:
