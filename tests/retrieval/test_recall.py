@@ -82,12 +82,13 @@ LEXICAL_FLOORS = [
     ("cap2skill-filtered", 1, 8),
     ("cap2skill-filtered", 4, 18),
     ("cap2skill-filtered", 8, 18),
-    ("tb4", 4, 14),
+    ("tb4", 4, 15),
     ("tb4", 8, 15),
-    ("tiago", 4, 17),
-    ("tiago", 8, 18),
+    ("tiago", 4, 18),
+    ("tiago", 8, 19),
     ("ur5e", 4, 2),
-    ("go2", 4, 10),
+    ("go2", 4, 13),
+    ("go2", 8, 15),
 ]
 
 HYBRID_FLOORS = [

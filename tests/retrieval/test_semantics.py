@@ -60,6 +60,24 @@ def test_a_costmap_is_auxiliary_while_the_map_of_the_same_type_is_direct() -> No
     assert directness(interface("/local_costmap/costmap", grid)) == "auxiliary"
 
 
+@pytest.mark.parametrize(
+    "name",
+    [
+        "/global_costmap/voxel_marked_cloud",
+        "/slam_toolbox/scan_visualization",
+        "/lidar/debug/points",
+        "/planner_debug",
+    ],
+)
+def test_a_costmaps_layers_and_what_is_republished_for_display_are_auxiliary(name: str) -> None:
+    assert directness(interface(name, "sensor_msgs/msg/PointCloud2")) == "auxiliary"
+
+
+@pytest.mark.parametrize("name", ["/scan", "/front_laser/scan", "/debugger_scan"])
+def test_a_scan_not_named_for_display_stays_direct(name: str) -> None:
+    assert directness(interface(name, "sensor_msgs/msg/LaserScan")) == "direct"
+
+
 def test_a_vendor_type_is_neutral() -> None:
     assert directness(interface("/api/sport/request", "unitree_api/msg/Request")) == "neutral"
 

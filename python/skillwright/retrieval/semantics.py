@@ -25,9 +25,11 @@ gets a *directness* from its type, by what the type's definition and package say
 Retrieval multiplies each candidate's evidence by the factor of its directness
 (:class:`~skillwright.retrieval.retrieve.Ranking`), so a direct interface wins a tie of
 words and an auxiliary one still wins when the capability or the spec clearly asks for it.
-Rules are by type, never by a robot's interface names; the one name they read is Nav2's
-own convention that a costmap (an ``OccupancyGrid`` of costs, not a map) is published as
-``<costmap>/costmap``.
+Rules are by type, never by a robot's interface names, with two naming conventions shared
+across ROS 2 stacks: everything under a Nav2 costmap's namespace (``/global_costmap/costmap``,
+an ``OccupancyGrid`` of costs and not a map, and the layers' ``voxel_marked_cloud``) is the
+costmap's own, and a name with a ``visualization`` or ``debug`` part (SLAM Toolbox's
+``/slam_toolbox/scan_visualization``) is a copy republished for display, not the sensor.
 """
 
 from __future__ import annotations
@@ -100,11 +102,12 @@ _AUXILIARY = re.compile(
 
 
 _COSTMAP = re.compile(r"(^|/)[^/]*costmap[^/]*(/|$)")
+_DISPLAY = re.compile(r"(^|/|_)(visuali[sz]ation|debug)(/|_|$)")
 
 
 def directness(interface: Interface) -> Directness:
     """How directly the interface's type carries what a skill commands or measures."""
-    if interface.type_name == "nav_msgs/msg/OccupancyGrid" and _COSTMAP.search(interface.name):
+    if _COSTMAP.search(interface.name) or _DISPLAY.search(interface.name):
         return "auxiliary"
     if _DIRECT.fullmatch(interface.type_name):
         return "direct"
