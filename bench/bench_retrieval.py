@@ -109,8 +109,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         ("hybrid RRF 0.5, facets + coverage", ours(rrf, True)),
         ("lexical, words only (no type semantics)", ours(words_only, False)),
         ("hybrid 0.1, words only (no type semantics)", ours(words_only, True)),
-        ("lexical + type semantics (--no-dense)", ours(Ranking(), False)),
-        ("hybrid 0.1 + type semantics (default)", ours(Ranking(), True)),
+        ("lexical + type semantics (default)", ours(Ranking(), False)),
+        ("hybrid 0.1 + type semantics (--dense)", ours(Ranking(), True)),
         ("hybrid default, capability only (no spec)", no_spec),
     ]
 
@@ -144,8 +144,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     timings = [
         ("paper: rdfs:comment only (alternative)", paper),
-        ("lexical, facets + coverage (--no-dense)", ours(Ranking(), False)),
-        ("hybrid, facets + coverage (default)", ours(Ranking(), True)),
+        ("lexical, facets + coverage (default)", ours(Ranking(), False)),
+        ("hybrid, facets + coverage (--dense)", ours(Ranking(), True)),
     ]
     warm = [best_median(per_query(rank), len(cases)) for _, rank in timings]
     cache, embedder.cache = embedder.cache, None

@@ -134,24 +134,25 @@ def test_an_inventory_of_infrastructure_only_says_to_use_all(tmp_path: Path) -> 
     assert "none of its 1 interface(s) is a candidate; --all ranks" in err
 
 
-def test_a_missing_embedding_model_suggests_no_dense(tmp_path: Path) -> None:
+def test_a_missing_embedding_model_suggests_ranking_without_it(tmp_path: Path) -> None:
     models = tmp_path / "models.toml"
     models.write_text(
         '[defaults]\nembedding = "gone"\n\n[[embedding]]\nid = "gone"\n'
         f'path = "{tmp_path / "no-model"}"\n'
     )
-    code, _, err = invoke(*ROTATE, "--interfaces", MR1, "--models", str(models))
+    code, _, err = invoke(*ROTATE, "--interfaces", MR1, "--models", str(models), "--dense")
     assert code == 2
     assert "embedding model 'gone'" in err
-    assert "--no-dense" in err
+    assert "leave out --dense" in err
 
 
-def test_no_dense_never_loads_the_embedding_model() -> None:
+@pytest.mark.parametrize("flags", [[], ["--no-dense"]])
+def test_by_default_the_embedding_model_is_never_loaded(flags: list[str]) -> None:
     code = (
         "import sys\n"
         "from skillwright.cli import main\n"
         f"main(['retrieve', '--capability', {str(SHIPPED_CAPABILITIES / 'rotate.ttl')!r},"
-        f" '--interfaces', {MR1!r}, '--no-dense', '--json'], standalone_mode=False)\n"
+        f" '--interfaces', {MR1!r}, *{flags!r}, '--json'], standalone_mode=False)\n"
         "assert 'skillwright.llm.bert' not in sys.modules and 'tokenizers' not in sys.modules\n"
     )
     result = subprocess.run(
@@ -164,7 +165,7 @@ def test_no_dense_never_loads_the_embedding_model() -> None:
 def test_hybrid_ranking_loads_minilm_and_fills_the_dense_column(tmp_path: Path) -> None:
     env_cache = {"SKILLWRIGHT_CACHE_DIR": str(tmp_path)}
     result = CliRunner(env=env_cache).invoke(
-        main, ["retrieve", *ROTATE, *ROTATE_SPEC, "--interfaces", MR1, "--json"]
+        main, ["retrieve", *ROTATE, *ROTATE_SPEC, "--interfaces", MR1, "--dense", "--json"]
     )
     assert result.exit_code == 0, result.stderr
     document = json.loads(result.stdout)

@@ -8,7 +8,12 @@ from typing import TYPE_CHECKING
 
 import click
 
-from skillwright.cli_options import capability_options, interfaces_option, spec_option
+from skillwright.cli_options import (
+    capability_options,
+    dense_option,
+    interfaces_option,
+    spec_option,
+)
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -172,7 +177,7 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
     "--drop", multiple=True, metavar="NAME", help="Never give this interface (repeatable)."
 )
 @click.option("--all", "include_all", is_flag=True, help="Let retrieval pick infrastructure too.")
-@click.option("--no-dense", is_flag=True, help="Lexical retrieval only (no embedding model).")
+@dense_option
 @click.option(
     "--rerank",
     is_flag=True,
@@ -222,7 +227,7 @@ def generate(
     pin: tuple[str, ...],
     drop: tuple[str, ...],
     include_all: bool,
-    no_dense: bool,
+    dense: bool,
     rerank: bool,
     attempts: int,
     no_run: bool,
@@ -267,7 +272,7 @@ def generate(
         pinned=pin,
         dropped=drop,
         models_file=models_file,
-        dense=not no_dense,
+        dense=dense,
         rerank=rerank,
         attempts=attempts,
         run=not no_run,

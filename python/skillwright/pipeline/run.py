@@ -94,7 +94,7 @@ class GenerationRequest:
     pinned: tuple[str, ...] = ()
     dropped: tuple[str, ...] = ()
     models_file: Path | None = None
-    dense: bool = True
+    dense: bool = False
     """Use the embedding model in retrieval (else lexical scores only)."""
     rerank: bool = False
     """Have the generation model judge the best candidates after ranking
@@ -258,7 +258,7 @@ def retrieve(
     capability_iri: str | None = None,
     k: int = 4,
     include_infrastructure: bool = False,
-    dense: bool = True,
+    dense: bool = False,
     models_file: Path | None = None,
     dropped: Sequence[str] = (),
     cancel: threading.Event | None = None,

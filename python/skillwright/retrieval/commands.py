@@ -15,7 +15,12 @@ from typing import TYPE_CHECKING
 
 import click
 
-from skillwright.cli_options import capability_options, interfaces_option, spec_option
+from skillwright.cli_options import (
+    capability_options,
+    dense_option,
+    interfaces_option,
+    spec_option,
+)
 
 if TYPE_CHECKING:
     from skillwright.capability.model import Capability
@@ -45,11 +50,7 @@ __all__ = ["retrieve"]
     is_flag=True,
     help="Rank infrastructure interfaces too (logging, parameters, lifecycle, ...).",
 )
-@click.option(
-    "--no-dense",
-    is_flag=True,
-    help="Lexical ranking only: no embedding model is loaded.",
-)
+@dense_option
 @click.option(
     "--rerank",
     is_flag=True,
@@ -76,7 +77,7 @@ def retrieve(
     source: Path,
     k: int,
     include_infrastructure: bool,
-    no_dense: bool,
+    dense: bool,
     rerank: bool,
     model_id: str | None,
     models_file: Path | None,
@@ -110,7 +111,7 @@ def retrieve(
         )
     if model_id is not None and not rerank:
         raise InvalidArgumentError("--model names the re-ranking model; add --rerank")
-    embed, embedding_id = (None, None) if no_dense else _embedder(models_file, len(pool))
+    embed, embedding_id = (None, None) if not dense else _embedder(models_file, len(pool))
     started = time.perf_counter()
     hits = rank_interfaces(
         inventory,
@@ -197,7 +198,7 @@ def _embedder(models_file: Path | None, count: int) -> tuple[Embedder, str]:
     try:
         embedder = load_embedder(registry, entry.id)
     except ModelError as error:
-        raise type(error)(f"{error}; or rank without it: --no-dense") from None
+        raise type(error)(f"{error}; or rank without it (leave out --dense)") from None
     console.print(
         f"loaded {entry.id} in {time.perf_counter() - started:.1f} s; "
         f"embedding {count} interface text(s) (cached ones are reused)",

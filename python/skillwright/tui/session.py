@@ -79,7 +79,7 @@ class SessionState:
     skeleton: bool = False
     """Write the deterministic skeleton only, without a model."""
     k: int = 4
-    dense: bool = True
+    dense: bool = False
     """Use the embedding model in retrieval (else lexical only)."""
     attempts: int = 3
     """Answers the model may give per method: the first, then repairs."""
