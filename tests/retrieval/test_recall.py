@@ -68,28 +68,34 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
 
 
 # (set, k, needs found at least). Needs: mr1 22, cap2skill 18 (both settings), tb4 16,
-# tiago 19, ur5e 2, go2 16, rosbotxl 19 (no floor yet: labelled before it was measured). At
-# k=4 the MR-1's mapping needs 6 interfaces, so 20 of its 22 needs are attainable; every need
-# of the other robots is. Before facets and coverage (pooled
-# query, relevance order) the lexical numbers at k=4 were 14, 15 and 16; before the type
-# semantics (words only) mr1 18, tb4 13, tiago 12, ur5e 2, go2 10.
+# tiago 19, ur5e 2, go2 16, rosbotxl 19. At k=4 the MR-1's mapping needs 6 interfaces, so 20
+# of its 22 needs are attainable; every need of the other robots is. Before facets and
+# coverage (pooled query, relevance order) the lexical numbers at k=4 were 14, 15 and 16;
+# before the type semantics (words only) mr1 18, tb4 13, tiago 12, ur5e 2, go2 10. The
+# ROSbot XL was labelled before anything ranked it: 17 at k=4 with the rules of that day,
+# 18 with the display rule, 19 once the map service ranked behind the map topic.
 LEXICAL_FLOORS = [
     ("mr1", 1, 9),
     ("mr1", 4, 19),
-    ("mr1", 8, 20),
+    ("mr1", 8, 22),
     ("cap2skill", 1, 9),
     ("cap2skill", 4, 18),
     ("cap2skill", 8, 18),
     ("cap2skill-filtered", 1, 8),
     ("cap2skill-filtered", 4, 18),
     ("cap2skill-filtered", 8, 18),
-    ("tb4", 4, 15),
-    ("tb4", 8, 15),
-    ("tiago", 4, 18),
+    ("tb4", 1, 8),
+    ("tb4", 4, 16),
+    ("tb4", 8, 16),
+    ("tiago", 1, 9),
+    ("tiago", 4, 19),
     ("tiago", 8, 19),
     ("ur5e", 4, 2),
     ("go2", 4, 13),
     ("go2", 8, 15),
+    ("rosbotxl", 1, 9),
+    ("rosbotxl", 4, 19),
+    ("rosbotxl", 8, 19),
 ]
 
 HYBRID_FLOORS = [

@@ -78,6 +78,30 @@ def test_a_scan_not_named_for_display_stays_direct(name: str) -> None:
     assert directness(interface(name, "sensor_msgs/msg/LaserScan")) == "direct"
 
 
+@pytest.mark.parametrize(
+    ("name", "type_name"),
+    [
+        ("/cmd_vel_nav", "geometry_msgs/msg/Twist"),
+        ("/robot1/cmd_vel_teleop", "geometry_msgs/msg/TwistStamped"),
+        ("/goal_pose", "geometry_msgs/msg/PoseStamped"),
+    ],
+)
+def test_nav2s_own_velocities_and_rvizs_goal_topic_are_auxiliary(name: str, type_name: str) -> None:
+    assert directness(interface(name, type_name)) == "auxiliary"
+
+
+def test_the_velocity_the_base_takes_stays_direct() -> None:
+    for name in ("/cmd_vel", "/mobile_base_controller/cmd_vel_unstamped", "/nav_vel"):
+        assert directness(interface(name, "geometry_msgs/msg/Twist")) == "direct"
+    assert directness(interface("/goal_pose", "nav_msgs/msg/Odometry")) == "direct"
+
+
+def test_the_map_service_ranks_behind_the_map_topic_it_copies() -> None:
+    assert directness(interface("/map", "nav_msgs/msg/OccupancyGrid")) == "direct"
+    service = interface("/slam_toolbox/dynamic_map", "nav_msgs/srv/GetMap", "service")
+    assert directness(service) == "neutral"
+
+
 def test_a_vendor_type_is_neutral() -> None:
     assert directness(interface("/api/sport/request", "unitree_api/msg/Request")) == "neutral"
 

@@ -12,7 +12,7 @@ gets a *directness* from its type, by what the type's definition and package say
   ``LaserScan``/``Range``/``PointCloud2`` (ranges), ``Imu``, ``JointState``, ``TFMessage``
   (frames), a pose estimate, ``OccupancyGrid`` (a map), ``NavigateToPose`` (move the base
   to a pose), MoveIt's ``MoveGroup`` (move the arm to a goal), ``FollowJointTrajectory``,
-  a gripper command, the map service;
+  a gripper command;
 - **auxiliary**: the type is a building block or a side channel of such a task, used by
   the stacks themselves rather than by a skill: Nav2's behaviours (back up, spin, drive on
   heading, assisted teleop, wait) and its planner, smoother and controller steps, speed
@@ -20,15 +20,21 @@ gets a *directness* from its type, by what the type's definition and package say
   planning and planning-scene services and messages; controller state, controller manager
   and lifecycle plumbing; visualisation markers, footprints, clicked points, camera
   calibration, diagnostics, bare strings and triggers;
-- **neutral**: everything else (vendor types this table does not know).
+- **neutral**: everything else (vendor types this table does not know), and the map service
+  (``GetMap``): it hands out a copy of the map that the map topic publishes, so where both
+  exist the topic is the direct one, and where only the service exists it still competes.
 
 Retrieval multiplies each candidate's evidence by the factor of its directness
 (:class:`~skillwright.retrieval.retrieve.Ranking`), so a direct interface wins a tie of
 words and an auxiliary one still wins when the capability or the spec clearly asks for it.
-Rules are by type, never by a robot's interface names, with two naming conventions shared
-across ROS 2 stacks: everything under a Nav2 costmap's namespace (``/global_costmap/costmap``,
-an ``OccupancyGrid`` of costs and not a map, and the layers' ``voxel_marked_cloud``) is the
-costmap's own, and a name with a ``visualization`` or ``debug`` part (SLAM Toolbox's
+Rules are by type, never by one robot's interface names. The names they read are conventions
+of the stacks every such robot runs: everything under a Nav2 costmap's namespace
+(``/global_costmap/costmap``, an ``OccupancyGrid`` of costs and not a map, and the layers'
+``voxel_marked_cloud``) is the costmap's own; Nav2's ``cmd_vel_nav`` and ``cmd_vel_teleop``
+are its controller's and assisted teleop's velocities on their way to the velocity smoother,
+not the base's command, and ``goal_pose`` is the pose RViz's goal tool hands the navigator
+(the ``NavigateToPose`` action does the same with feedback, a result and a cancel); and a
+name with a ``visualization`` or ``debug`` part (SLAM Toolbox's
 ``/slam_toolbox/scan_visualization``) is a copy republished for display, not the sensor.
 """
 
@@ -57,7 +63,6 @@ _DIRECT = re.compile(
             r"geometry_msgs/msg/Twist(Stamped)?",
             r"geometry_msgs/msg/PoseWithCovarianceStamped",
             r"nav_msgs/msg/(Odometry|OccupancyGrid)",
-            r"nav_msgs/srv/GetMap",
             r"sensor_msgs/msg/(LaserScan|Range|PointCloud2?|Imu|JointState)",
             r"tf2_msgs/msg/TFMessage",
             r"nav2_msgs/action/NavigateToPose",
@@ -102,12 +107,20 @@ _AUXILIARY = re.compile(
 
 
 _COSTMAP = re.compile(r"(^|/)[^/]*costmap[^/]*(/|$)")
+_NAV2_VELOCITY = re.compile(r"(^|/)cmd_vel_(nav|teleop)$")
+_TWIST = "geometry_msgs/msg/Twist"  # and TwistStamped
+_NAV2_GOAL = re.compile(r"(^|/)goal_pose$")
+_POSE = "geometry_msgs/msg/PoseStamped"
 _DISPLAY = re.compile(r"(^|/|_)(visuali[sz]ation|debug)(/|_|$)")
 
 
 def directness(interface: Interface) -> Directness:
     """How directly the interface's type carries what a skill commands or measures."""
     if _COSTMAP.search(interface.name) or _DISPLAY.search(interface.name):
+        return "auxiliary"
+    if _NAV2_VELOCITY.search(interface.name) and interface.type_name.startswith(_TWIST):
+        return "auxiliary"
+    if _NAV2_GOAL.search(interface.name) and interface.type_name == _POSE:
         return "auxiliary"
     if _DIRECT.fullmatch(interface.type_name):
         return "direct"
