@@ -37,7 +37,7 @@ def ranked(stem: str, **kwargs: object) -> list[str]:
         ("set-velocity", {"/cmd_vel", "/odom"}),
         ("get-distance-to-nearest-object", {"/scan"}),
         ("collision-avoidance", {"/scan", "/cmd_vel"}),
-        ("navigate-to-point", {"/navigate_to_pose"}),
+        ("navigate-to-point", {"/navigate_to_pose", "/cmd_vel"}),
         ("move-to-point", {"/move_action"}),
     ],
 )
@@ -66,6 +66,14 @@ def test_near_duplicates_do_not_crowd_out_other_needs() -> None:
     hits = ranked("set-velocity")
     assert hits.index("/odom") < 3
     assert not {"/cmd_vel", "/cmd_vel_nav"} <= set(hits[:2])
+
+
+def test_a_map_pose_and_tf_are_one_need_so_the_stop_command_keeps_its_place() -> None:
+    hits = ranked("navigate-to-point")
+    assert "/tf" in hits
+    assert "/pose" not in hits  # the same map -> base_link pose as tf
+    assert "/cmd_vel" in hits  # the stopping state's zero velocity
+    assert "/cmd_vel_nav" not in hits  # Nav2's own velocity into the smoother
 
 
 def test_an_embedder_is_mixed_in_when_given() -> None:

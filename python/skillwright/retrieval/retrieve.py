@@ -358,8 +358,15 @@ def rank_interfaces(
 
 
 def _family(type_name: str) -> str:
-    """A type with its stamped variant: a Twist and a TwistStamped carry the same thing."""
+    """A type with the others that carry the same thing: a Twist and a TwistStamped; a pose
+    estimate in the map (AMCL's or SLAM Toolbox's ``/pose``) and tf, which gives the same
+    map -> base_link pose. Odometry stays apart: it carries the measured velocity too."""
+    if type_name in _MAP_POSE:
+        return "map pose"
     return type_name.removesuffix("Stamped")
+
+
+_MAP_POSE = {"geometry_msgs/msg/PoseWithCovarianceStamped", "tf2_msgs/msg/TFMessage"}
 
 
 def _pooled(query: Query) -> Facet:
