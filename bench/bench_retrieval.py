@@ -10,7 +10,8 @@ recording, 41 candidates, 22 needs) and the paper's robot (the paper's nine capa
 models and specs against its full interface report, 107 interfaces of which our rules
 keep 37 after leaving out infrastructure, and against the 33 the paper's filter kept; 18 needs),
 and five robots written down from public sources (``tests/retrieval/robots``: a TurtleBot 4, a
-TIAGo, a UR5e, a Go2 and a ROSbot XL with an arm) running the paper's capabilities. A need is an interface a correct skill needs, or a group of alternatives of which one is
+TIAGo, a UR5e, a Go2 and a ROSbot XL with an arm) running the paper's capabilities. A need is
+an interface a correct skill needs, or a group of alternatives of which one is
 enough. "fit@4" counts the needs that k=4 can hold at all (the MR-1's mapping needs 6).
 
 Latency is per capability query over the MR-1 inventory: *warm* with every embedding in
@@ -63,7 +64,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     os.environ["SKILLWRIGHT_CACHE_DIR"] = tempfile.mkdtemp(prefix="skillwright-bench-")
     if args.rerank:
         return rerank_comparison(args.rerank, args.sets.split(","))
-    from tests.retrieval.labelled import SETS, load_set, measure
+    from tests.retrieval.labelled import SETS, load_set
 
     from skillwright.llm.config import load_registry
     from skillwright.llm.embeddings import load_embedder
@@ -116,28 +117,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ]
 
     labelled = {name: load_set(name) for name in sets}
-    print("\nrecall: needs found @1 / @4 / @8 of all needs (fit = needs k=4 can hold)")
-    print(f"{'method':48}" + "".join(f"{name:>19}" for name in sets))
-    totals = "".join(
-        f"{f'{labelled[n].need_count} (fit {measure(labelled[n], _none, 4).attainable})':>19}"
-        for n in sets
-    )
-    print(f"{'needs':48}{totals}")
-    for label, rank in methods:
-        cells = [recall_cell(labelled[name], rank) for name in sets]
-        print(f"{label:48}" + "".join(f"{c:>19}" for c in cells))
-
-    print("\nhits among the first 4 that serve the other part of the robot (an arm interface")
-    print("for a base capability, or the reverse); a small model given one uses it")
-    body_methods = [
-        ("lexical + type semantics (default)", ours(Ranking(), False)),
-        ("the same with body_factor 0.5", ours(Ranking(body_factor=0.5), False)),
-        ("hybrid 0.1 + type semantics (--dense)", ours(Ranking(), True)),
-    ]
-    for label, rank in body_methods:
-        cells = [str(other_body_hits(labelled[name], rank)) for name in sets]
-        print(f"{label:48}" + "".join(f"{c:>19}" for c in cells))
-
+    print_recall(labelled, methods)
+    print_other_body_hits(labelled, ours)
     leave_one_robot_out(labelled, ours)
 
     print(
@@ -279,6 +260,40 @@ def recall_cell(labelled: LabelledSet, rank: Ranker) -> str:
         return ranked[cap.iri][:k]
 
     return "/".join(f"{measure(labelled, once, k).found:>2}" for k in (1, 4, 8))
+
+
+def print_recall(labelled: dict[str, LabelledSet], methods: list[tuple[str, Ranker]]) -> None:
+    """Recall@1/4/8 of each method on each labelled set, one row per method."""
+    from tests.retrieval.labelled import measure
+
+    print("\nrecall: needs found @1 / @4 / @8 of all needs (fit = needs k=4 can hold)")
+    print(f"{'method':48}" + "".join(f"{name:>19}" for name in labelled))
+    totals = "".join(
+        f"{f'{s.need_count} (fit {measure(s, _none, 4).attainable})':>19}"
+        for s in labelled.values()
+    )
+    print(f"{'needs':48}{totals}")
+    for label, rank in methods:
+        cells = [recall_cell(s, rank) for s in labelled.values()]
+        print(f"{label:48}" + "".join(f"{c:>19}" for c in cells))
+
+
+def print_other_body_hits(
+    labelled: dict[str, LabelledSet], ours: Callable[[Ranking, bool], Ranker]
+) -> None:
+    """The count of :func:`other_body_hits` per set for the default and its neighbours."""
+    from skillwright.retrieval.retrieve import Ranking
+
+    print("\nhits among the first 4 that serve the other part of the robot (an arm interface")
+    print("for a base capability, or the reverse); a small model given one uses it")
+    methods = [
+        ("lexical + type semantics (default)", ours(Ranking(), False)),
+        ("the same with body_factor 0.5", ours(Ranking(body_factor=0.5), False)),
+        ("hybrid 0.1 + type semantics (--dense)", ours(Ranking(), True)),
+    ]
+    for label, rank in methods:
+        cells = [str(other_body_hits(labelled[name], rank)) for name in labelled]
+        print(f"{label:48}" + "".join(f"{c:>19}" for c in cells))
 
 
 def other_body_hits(labelled: LabelledSet, rank: Ranker) -> int:
