@@ -14,12 +14,14 @@ from skillwright.generation.model import InterfaceRef
 from skillwright.generation.names import class_name, python_import, snake_case
 from skillwright.generation.skeleton import (
     build_skeleton,
+    class_constants,
     helper_dependencies,
     helper_summaries,
     mint_skill_iri,
     skeleton_helpers,
     subscription_qos,
     topic_role,
+    unstated_limits,
 )
 from skillwright.interfaces.inventory import QosProfile
 from skillwright.interfaces.load import load_inventory
@@ -493,3 +495,36 @@ def test_a_fault_after_driving_leaves_the_base_at_rest_without_an_aborting_in_th
     assert [f.check for f in report.findings if f.severity == "error"] == ["run.exception"]
     states = [(s.name, s.outcome) for s in report.trace.episodes[0].states]
     assert ("aborting", "done") in states
+
+
+def test_a_limit_the_spec_asks_for_and_the_capability_never_states_is_warned_about(
+    shared_data: Path,
+) -> None:
+    cap2skill = shared_data / "cap2skill"
+    capability = load_capability(cap2skill / "capability-models" / "set-velocity.ttl").capability
+    spec = load_spec(cap2skill / "skill-specs" / "set_velocity.json")
+    [warning] = unstated_limits(capability, spec)
+    assert warning.startswith(
+        "the specification's execute state asks for a limit (\"Set the velocity of the robot to "
+        'the desired value if it does not exceed the maximum possible velocity.") that the '
+        "capability setVelocity does not give"
+    )
+    assert "the skill enforces no limit" in warning
+
+
+def test_no_limit_warning_where_the_capability_or_the_sentence_gives_a_value() -> None:
+    capability, spec = shipped("set-velocity")  # resource requirements: velocity maxima
+    assert class_constants(capability)
+    assert not unstated_limits(capability, spec)
+    bare = capability.model_copy(update={"resource": None, "constraints": []})
+    states = {
+        "execute": "Drive at the desired velocity, at most 0.5 m/s. Stop below the requested "
+        "minimum distance.",
+        "completing": "Never drive faster than the maximum velocity.",
+    }
+    spec = parse_spec({"name": "drive", "skill_interface": "REST", "states": states})
+    [warning] = unstated_limits(bare, spec)
+    assert 'asks for a limit ("Never drive faster than the maximum velocity.")' in warning
+    states["completing"] = "Log the velocity reached."
+    spec = parse_spec({"name": "drive", "skill_interface": "REST", "states": states})
+    assert unstated_limits(bare, spec) == []

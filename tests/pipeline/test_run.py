@@ -397,3 +397,19 @@ def test_retrieve_does_not_load_the_embedding_model_once_cancelled(
             SHIPPED_CAPABILITIES / "move-forward.ttl", None, RECORDING, dense=True, cancel=cancel
         )
     assert loads == []
+
+
+def test_a_limit_the_capability_never_states_is_a_note_of_the_run(
+    tmp_path: Path, shared_data: Path
+) -> None:
+    cap2skill = shared_data / "cap2skill"
+    changes = {
+        "capability": cap2skill / "capability-models" / "set-velocity.ttl",
+        "spec": cap2skill / "skill-specs" / "set_velocity.json",
+        "pinned": (),
+        "skeleton": True,
+    }
+    record = run_generation(request(tmp_path / "out", **changes)).record
+    [note] = [n for n in record.notes if "asks for a limit" in n]
+    assert "maximum possible velocity" in note
+    assert "the capability setVelocity does not give" in note

@@ -36,6 +36,7 @@ __all__ = [
     "skeleton_helpers",
     "topic_role",
     "type_class",
+    "unstated_limits",
 ]
 
 SKELETON_NOTE = (
@@ -137,6 +138,36 @@ def class_constants(capability: Capability) -> list[tuple[str, str, str]]:
             unit = f" {instance.unit}" if instance.unit else ""
             comment = f"resource requirement: {prop.name} {relation} {instance.value}{unit}"
             out.append((name, repr(instance.value), comment))
+    return out
+
+
+_LIMIT_WORDS = re.compile(
+    r"\b(?<!desired )(?<!requested )(?<!given )(maximum|minimum|max|min|limits?)\b", re.IGNORECASE
+)
+_BOUND = re.compile(r"(<=?|>=?)\s*-?\d|\d\s*(<=?|>=?)|\b(min|max)\(")
+
+
+def unstated_limits(capability: Capability, spec: SkillSpec) -> list[str]:
+    """Warnings for sentences of the specification that ask for a limit (``if it does not
+    exceed the maximum possible velocity``) with no value, where the capability states none
+    either: no resource requirement and no numeric bound in its constraints. The skill then
+    enforces no limit at all, and the engineer should know before it drives a robot."""
+    stated = class_constants(capability) or any(
+        _BOUND.search(c.text) for c in capability.constraints
+    )
+    if stated:
+        return []
+    out = []
+    for state, text in spec.states.items():
+        for sentence in re.split(r"(?<=[.!?])\s+", text.strip()):
+            if _LIMIT_WORDS.search(sentence) and not re.search(r"\d", sentence):
+                out.append(
+                    f'the specification\'s {state} state asks for a limit ("{sentence}") that '
+                    f"the capability {capability.name} does not give: neither a resource "
+                    "requirement nor a constraint states a value, so the skill enforces no "
+                    "limit. State the value in the capability model (for example a requirement "
+                    "on the resource's maximum velocity) and generate again"
+                )
     return out
 
 

@@ -812,7 +812,7 @@ def run_generation(
     """Runs the whole pipeline and writes the output folder; see the module docstring."""
     from skillwright.capability.reader import load_capability
     from skillwright.generation.output import write_outputs
-    from skillwright.generation.skeleton import build_skeleton
+    from skillwright.generation.skeleton import build_skeleton, unstated_limits
     from skillwright.interfaces.load import load_inventory
     from skillwright.spec.loader import load_spec
     from skillwright.validation.catalog import catalog_from_inventory
@@ -831,6 +831,7 @@ def run_generation(
         _known_names(inventory, request.pinned, "pinned")
         _known_names(inventory, request.dropped, "dropped")
         notes += load.warnings
+        notes += unstated_limits(load.capability, spec)
         s.append(f"{load.capability.name}, {spec.name}, {len(inventory.interfaces)} interfaces")
     retrieved = _retrieval_stage(request, stages, load, spec, inventory)
     hits, method, reranking, chosen_hits, loaded = retrieved
