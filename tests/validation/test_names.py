@@ -168,6 +168,35 @@ def test_a_local_variable_of_another_method_is_found_where_it_is_used(
         "self.out_linear_velocity), or get the value again here"
     ]
     assert "m done at {speed}" in source.splitlines()[found[0].line - 1]
+    # the fix reads it from the skill; the next check has execute keep it there
+    assert found[0].replacement == (
+        "self.node.get_logger().info(f'{self.in_distance} m asked, {self.out_distance} m done "
+        "at {self.speed} m/s')"
+    )
+
+
+def test_a_local_a_loop_updates_is_kept_on_the_skill_after_the_loop(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = (
+        GOOD.replace(
+            "        command = Twist()\n", "        command = Twist()\n        scale = 1.0\n", 1
+        )
+        .replace(
+            "            self.cmd_vel_publisher.publish(command)\n",
+            "            self.cmd_vel_publisher.publish(command)\n            scale = scale * 0.9\n",
+            1,
+        )
+        .replace('{self.out_distance} m done")', '{self.out_distance} m done, {self.scale}")', 1)
+    )
+    found = _names(source, move_forward)
+    assert [f.message for f in found] == [
+        "scale is a local variable of execute, but completing read self.scale: "
+        "assign it as self.scale = ... here"
+    ]
+    assert source.splitlines()[found[0].line - 1].strip().startswith("while self._travelled()")
+    assert found[0].replacement is not None
+    assert found[0].replacement.endswith("    time.sleep(0.05)\nself.scale = scale")
 
 
 def test_an_invented_attribute_with_no_close_name_points_to_the_latest_messages(

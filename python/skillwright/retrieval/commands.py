@@ -111,7 +111,7 @@ def retrieve(
         )
     if model_id is not None and not rerank:
         raise InvalidArgumentError("--model names the re-ranking model; add --rerank")
-    embed, embedding_id = (None, None) if not dense else _embedder(models_file, len(pool))
+    embed, embedding_id = _embedder(models_file, len(pool)) if dense else (None, None)
     started = time.perf_counter()
     hits = rank_interfaces(
         inventory,

@@ -274,12 +274,45 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
         use = _scope_uses(tree, name, child.get_lineno())
         if use is not None and name not in seen:
             seen.add(name)
-            findings.append(_finding(use, _undefined_message(name, tree)))
+            findings.append(
+                _finding(use, _undefined_message(name, tree), _read_from_skill(tree, use))
+            )
     for node in ast.walk(tree):
         if isinstance(node, ast.Name) and node.id in class_level and node.id not in seen:
             seen.add(node.id)
             findings.append(_finding(node, _undefined_message(node.id, tree)))
     return findings
+
+
+def _read_from_skill(tree: ast.Module, use: ast.Name) -> str | None:
+    """The statement holding ``use`` with the name read from the skill (``self.name``), when
+    the name is a local variable of another method of the class: rotate's completing logged
+    ``remaining_angle``, which only execute had. The checks then have execute keep it."""
+    owners = [_locals_by_method(cls) for cls in tree.body if isinstance(cls, ast.ClassDef)]
+    if not any(use.id in local for local in owners):
+        return None
+    holders = [
+        node
+        for node in ast.walk(tree)
+        if isinstance(node, ast.stmt)
+        and not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef)
+        and any(n is use for n in ast.walk(node))
+    ]
+    if not holders:
+        return None
+    # the innermost: the shortest, and of equal ones the deepest (walked last)
+    innermost = min(
+        enumerate(holders), key=lambda p: ((p[1].end_lineno or p[1].lineno) - p[1].lineno, -p[0])
+    )[1]
+    statement = copy.deepcopy(innermost)
+
+    class _ToAttribute(ast.NodeTransformer):
+        def visit_Name(self, node: ast.Name) -> ast.AST:
+            if node.id == use.id and isinstance(node.ctx, ast.Load):
+                return ast.Attribute(ast.Name("self", ast.Load()), node.id, ast.Load())
+            return node
+
+    return ast.unparse(_ToAttribute().visit(statement))
 
 
 def self_attribute(node: ast.AST) -> str | None:
@@ -402,6 +435,19 @@ def _locals_by_method(cls: ast.ClassDef) -> dict[str, tuple[_Method, ast.AST]]:
     return found
 
 
+def _last_assigning_statement(method: _Method, name: str) -> ast.stmt | None:
+    """The statement of the method's body (top level) that holds its last assignment of the
+    local variable ``name``; ``None`` when that is a ``return`` or the method has none."""
+    found = None
+    for statement in method.body:
+        if any(
+            isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store)
+            for n in ast.walk(statement)
+        ):
+            found = statement
+    return None if isinstance(found, ast.Return) else found
+
+
 def _readers(cls: ast.ClassDef, name: str) -> list[str]:
     return [
         member.name
@@ -438,15 +484,17 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             # is where it is made, so the finding goes there.
             method, assignment = local[name]
             readers = " and ".join(_readers(cls, name))
-            # The assignment, and the value kept on the skill right after it.
+            # The value kept on the skill once the method is done changing it: after the
+            # statement of its body that holds the last assignment (a loop that updates it).
+            last = _last_assigning_statement(method, name)
             keep = (
-                f"{ast.unparse(assignment)}\nself.{name} = {name}"
-                if isinstance(assignment, ast.Assign) and len(assignment.targets) == 1
+                f"{ast.unparse(last)}\nself.{name} = {name}"
+                if last is not None and isinstance(assignment, ast.Assign)
                 else None
             )
             findings.append(
                 _finding(
-                    assignment,
+                    assignment if last is None else last,
                     f"{name} is a local variable of {method.name}, but {readers} read self.{name}: "
                     f"assign it as self.{name} = ... here",
                     keep,
