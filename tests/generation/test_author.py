@@ -828,3 +828,19 @@ def test_cancelling_stops_between_answers(case: _Case) -> None:
     with pytest.raises(GenerationCancelledError):
         case.write(model, cancel=cancel)
     assert len(model.prompts) == 2
+
+
+def test_a_worked_examples_helper_copied_into_a_state_is_not_asked_for(case: _Case) -> None:
+    copied = "        self._cancel_dock_robot_goal(2.0)\n```"
+    model = MethodScript({**GOOD, "stopping": [copied, STOPPING]})
+    authored = case.write(model)
+    assert "_cancel_dock_robot_goal" not in model.asked
+    first, second = [a for a in authored.attempts if a.target == "stopping"]
+    assert not first.chosen
+    assert second.chosen
+    assert second.problems == [
+        "`self._cancel_dock_robot_goal(2.0)`: self._cancel_dock_robot_goal() is not a method of "
+        "this class; the helpers it has are self._stop_base(), self._wait_until()"
+    ]
+    assert "_cancel_dock_robot_goal" not in authored.code
+    assert not [f for f in authored.findings if f.severity == "error"], authored.findings

@@ -16,6 +16,7 @@ its first error.
 
 from __future__ import annotations
 
+import re
 import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -24,6 +25,7 @@ from pathlib import Path
 
 import yaml
 
+from skillwright.generation.skeleton import helper_summaries
 from skillwright.llm.base import ChatMessage, Prompt
 
 __all__ = [
@@ -33,6 +35,7 @@ __all__ = [
     "STOP",
     "Conversation",
     "Turn",
+    "example_helpers",
     "fence",
     "helper_ask",
     "prefix_messages",
@@ -83,6 +86,21 @@ def prefix_messages() -> tuple[ChatMessage, ...]:
             answer = textwrap.indent(turn["answer"].rstrip(), MEMBER_INDENT)
             messages += [ChatMessage("user", ask), ChatMessage("assistant", fence(answer))]
     return tuple(messages)
+
+
+@cache
+def example_helpers() -> frozenset[str]:
+    """The helpers the few-shot examples' cards offer for their invented robots' interfaces
+    (``_send_dock_robot_goal`` and the like; not the generic ones any skill may get)."""
+    document = yaml.safe_load(EXAMPLES_PATH.read_text(encoding="utf-8"))
+    offered = {
+        name
+        for example in document["examples"]
+        for line in example["card"].splitlines()
+        if line.lstrip().startswith("Helpers:")
+        for name in re.findall(r"self\.(_\w+)\(", line)
+    }
+    return frozenset(offered - set(helper_summaries([])))
 
 
 def state_ask(state: str, text: str) -> str:

@@ -466,6 +466,7 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
     methods = {m.name for m in cls.body if isinstance(m, ast.FunctionDef | ast.AsyncFunctionDef)}
     latest = _latest_messages(cls)
     local = _locals_by_method(cls)
+    called = {id(c.func) for c in ast.walk(cls) if isinstance(c, ast.Call)}
     findings = []
     seen: set[str] = set()
     for node in ast.walk(cls):
@@ -502,13 +503,22 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             )
             continue
         hint = _hint(name, defined, methods, latest)
+        message = f"self.{name} is never set in this class{hint}"
+        if id(node) in called and not hint.startswith("; did you mean"):
+            # A call of a method nobody wrote, e.g. a worked example's goal helper copied
+            # along with its state: the class's own helpers are what it can call.
+            helpers = sorted(
+                f"self.{m}()"
+                for m in methods
+                if m.startswith("_") and not m.startswith(("__", "_on_"))
+            )
+            message = (
+                f"self.{name}() is not a method of this class; the helpers it has are "
+                f"{', '.join(helpers) or 'none'}"
+            )
         unlimited = name.isupper() and not any(d.isupper() for d in defined)
         findings.append(
-            _finding(
-                node,
-                f"self.{name} is never set in this class{hint}",
-                _without_limit(cls, node, name) if unlimited else None,
-            )
+            _finding(node, message, _without_limit(cls, node, name) if unlimited else None)
         )
     return findings
 
