@@ -175,6 +175,27 @@ def test_a_local_variable_of_another_method_is_found_where_it_is_used(
     )
 
 
+def test_a_local_made_in_a_try_block_is_kept_right_after_it_is_made(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "        command = Twist()\n",
+        "        command = Twist()\n"
+        "        try:\n"
+        "            scale = float(self.in_distance)\n"
+        "        except ValueError:\n"
+        "            raise\n",
+        1,
+    ).replace('{self.out_distance} m done")', '{self.out_distance} m done, {self.scale}")', 1)
+    found = _names(source, move_forward)
+    assert [f.message for f in found] == [
+        "scale is a local variable of execute, but completing read self.scale: "
+        "assign it as self.scale = ... here"
+    ]
+    assert source.splitlines()[found[0].line - 1].strip().startswith("scale = float(")
+    assert found[0].replacement == "scale = float(self.in_distance)\nself.scale = scale"
+
+
 def test_a_local_a_loop_updates_is_kept_on_the_skill_after_the_loop(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

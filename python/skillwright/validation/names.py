@@ -436,16 +436,31 @@ def _locals_by_method(cls: ast.ClassDef) -> dict[str, tuple[_Method, ast.AST]]:
 
 
 def _last_assigning_statement(method: _Method, name: str) -> ast.stmt | None:
-    """The statement of the method's body (top level) that holds its last assignment of the
-    local variable ``name``; ``None`` when that is a ``return`` or the method has none."""
-    found = None
-    for statement in method.body:
-        if any(
+    """Where the method is done changing the local variable ``name``: its last assignment,
+    or the outermost ``while`` loop around it (a loop that updates it); ``None`` if the
+    method assigns it nowhere."""
+    parents: dict[int, ast.AST] = {}
+    for node in ast.walk(method):
+        for child in ast.iter_child_nodes(node):
+            parents[id(child)] = node
+    assignments = [
+        node
+        for node in ast.walk(method)
+        if isinstance(node, ast.Assign | ast.AugAssign | ast.AnnAssign)
+        and any(
             isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store)
-            for n in ast.walk(statement)
-        ):
-            found = statement
-    return None if isinstance(found, ast.Return) else found
+            for n in ast.walk(node)
+        )
+    ]
+    if not assignments:
+        return None
+    found: ast.stmt = max(assignments, key=lambda n: (n.lineno, n.col_offset))
+    node: ast.AST = found
+    while id(node) in parents and node is not method:
+        node = parents[id(node)]
+        if isinstance(node, ast.While):
+            found = node
+    return found
 
 
 def _readers(cls: ast.ClassDef, name: str) -> list[str]:
