@@ -196,7 +196,7 @@ def test_a_local_made_in_a_try_block_is_kept_right_after_it_is_made(
     assert found[0].replacement == "scale = float(self.in_distance)\nself.scale = scale"
 
 
-def test_a_local_a_loop_updates_is_kept_on_the_skill_after_the_loop(
+def test_a_local_a_loop_updates_is_kept_on_the_skill_on_every_pass(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
     source = (
@@ -215,9 +215,26 @@ def test_a_local_a_loop_updates_is_kept_on_the_skill_after_the_loop(
         "scale is a local variable of execute, but completing read self.scale: "
         "assign it as self.scale = ... here"
     ]
-    assert source.splitlines()[found[0].line - 1].strip().startswith("while self._travelled()")
-    assert found[0].replacement is not None
-    assert found[0].replacement.endswith("    time.sleep(0.05)\nself.scale = scale")
+    assert source.splitlines()[found[0].line - 1].strip() == "scale = scale * 0.9"
+    assert found[0].replacement == "scale = scale * 0.9\nself.scale = scale"
+
+
+def test_a_local_changed_in_a_branch_is_kept_after_the_branch(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "        command = Twist()\n",
+        "        command = Twist()\n"
+        "        scale = 1.0\n"
+        "        if self.in_distance > 2.0:\n"
+        "            scale = 0.5\n",
+        1,
+    ).replace('{self.out_distance} m done")', '{self.out_distance} m done, {self.scale}")', 1)
+    found = _names(source, move_forward)
+    assert source.splitlines()[found[0].line - 1].strip() == "if self.in_distance > 2.0:"
+    assert found[0].replacement == (
+        "if self.in_distance > 2.0:\n    scale = 0.5\nself.scale = scale"
+    )
 
 
 def test_an_invented_attribute_with_no_close_name_points_to_the_latest_messages(

@@ -437,8 +437,9 @@ def _locals_by_method(cls: ast.ClassDef) -> dict[str, tuple[_Method, ast.AST]]:
 
 def _last_assigning_statement(method: _Method, name: str) -> ast.stmt | None:
     """Where the method is done changing the local variable ``name``: its last assignment,
-    or the outermost ``while`` loop around it (a loop that updates it); ``None`` if the
-    method assigns it nowhere."""
+    or the outermost ``if`` around it, so that the value is kept whichever branch ran (a
+    loop that updates it keeps it on every pass); ``None`` if the method assigns it
+    nowhere."""
     parents: dict[int, ast.AST] = {}
     for node in ast.walk(method):
         for child in ast.iter_child_nodes(node):
@@ -455,11 +456,8 @@ def _last_assigning_statement(method: _Method, name: str) -> ast.stmt | None:
     if not assignments:
         return None
     found: ast.stmt = max(assignments, key=lambda n: (n.lineno, n.col_offset))
-    node: ast.AST = found
-    while id(node) in parents and node is not method:
-        node = parents[id(node)]
-        if isinstance(node, ast.While):
-            found = node
+    while isinstance(parent := parents.get(id(found)), ast.If):
+        found = parent
     return found
 
 
