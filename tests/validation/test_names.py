@@ -175,6 +175,24 @@ def test_a_local_variable_of_another_method_is_found_where_it_is_used(
     )
 
 
+def test_locals_of_another_method_in_one_statement_are_all_read_from_the_skill_at_once(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        '{self.out_distance} m done")', '{self.out_distance} m done at {speed}, {command}")', 1
+    )
+    found = _names(source, move_forward)
+    assert [f.message.split(" and ")[0] for f in found] == [
+        "speed is a local variable of execute",
+        "command is a local variable of execute",
+    ]
+    fix = (
+        "self.node.get_logger().info(f'{self.in_distance} m asked, {self.out_distance} m done "
+        "at {self.speed}, {self.command}')"
+    )
+    assert [f.replacement for f in found] == [fix, fix]
+
+
 def test_a_local_made_in_a_try_block_is_kept_right_after_it_is_made(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

@@ -275,7 +275,11 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
         if use is not None and name not in seen:
             seen.add(name)
             findings.append(
-                _finding(use, _undefined_message(name, tree), _read_from_skill(tree, use))
+                _finding(
+                    use,
+                    _undefined_message(name, tree),
+                    _read_from_skill(tree, use, {n for n, c in uses if c is child}),
+                )
             )
     for node in ast.walk(tree):
         if isinstance(node, ast.Name) and node.id in class_level and node.id not in seen:
@@ -284,12 +288,15 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
     return findings
 
 
-def _read_from_skill(tree: ast.Module, use: ast.Name) -> str | None:
+def _read_from_skill(tree: ast.Module, use: ast.Name, undefined: set[str]) -> str | None:
     """The statement holding ``use`` with the name read from the skill (``self.name``), when
     the name is a local variable of another method of the class: rotate's completing logged
-    ``remaining_angle``, which only execute had. The checks then have execute keep it."""
+    ``remaining_angle``, which only execute had. The checks then have execute keep it. Every
+    such name the statement reads (of ``undefined``, the names its method reads but never
+    assigns) is read from the skill at once: one fix, not one per name."""
     owners = [_locals_by_method(cls) for cls in tree.body if isinstance(cls, ast.ClassDef)]
-    if not any(use.id in local for local in owners):
+    theirs = {name for name in undefined if any(name in local for local in owners)}
+    if use.id not in theirs:
         return None
     holders = [
         node
@@ -308,7 +315,7 @@ def _read_from_skill(tree: ast.Module, use: ast.Name) -> str | None:
 
     class _ToAttribute(ast.NodeTransformer):
         def visit_Name(self, node: ast.Name) -> ast.AST:
-            if node.id == use.id and isinstance(node.ctx, ast.Load):
+            if node.id in theirs and isinstance(node.ctx, ast.Load):
                 return ast.Attribute(ast.Name("self", ast.Load()), node.id, ast.Load())
             return node
 
