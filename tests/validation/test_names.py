@@ -131,6 +131,13 @@ def test_a_message_asked_of_a_subscription_is_waited_for_once_and_taken_from_the
     assert [f.replacement for f in found] == [wait, "", "odom = self.odom_msg"]
 
 
+def _logged(source: str, more: str) -> str:
+    """``source`` with ``more`` added to what completing logs."""
+    return source.replace(
+        '{self.out_distance} m done")', f'{{self.out_distance}} m done{more}")', 1
+    )
+
+
 def test_a_local_variable_other_methods_read_from_the_skill_is_found_where_it_is_made(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
@@ -158,9 +165,7 @@ def test_a_local_variable_other_methods_read_from_the_skill_is_found_where_it_is
 def test_a_local_variable_of_another_method_is_found_where_it_is_used(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    source = GOOD.replace(
-        '{self.out_distance} m done")', '{self.out_distance} m done at {speed} m/s")', 1
-    )
+    source = _logged(GOOD, " at {speed} m/s")
     found = _names(source, move_forward)
     assert [f.message for f in found] == [
         "speed is a local variable of execute and does not exist here: use what execute "
@@ -178,9 +183,7 @@ def test_a_local_variable_of_another_method_is_found_where_it_is_used(
 def test_locals_of_another_method_in_one_statement_are_all_read_from_the_skill_at_once(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    source = GOOD.replace(
-        '{self.out_distance} m done")', '{self.out_distance} m done at {speed}, {command}")', 1
-    )
+    source = _logged(GOOD, " at {speed}, {command}")
     found = _names(source, move_forward)
     assert [f.message.split(" and ")[0] for f in found] == [
         "speed is a local variable of execute",
@@ -193,66 +196,34 @@ def test_locals_of_another_method_in_one_statement_are_all_read_from_the_skill_a
     assert [f.replacement for f in found] == [fix, fix]
 
 
-def test_a_local_made_in_a_try_block_is_kept_right_after_it_is_made(
-    move_forward: tuple[Capability, SkillSpec],
+TRY = "        try:\n            scale = float(self.in_distance)\n        except ValueError:\n            raise\n"
+BRANCH = "        scale = 1.0\n        if self.in_distance > 2.0:\n            scale = 0.5\n"
+
+
+@pytest.mark.parametrize(
+    ("made", "in_loop", "where", "fix"),
+    [
+        # made in a try block: kept right after it is made
+        (TRY, "", "scale = float(self.in_distance)", "scale = float(self.in_distance)"),
+        # updated by a loop: kept on every pass
+        ("        scale = 1.0\n", "            scale = scale * 0.9\n", "scale = scale * 0.9", ""),
+        # changed in a branch: kept after the branch, whichever ran
+        (BRANCH, "", "if self.in_distance > 2.0:", "if self.in_distance > 2.0:\n    scale = 0.5"),
+    ],
+)
+def test_a_local_is_kept_on_the_skill_where_its_method_is_done_changing_it(
+    move_forward: tuple[Capability, SkillSpec], made: str, in_loop: str, where: str, fix: str
 ) -> None:
-    source = GOOD.replace(
-        "        command = Twist()\n",
-        "        command = Twist()\n"
-        "        try:\n"
-        "            scale = float(self.in_distance)\n"
-        "        except ValueError:\n"
-        "            raise\n",
-        1,
-    ).replace('{self.out_distance} m done")', '{self.out_distance} m done, {self.scale}")', 1)
+    publish = "            self.cmd_vel_publisher.publish(command)\n"
+    source = GOOD.replace("        command = Twist()\n", f"        command = Twist()\n{made}", 1)
+    source = _logged(source.replace(publish, publish + in_loop, 1), ", {self.scale}")
     found = _names(source, move_forward)
     assert [f.message for f in found] == [
         "scale is a local variable of execute, but completing read self.scale: "
         "assign it as self.scale = ... here"
     ]
-    assert source.splitlines()[found[0].line - 1].strip().startswith("scale = float(")
-    assert found[0].replacement == "scale = float(self.in_distance)\nself.scale = scale"
-
-
-def test_a_local_a_loop_updates_is_kept_on_the_skill_on_every_pass(
-    move_forward: tuple[Capability, SkillSpec],
-) -> None:
-    source = (
-        GOOD.replace(
-            "        command = Twist()\n", "        command = Twist()\n        scale = 1.0\n", 1
-        )
-        .replace(
-            "            self.cmd_vel_publisher.publish(command)\n",
-            "            self.cmd_vel_publisher.publish(command)\n            scale = scale * 0.9\n",
-            1,
-        )
-        .replace('{self.out_distance} m done")', '{self.out_distance} m done, {self.scale}")', 1)
-    )
-    found = _names(source, move_forward)
-    assert [f.message for f in found] == [
-        "scale is a local variable of execute, but completing read self.scale: "
-        "assign it as self.scale = ... here"
-    ]
-    assert source.splitlines()[found[0].line - 1].strip() == "scale = scale * 0.9"
-    assert found[0].replacement == "scale = scale * 0.9\nself.scale = scale"
-
-
-def test_a_local_changed_in_a_branch_is_kept_after_the_branch(
-    move_forward: tuple[Capability, SkillSpec],
-) -> None:
-    source = GOOD.replace(
-        "        command = Twist()\n",
-        "        command = Twist()\n"
-        "        scale = 1.0\n"
-        "        if self.in_distance > 2.0:\n"
-        "            scale = 0.5\n",
-        1,
-    ).replace('{self.out_distance} m done")', '{self.out_distance} m done, {self.scale}")', 1)
-    found = _names(source, move_forward)
-    assert source.splitlines()[found[0].line - 1].strip() == "if self.in_distance > 2.0:"
-    assert found[0].replacement == (
-        "if self.in_distance > 2.0:\n    scale = 0.5\nself.scale = scale"
-    )
+    assert source.splitlines()[found[0].line - 1].strip() == where
+    assert found[0].replacement == f"{fix or where}\nself.scale = scale"
 
 
 def test_an_invented_attribute_with_no_close_name_points_to_the_latest_messages(
@@ -273,9 +244,7 @@ def test_an_invented_attribute_with_no_close_name_points_to_the_latest_messages(
 def test_an_attribute_close_to_a_method_name_suggests_calling_the_method(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    source = GOOD.replace(
-        '{self.out_distance} m done")', '{self.out_distance} m done, {self._travelled_m}")', 1
-    )
+    source = _logged(GOOD, ", {self._travelled_m}")
     found = _names(source, move_forward)
     assert [f.message for f in found] == [
         "self._travelled_m is never set in this class; did you mean the method "
