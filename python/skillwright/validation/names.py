@@ -288,6 +288,19 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
     return findings
 
 
+def _statement_holding(root: ast.AST, node: ast.AST) -> ast.stmt | None:
+    """The innermost statement under ``root`` (not a definition) that holds ``node``."""
+    # ast.walk goes breadth first: the innermost holder comes last.
+    holding = [
+        s
+        for s in ast.walk(root)
+        if isinstance(s, ast.stmt)
+        and not isinstance(s, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef)
+        and any(n is node for n in ast.walk(s))
+    ]
+    return holding[-1] if holding else None
+
+
 def _read_from_skill(tree: ast.Module, use: ast.Name, undefined: set[str]) -> str | None:
     """The statement holding ``use`` with the name read from the skill (``self.name``), when
     the name is a local variable of another method of the class: rotate's completing logged
@@ -298,19 +311,9 @@ def _read_from_skill(tree: ast.Module, use: ast.Name, undefined: set[str]) -> st
     theirs = {name for name in undefined if any(name in local for local in owners)}
     if use.id not in theirs:
         return None
-    holders = [
-        node
-        for node in ast.walk(tree)
-        if isinstance(node, ast.stmt)
-        and not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef)
-        and any(n is use for n in ast.walk(node))
-    ]
-    if not holders:
+    innermost = _statement_holding(tree, use)
+    if innermost is None:
         return None
-    # the innermost: the shortest, and of equal ones the deepest (walked last)
-    innermost = min(
-        enumerate(holders), key=lambda p: ((p[1].end_lineno or p[1].lineno) - p[1].lineno, -p[0])
-    )[1]
     statement = copy.deepcopy(innermost)
 
     class _ToAttribute(ast.NodeTransformer):
@@ -505,8 +508,7 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             # is where it is made, so the finding goes there.
             method, assignment = local[name]
             readers = " and ".join(_readers(cls, name))
-            # The value kept on the skill once the method is done changing it: after the
-            # statement of its body that holds the last assignment (a loop that updates it).
+            # The value kept on the skill once the method is done changing it.
             last = _last_assigning_statement(method, name)
             keep = (
                 f"{ast.unparse(last)}\nself.{name} = {name}"
@@ -515,7 +517,7 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             )
             findings.append(
                 _finding(
-                    assignment if last is None else last,
+                    last or assignment,
                     f"{name} is a local variable of {method.name}, but {readers} read self.{name}: "
                     f"assign it as self.{name} = ... here",
                     keep,
@@ -572,15 +574,7 @@ def _without_limit(cls: ast.ClassDef, node: ast.AST, name: str) -> str | None:
     def reads(part: ast.AST) -> bool:
         return any(self_attribute(n) == name for n in ast.walk(part))
 
-    # ast.walk goes breadth first: the innermost statement holding the read comes last.
-    holding = [
-        s
-        for s in ast.walk(cls)
-        if isinstance(s, ast.stmt)
-        and not isinstance(s, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef)
-        and any(n is node for n in ast.walk(s))
-    ]
-    statement = holding[-1] if holding else None
+    statement = _statement_holding(cls, node)
     if (
         isinstance(statement, ast.If)
         and not statement.orelse
