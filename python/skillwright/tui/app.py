@@ -35,6 +35,7 @@ from skillwright.tui.screens.interfaces import InterfacesPane
 from skillwright.tui.screens.retrieval import RetrievalPane
 from skillwright.tui.screens.spec import SpecPane
 from skillwright.tui.session import TABS, load_session, save_session
+from skillwright.tui.widgets.tabs import FocusTabs
 from skillwright.tui.workspace import Workspace
 
 if TYPE_CHECKING:
@@ -106,7 +107,7 @@ class SkillwrightApp(App[None]):
     # --- layout -----------------------------------------------------------------------------
     def compose(self) -> ComposeResult:
         yield Header()
-        with TabbedContent(initial=self.session.active_tab, id="tabs"):
+        with FocusTabs(initial=self.session.active_tab, id="tabs"):
             with TabPane(TAB_TITLES["capability"], id="capability"):
                 yield CapabilityPane()
             with TabPane(TAB_TITLES["specification"], id="specification"):

@@ -39,6 +39,13 @@ __all__ = [
 ]
 
 
+class _ForThePoster(Message):
+    """A message only the widget that posted it handles: it does not bubble up through the
+    tabs and the screen, whose queues a streaming worker would otherwise keep busy."""
+
+    bubble = False
+
+
 @dataclass
 class JobFailed(Message):
     """An engine call failed with a :class:`~skillwright.errors.SkillwrightError`."""
@@ -52,7 +59,7 @@ class JobFailed(Message):
 
 
 @dataclass
-class CapabilityLoaded(Message):
+class CapabilityLoaded(_ForThePoster):
     """A capability model was read."""
 
     path: Path
@@ -62,7 +69,7 @@ class CapabilityLoaded(Message):
 
 
 @dataclass
-class CapabilityChoices(Message):
+class CapabilityChoices(_ForThePoster):
     """A capability file holds several capabilities; the user chooses one."""
 
     path: Path
@@ -72,7 +79,7 @@ class CapabilityChoices(Message):
 
 
 @dataclass
-class SpecFormReady(Message):
+class SpecFormReady(_ForThePoster):
     """The specification module is imported; the form can be built."""
 
     states: tuple[str, ...]
@@ -80,7 +87,7 @@ class SpecFormReady(Message):
 
 
 @dataclass
-class SpecFileLoaded(Message):
+class SpecFileLoaded(_ForThePoster):
     """A specification file was read and checked."""
 
     path: Path
@@ -90,7 +97,7 @@ class SpecFileLoaded(Message):
 
 
 @dataclass
-class InventoryLoaded(Message):
+class InventoryLoaded(_ForThePoster):
     """An interface source was read into an inventory."""
 
     source: Path
@@ -98,7 +105,7 @@ class InventoryLoaded(Message):
 
 
 @dataclass
-class EnrichProgress(Message):
+class EnrichProgress(_ForThePoster):
     """Enrichment finished ``done`` of ``total`` interfaces."""
 
     done: int
@@ -107,7 +114,7 @@ class EnrichProgress(Message):
 
 
 @dataclass
-class InventoryEnriched(Message):
+class InventoryEnriched(_ForThePoster):
     """Enrichment finished; the enriched inventory was saved to ``saved_to``."""
 
     inventory: Inventory
@@ -117,7 +124,7 @@ class InventoryEnriched(Message):
 
 
 @dataclass
-class RetrievalFinished(Message):
+class RetrievalFinished(_ForThePoster):
     """Retrieval ranked the interfaces."""
 
     hits: list[Hit]
@@ -126,7 +133,7 @@ class RetrievalFinished(Message):
 
 
 @dataclass
-class ModelsListed(Message):
+class ModelsListed(_ForThePoster):
     """The generation models of models.toml, as (label, id) pairs, and the default id."""
 
     options: list[tuple[str, str]]
@@ -134,21 +141,21 @@ class ModelsListed(Message):
 
 
 @dataclass
-class GenerationEvent(Message):
+class GenerationEvent(_ForThePoster):
     """One event of :func:`skillwright.pipeline.run_generation` (stage, tokens, stats)."""
 
     event: Any
 
 
 @dataclass
-class GenerationFinished(Message):
+class GenerationFinished(_ForThePoster):
     """Generation wrote its result folder; ``outcome`` is the pipeline's ``Outcome``."""
 
     outcome: Any
 
 
 @dataclass
-class HistoryLoaded(Message):
+class HistoryLoaded(_ForThePoster):
     """The workspace's earlier generations: (folder, record) pairs, newest first."""
 
     entries: list[tuple[Path, Any]] = field(default_factory=list)
