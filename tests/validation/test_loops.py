@@ -128,3 +128,92 @@ def test_a_loop_that_continues_gets_no_replacement_a_sleep_at_its_end_would_miss
     )
     assert len(found) == 1
     assert found[0].replacement is None
+
+
+def test_a_timeout_that_compares_the_clock_with_a_duration_gets_a_deadline() -> None:
+    # MR-1 navigate-to-point (ev43): the goal "was not completed within 5 s" on the first pass.
+    found = _waits(
+        """
+        def execute(self):
+            while not self.result_future.done():
+                if time.monotonic() > 5.0:
+                    raise RuntimeError("the navigation was not completed within 5 s")
+                time.sleep(0.5)
+        """
+    )
+    assert [f.check for f in found] == ["waits"]
+    assert "time.monotonic() > 5.0 compares the clock's reading" in found[0].message
+    assert "`deadline = time.monotonic() + 5.0`" in found[0].message
+    assert found[0].line == HEAD.count("\n") + 2
+    assert found[0].replacement == (
+        "deadline = time.monotonic() + 5.0\n"
+        "while not self.result_future.done():\n"
+        "    if time.monotonic() > deadline:\n"
+        "        raise RuntimeError('the navigation was not completed within 5 s')\n"
+        "    time.sleep(0.5)"
+    )
+
+
+def test_one_fix_takes_each_deadline_and_adds_the_missing_sleep() -> None:
+    found = _waits(
+        """
+        def execute(self):
+            deadline = 1
+            while self.TIMEOUT >= time.time() and time.monotonic() < 2:
+                if time.monotonic() > 2:
+                    break
+                self.cmd_vel_publisher.publish(command)
+        """
+    )
+    assert len(found) == 4  # three comparisons and the missing sleep, one fix for all
+    assert {f.replacement for f in found} == {
+        "deadline_2 = time.time() + self.TIMEOUT\n"
+        "deadline_3 = time.monotonic() + 2\n"
+        "while deadline_2 >= time.time() and time.monotonic() < deadline_3:\n"
+        "    if time.monotonic() > deadline_3:\n"
+        "        break\n"
+        "    self.cmd_vel_publisher.publish(command)\n"
+        "    time.sleep(0.05)"
+    }
+
+
+@pytest.mark.parametrize(
+    "comparison",
+    [
+        "time.monotonic() > deadline",
+        "time.monotonic() - start > 5.0",
+        "time.monotonic() > self.START_TIME",
+        "time.monotonic() > self.goal_deadline",
+        "elapsed > 5.0",
+        "0.0 < time.monotonic() < 5.0",
+    ],
+)
+def test_a_deadline_or_an_elapsed_time_is_not_flagged(comparison: str) -> None:
+    found = _waits(
+        f"""
+        def execute(self):
+            while not self.result_future.done():
+                if {comparison}:
+                    break
+                time.sleep(0.1)
+        """
+    )
+    assert found == []
+
+
+def test_outside_a_while_loop_the_model_is_told_without_a_fix() -> None:
+    found = _waits(
+        """
+        def execute(self):
+            for point in self.points:
+                if time.monotonic() > self.in_timeout:
+                    break
+            if time.monotonic() >= 3:
+                raise RuntimeError("too slow")
+        """
+    )
+    assert sorted((f.line - HEAD.count("\n"), f.replacement) for f in found) == [
+        (3, None),
+        (5, None),
+    ]
+    assert all("compares the clock's reading" in f.message for f in found)

@@ -12,17 +12,29 @@ A loop counts as waiting for the robot when its condition or body reads the cloc
 message, an action's feedback) or asks a future whether it is done. It waits when it calls
 ``time.sleep``, a rate's ``sleep``, a ``wait_for_*``/``spin*`` function, or a method of the
 class that does one of these (the skeleton's ``_wait_until``, ``_result_of``, ``_transform``).
+
+A loop's timeout must be a deadline. ``time.monotonic() > 5.0`` compares the clock's reading,
+seconds since an arbitrary start (the machine's boot), with a duration: it is true at once, so
+the loop gives up on its first pass. The 1.5B model wrote it for MR-1 rotate and
+navigate-to-point; the fix takes ``deadline = time.monotonic() + 5.0`` before the loop and
+compares with that.
 """
 
 from __future__ import annotations
 
 import ast
+import copy
+from collections.abc import Iterator
 
 from skillwright.validation.model import Finding
+from skillwright.validation.syntax import statement_holding
 
 __all__ = ["check_waits", "waits_error"]
 
 _CLOCK = frozenset({"monotonic", "time", "perf_counter", "now", "get_clock"})
+_READINGS = frozenset({"monotonic", "time", "perf_counter"})
+"""``time`` functions that return seconds since an arbitrary start."""
+_MOMENTS = ("DEADLINE", "START", "END", "STAMP", "BEGIN")
 _WAITING = frozenset({"sleep", "spin", "spin_once", "spin_until_future_complete"})
 
 
@@ -135,28 +147,173 @@ def _expects_time(loop: ast.While, changing: set[str]) -> str | None:
 
 
 def check_waits(cls: ast.ClassDef) -> list[Finding]:
-    """Findings (check ``waits``) for loops that wait for the robot without waiting."""
+    """Findings (check ``waits``) for loops that wait for the robot without waiting, and
+    for timeouts that compare the clock's reading with a duration."""
     methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
     waiting = _waiting_methods(methods)
     changing = _callback_attributes(methods)
     findings = []
     for method in methods.values():
+        owners = _loops_of_durations(method)
+        taken = {n.id for n in ast.walk(method) if isinstance(n, ast.Name)}
         for loop in ast.walk(method):
-            if not isinstance(loop, ast.While) or _waits(loop, waiting):
+            if not isinstance(loop, ast.While):
                 continue
-            what = _expects_time(loop, changing)
-            if what is None:
+            durations = owners.pop(loop, [])
+            what = None if _waits(loop, waiting) else _expects_time(loop, changing)
+            if not durations and what is None:
                 continue
-            findings.append(
-                waits_error(
-                    loop,
-                    f"this loop in {method.name} waits for {what} but never sleeps: it "
-                    "spins a CPU core and keeps callbacks from running; sleep in it, e.g. "
-                    "time.sleep(0.05) at the end of its body",
-                    _with_sleep(loop),
+            fixed = _fixed_loop(loop, durations, taken, sleep=what is not None)
+            for compare in durations:
+                findings.append(waits_error(loop, _duration_message(compare), fixed))
+            if what is not None:
+                findings.append(
+                    waits_error(
+                        loop,
+                        f"this loop in {method.name} waits for {what} but never sleeps: it "
+                        "spins a CPU core and keeps callbacks from running; sleep in it, e.g. "
+                        "time.sleep(0.05) at the end of its body",
+                        fixed,
+                    )
                 )
-            )
+        for compares in owners.values():  # in a for loop or in no loop: the model is told
+            for compare in compares:
+                findings.append(
+                    waits_error(
+                        statement_holding(method, compare) or method,
+                        _duration_message(compare),
+                        None,
+                    )
+                )
     return findings
+
+
+def _is_reading(node: ast.expr) -> bool:
+    """``time.monotonic()`` and the like: seconds since an arbitrary start."""
+    return (
+        isinstance(node, ast.Call)
+        and not node.args
+        and isinstance(node.func, ast.Attribute)
+        and isinstance(node.func.value, ast.Name)
+        and node.func.value.id == "time"
+        and node.func.attr in _READINGS
+    )
+
+
+def _is_duration(node: ast.expr) -> bool:
+    """A number of seconds rather than a moment: a positive number, or a name that says
+    timeout or duration, or a constant's name that does not say deadline or start."""
+    if isinstance(node, ast.Constant):
+        return isinstance(node.value, int | float) and not isinstance(node.value, bool)
+    name = (
+        node.id
+        if isinstance(node, ast.Name)
+        else node.attr
+        if isinstance(node, ast.Attribute)
+        else None
+    )
+    if name is None:
+        return False
+    if "timeout" in name.lower() or "duration" in name.lower():
+        return True
+    return name.isupper() and not any(moment in name for moment in _MOMENTS)
+
+
+def _duration_compare(node: ast.AST) -> ast.Compare | None:
+    """``node`` when it compares a clock reading with a duration, alone (``a < b < c``
+    chains are left alone)."""
+    if not isinstance(node, ast.Compare) or len(node.ops) != 1:
+        return None
+    if not isinstance(node.ops[0], ast.Lt | ast.LtE | ast.Gt | ast.GtE):
+        return None
+    left, right = node.left, node.comparators[0]
+    if (_is_reading(left) and _is_duration(right)) or (_is_reading(right) and _is_duration(left)):
+        return node
+    return None
+
+
+def _loops_of_durations(method: ast.FunctionDef) -> dict[ast.AST, list[ast.Compare]]:
+    """Each clock-against-duration comparison of ``method`` under the innermost loop that
+    holds it (the method itself when no loop does)."""
+    owners: dict[ast.AST, list[ast.Compare]] = {}
+
+    for owner in [method, *(n for n in ast.walk(method) if isinstance(n, ast.While | ast.For))]:
+        for node in _own_nodes(owner):
+            compare = _duration_compare(node)
+            if compare is not None:
+                owners.setdefault(owner, []).append(compare)
+    return owners
+
+
+def _own_nodes(owner: ast.AST) -> Iterator[ast.AST]:
+    """The nodes under ``owner`` that no loop or function inside it holds."""
+    pending = list(ast.iter_child_nodes(owner))
+    while pending:
+        node = pending.pop()
+        yield node
+        if not isinstance(node, ast.While | ast.For | ast.FunctionDef | ast.Lambda):
+            pending.extend(ast.iter_child_nodes(node))
+
+
+def _duration_message(compare: ast.Compare) -> str:
+    reading, duration = (
+        (compare.left, compare.comparators[0])
+        if _is_reading(compare.left)
+        else (compare.comparators[0], compare.left)
+    )
+    clock, seconds = ast.unparse(reading), ast.unparse(duration)
+    return (
+        f"{ast.unparse(compare)} compares the clock's reading (seconds since an arbitrary "
+        f"start, such as the machine's boot) with a duration of {seconds} s: it is decided at "
+        "once, not after that time. Take a deadline where the wait begins, "
+        f"`deadline = {clock} + {seconds}`, and compare {clock} with it"
+    )
+
+
+def _fixed_loop(
+    loop: ast.While, durations: list[ast.Compare], taken: set[str], *, sleep: bool
+) -> str | None:
+    """The statements that replace ``loop``: a deadline taken before it for each duration
+    its timeouts compare the clock with, the comparisons made with the deadlines, and a
+    sleep at the end when it never waits. ``None`` when a sleep is needed but a
+    ``continue`` would skip it."""
+    if sleep and _continues(loop):
+        return None
+    fixed = copy.deepcopy(loop)
+    before: list[str] = []
+    deadlines: dict[str, str] = {}
+    wanted = {ast.unparse(compare) for compare in durations}
+    compares = [
+        node
+        for node in _own_nodes(fixed)
+        if isinstance(node, ast.Compare) and ast.unparse(node) in wanted
+    ]
+    for node in sorted(compares, key=lambda n: (n.lineno, n.col_offset)):
+        reading_left = _is_reading(node.left)
+        reading = node.left if reading_left else node.comparators[0]
+        duration = node.comparators[0] if reading_left else node.left
+        key = f"{ast.unparse(reading)} + {ast.unparse(duration)}"
+        if key not in deadlines:
+            deadlines[key] = _free_name("deadline", taken)
+            before.append(f"{deadlines[key]} = {key}")
+        name = ast.Name(id=deadlines[key], ctx=ast.Load())
+        if reading_left:
+            node.comparators = [name]
+        else:
+            node.left = name
+    if sleep:
+        fixed.body = [*fixed.body, ast.parse("time.sleep(0.05)").body[0]]
+    return "\n".join([*before, ast.unparse(ast.fix_missing_locations(fixed))])
+
+
+def _free_name(stem: str, taken: set[str]) -> str:
+    """``stem``, or ``stem_2``, ``stem_3``... : the first name not in ``taken`` (added)."""
+    name, number = stem, 1
+    while name in taken:
+        number += 1
+        name = f"{stem}_{number}"
+    taken.add(name)
+    return name
 
 
 def _continues(loop: ast.While) -> bool:
@@ -169,13 +326,3 @@ def _continues(loop: ast.While) -> bool:
         if not isinstance(node, ast.While | ast.For | ast.FunctionDef | ast.Lambda):
             pending.extend(ast.iter_child_nodes(node))
     return False
-
-
-def _with_sleep(loop: ast.While) -> str | None:
-    """The loop with a short sleep as its last statement, unless a ``continue`` would skip
-    it."""
-    if _continues(loop):
-        return None
-    sleep = ast.parse("time.sleep(0.05)").body[0]
-    fixed = ast.While(test=loop.test, body=[*loop.body, sleep], orelse=loop.orelse)
-    return ast.unparse(ast.fix_missing_locations(fixed))

@@ -30,6 +30,7 @@ from collections.abc import Iterator
 
 from skillwright.spec.model import PACKML_STATES
 from skillwright.validation.model import Finding
+from skillwright.validation.syntax import statement_holding
 
 __all__ = [
     "COMPOUND_STATEMENTS",
@@ -288,19 +289,6 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
     return findings
 
 
-def _statement_holding(root: ast.AST, node: ast.AST) -> ast.stmt | None:
-    """The innermost statement under ``root`` (not a definition) that holds ``node``."""
-    # ast.walk goes breadth first: the innermost holder comes last.
-    holding = [
-        s
-        for s in ast.walk(root)
-        if isinstance(s, ast.stmt)
-        and not isinstance(s, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef)
-        and any(n is node for n in ast.walk(s))
-    ]
-    return holding[-1] if holding else None
-
-
 def _read_from_skill(tree: ast.Module, use: ast.Name, undefined: set[str]) -> str | None:
     """The statement holding ``use`` with the name read from the skill (``self.name``), when
     the name is a local variable of another method of the class: rotate's completing logged
@@ -311,7 +299,7 @@ def _read_from_skill(tree: ast.Module, use: ast.Name, undefined: set[str]) -> st
     theirs = {name for name in undefined if any(name in local for local in owners)}
     if use.id not in theirs:
         return None
-    innermost = _statement_holding(tree, use)
+    innermost = statement_holding(tree, use)
     if innermost is None:
         return None
     statement = copy.deepcopy(innermost)
@@ -574,7 +562,7 @@ def _without_limit(cls: ast.ClassDef, node: ast.AST, name: str) -> str | None:
     def reads(part: ast.AST) -> bool:
         return any(self_attribute(n) == name for n in ast.walk(part))
 
-    statement = _statement_holding(cls, node)
+    statement = statement_holding(cls, node)
     if (
         isinstance(statement, ast.If)
         and not statement.orelse

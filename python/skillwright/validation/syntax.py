@@ -1,0 +1,20 @@
+"""Small questions about a skill's syntax tree that several checks ask."""
+
+from __future__ import annotations
+
+import ast
+
+__all__ = ["statement_holding"]
+
+
+def statement_holding(root: ast.AST, node: ast.AST) -> ast.stmt | None:
+    """The innermost statement under ``root`` (not a definition) that holds ``node``."""
+    # ast.walk goes breadth first: the innermost holder comes last.
+    holding = [
+        s
+        for s in ast.walk(root)
+        if isinstance(s, ast.stmt)
+        and not isinstance(s, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef)
+        and any(n is node for n in ast.walk(s))
+    ]
+    return holding[-1] if holding else None
