@@ -155,3 +155,17 @@ def test_an_answer_that_does_not_parse_leaves_the_state_unwritten() -> None:
     )
     assert "execute" in result.missing
     assert 'raise NotImplementedError("execute' in result.code
+
+
+def test_the_release_of_a_velocity_publisher_leaves_the_base_at_rest() -> None:
+    # cap2skill set-velocity (ev43) completed with the base moving, as its spec asks, and its
+    # resetting only let go of the publisher: the base drove on after the skill was reset.
+    code = assemble(_skeleton([CMD_VEL, ODOM]), {}, {}).code
+    body = code[code.index("def resetting") :]
+    release = body[body.index("if self.cmd_vel_publisher is not None:") :]
+    assert release.index("self.cmd_vel_publisher.publish(Twist())") < release.index(
+        "self.node.destroy_publisher(self.cmd_vel_publisher)"
+    )
+    assert "destroy_subscription(self.odom_subscription)" in body
+    odom = body[body.index("if self.odom_subscription is not None:") :]
+    assert "publish" not in odom

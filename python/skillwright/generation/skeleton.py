@@ -270,8 +270,13 @@ def _release_lines(interface: InterfaceRef, indent: str) -> list[str]:
         release = f"{handle}.unregister()"
     else:
         release = f"self.node.destroy_subscription({handle})"
+    # A base keeps driving on its last velocity command: the skill leaves it at rest before
+    # it lets go of the publisher (cap2skill set-velocity completes while moving, and its
+    # resetting only destroyed the publisher).
+    stop = [f"{indent}    {handle}.publish({type_class(interface)}())"]
     return [
         f"{indent}if {handle} is not None:",
+        *(stop if _is_twist_publisher(interface) else []),
         f"{indent}    {release}",
         f"{indent}    {handle} = None",
     ]
