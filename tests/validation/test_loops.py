@@ -22,6 +22,10 @@ class Skill:
         while not condition():
             time.sleep(0.02)
 
+    def _pause(self):
+        self.node.get_logger().debug("pausing")
+        time.sleep(0.05)
+
 """
 
 
@@ -74,10 +78,18 @@ def _waits(execute: str) -> list[Finding]:
         ),
         (
             """
-            while self.odom_msg is None:
-                self._wait_until(lambda: True, 1.0, "odometry")
+            while self.odom_msg.twist.twist.angular.z > 0.01:
+                self._pause()
             """,
             None,
+        ),
+        (
+            """
+            while abs(self.remaining) > 0.01:
+                self.cmd_vel_publisher.publish(command)
+                self._wait_until(lambda: self.odom_msg is not None, 0.05, "odometry")
+            """,
+            "the robot while it publishes",
         ),
         (
             """
@@ -88,7 +100,16 @@ def _waits(execute: str) -> list[Finding]:
             None,
         ),
     ],
-    ids=["sleeps", "publishes", "callback attribute", "clock", "future", "helper waits", "data"],
+    ids=[
+        "sleeps",
+        "publishes",
+        "callback attribute",
+        "clock",
+        "future",
+        "helper waits",
+        "helper waits only for data",
+        "data",
+    ],
 )
 def test_a_loop_waiting_for_the_robot_must_sleep(loop: str, what: str | None) -> None:
     found = _waits("def execute(self):\n" + textwrap.indent(textwrap.dedent(loop), "    "))

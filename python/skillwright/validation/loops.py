@@ -11,7 +11,11 @@ A loop counts as waiting for the robot when its condition or body reads the cloc
 ``publish``, reads an attribute that a callback of the class sets (a subscription's latest
 message, an action's feedback) or asks a future whether it is done. It waits when it calls
 ``time.sleep``, a rate's ``sleep``, a ``wait_for_*``/``spin*`` function, or a method of the
-class that does one of these (the skeleton's ``_wait_until``, ``_result_of``, ``_transform``).
+class that does one of these on every call. The skeleton's ``_wait_until``, ``_result_of`` and
+``_transform`` do not: they sleep only until their data is there, and return at once after
+that. MR-1 rotate paced its control loop with ``_wait_until(lambda: self.odom_msg is not
+None, ...)`` and cap2skill rotate with ``_transform``; both loops spun a core once odometry
+had come.
 
 A loop's timeout must be a deadline. ``time.monotonic() > 5.0`` compares the clock's reading,
 seconds since an arbitrary start (the machine's boot), with a duration: it is true at once, so
@@ -24,7 +28,7 @@ from __future__ import annotations
 
 import ast
 import copy
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 
 from skillwright.validation.model import Finding
 from skillwright.validation.syntax import statement_holding
@@ -71,20 +75,24 @@ def _self_method(call: ast.Call) -> str | None:
 
 
 def _waiting_methods(methods: dict[str, ast.FunctionDef]) -> set[str]:
-    """Methods of the class that wait, directly or through another method of the class."""
+    """Methods of the class that wait on every call, directly or through another such
+    method: a wait that only a loop of the method reaches (one that waits for data) does
+    not count."""
     waiting: set[str] = set()
     changed = True
     while changed:
         changed = False
         for name, method in methods.items():
-            if name not in waiting and _waits(method, waiting):
+            if name not in waiting and _waits(method, waiting, _own_nodes(method)):
                 waiting.add(name)
                 changed = True
     return waiting
 
 
-def _waits(node: ast.AST, waiting: set[str]) -> bool:
-    for call in ast.walk(node):
+def _waits(node: ast.AST, waiting: set[str], nodes: Iterable[ast.AST] | None = None) -> bool:
+    """Whether ``node`` waits: one of ``nodes`` (all nodes under it by default) calls a
+    wait function or one of the ``waiting`` methods."""
+    for call in ast.walk(node) if nodes is None else nodes:
         if not isinstance(call, ast.Call):
             continue
         name = _called_name(call)
