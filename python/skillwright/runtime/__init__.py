@@ -91,6 +91,11 @@ event, or to the time the skill waits for), and ``close`` at the end of the epis
     with every field at its default: nested dicts, lists, ``{"sec": 0, "nanosec": 0}``.
 ``host.has_interface(name, kind=None) -> bool``, ``host.type_of(name) -> str | None``
     What the robot's inventory offers.
+``host.topics(type_name) -> list[str]``
+    The robot's topics of that type (``sensor_msgs/msg/LaserScan``), sorted.
+``host.provided(topic) -> bool``
+    Whether the scenario's script or the replayed recording publishes ``topic``; a world
+    that can make a topic's messages leaves such a topic to them.
 ``host.report(check, message, severity="error", line=None)``
     A finding of the world (a collision, a limit exceeded); ``line`` defaults to the
     skill line of the skill's most recent publish, call or goal.

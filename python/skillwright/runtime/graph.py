@@ -402,6 +402,17 @@ class GraphHost:
             return topic.type_name
         return self._services.get(name) or self._actions.get(name)
 
+    def topics(self, type_name: str) -> list[str]:
+        """The robot's topics of ``type_name``, sorted."""
+        return sorted(name for name, topic in self._topics.items() if topic.type_name == type_name)
+
+    def provided(self, topic: str) -> bool:
+        """Whether the scenario's script or the replayed recording publishes ``topic``."""
+        info = self._topics.get(topic)
+        if info is None:
+            return False
+        return topic in self._scenario.topics or (self._replay is not None and bool(info.recorded))
+
     def report(
         self, check: str, message: str, severity: str = "error", line: int | None = None
     ) -> None:

@@ -101,3 +101,56 @@ def test_the_arm_moves_its_link_to_the_target_or_fails_beyond_reach(
     tool = next(t for t in _last(seen, tf)["transforms"] if t["child_frame_id"] == "tool0")
     assert tool["header"]["frame_id"] == "arm_base_link"
     assert tool["transform"]["translation"] == pytest.approx({"x": 0.5, "y": 0.1, "z": 0.4})
+
+
+def _scans(graph: GraphHost, until: float) -> list[dict[str, Any]]:
+    scan = endpoint(graph, "subscription", "/scan", "sensor_msgs/msg/LaserScan")
+    return [d["data"] for _, d in deliveries_until(graph, until) if d["id"] == scan]
+
+
+def test_without_a_recorded_scan_the_world_scans_the_walls_of_its_room(
+    mr1_inventory: Inventory,
+) -> None:
+    graph, _ = make_graph(mr1_inventory, replay="off")
+    graph.attach_world(KinematicWorld(room=(8.0, 6.0), start=(1.0, 0.0, math.pi / 2)))
+    cmd = endpoint(graph, "publisher", "/cmd_vel", "geometry_msgs/msg/Twist")
+    [first, *_] = _scans(graph, 0.05)
+    assert len(first["ranges"]) == 360
+    assert first["angle_min"] == pytest.approx(-math.pi)
+    assert first["angle_increment"] == pytest.approx(2 * math.pi / 360)
+    # Facing +y from the room's centre: 3 m ahead, 4 m to either side, 3 m behind.
+    assert first["ranges"][180] == pytest.approx(3.0)
+    assert first["ranges"][90] == pytest.approx(4.0)
+    assert first["ranges"][270] == pytest.approx(4.0)
+    assert first["ranges"][0] == pytest.approx(3.0)
+    assert min(first["ranges"]) == pytest.approx(3.0)
+    for step in range(40):  # drive 1 m ahead (0.5 m/s for 2 s)
+        graph.child_publish(cmd, {"linear": {"x": 0.5}}, 1, "execute")
+        deliveries_until(graph, 0.05 + (step + 1) * 0.05)
+    ahead = _scans(graph, 4.0)[-1]["ranges"][180]
+    assert 1.7 < ahead < 2.3  # about a metre closer, give or take the acceleration
+
+
+def test_a_beam_beyond_the_scanners_range_reads_inf(mr1_inventory: Inventory) -> None:
+    graph, _ = make_graph(mr1_inventory, replay="off")
+    graph.attach_world(KinematicWorld(room=(40.0, 6.0), scan_range=(0.05, 12.0)))
+    [first, *_] = _scans(graph, 0.05)
+    assert first["ranges"][180] == math.inf  # 20 m to the wall ahead
+    assert first["ranges"][270] == pytest.approx(3.0)
+
+
+def test_a_recorded_or_scripted_scan_is_left_to_the_recording_or_the_script(
+    mr1_inventory: Inventory,
+) -> None:
+    graph, _ = make_graph(mr1_inventory)
+    graph.attach_world(KinematicWorld())
+    recorded = _scans(graph, 1.0)
+    assert recorded
+    assert {s["header"]["frame_id"] for s in recorded} == {"laser_link"}  # the MR-1's lidar
+    scripted, _ = make_graph(
+        mr1_inventory,
+        replay="off",
+        topics={"/scan": {"rate_hz": 10.0, "message": {"ranges": [0.4, 0.5]}}},
+    )
+    scripted.attach_world(KinematicWorld())
+    assert {tuple(s["ranges"]) for s in _scans(scripted, 1.0)} == {(0.4, 0.5)}

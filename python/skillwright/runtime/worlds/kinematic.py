@@ -17,6 +17,12 @@ What it takes over, where the robot has them:
   first position constraint to the constraint's point (in its header frame) at
   ``arm_speed``, then publishes that frame -> link on ``tf_topic``; targets beyond
   ``arm_reach`` fail with MoveIt's NO_IK_SOLUTION.
+* ``scan_topics`` (``sensor_msgs/msg/LaserScan``; by default every one that neither the
+  recording nor the scenario publishes): a 360-degree scan from the base's pose of the
+  walls of a ``room`` (width along x, depth along y) centred on the start, at
+  ``scan_rate_hz``. Beams beyond ``scan_range``'s far end read ``inf`` (REP 117). Without
+  it a robot known only from a report had scans with no ranges at all, and a skill that
+  rightly refuses an empty scan failed its run.
 
 Every option can be set from a scenario's ``world_options``.
 """
@@ -104,9 +110,16 @@ class KinematicWorld:
         arm_home: tuple[float, float, float] | list[float] = (0.4, 0.0, 0.3),
         arm_speed: float = 0.2,
         arm_reach: float | None = 0.85,
+        scan_topics: list[str] | None = None,
+        room: tuple[float, float] | list[float] = (8.0, 6.0),
+        scan_rate_hz: float = 10.0,
+        scan_beams: int = 360,
+        scan_range: tuple[float, float] | list[float] = (0.05, 12.0),
     ) -> None:
-        if rate_hz <= 0:
-            raise ValueError("world option rate_hz must be positive")
+        if rate_hz <= 0 or scan_rate_hz <= 0:
+            raise ValueError("world options rate_hz and scan_rate_hz must be positive")
+        if scan_beams < 1 or len(room) != 2 or min(room) <= 0:
+            raise ValueError("world options: scan_beams must be >= 1 and room two sizes > 0")
         self.cmd_topic = cmd_topic
         self.odom_topic = odom_topic
         self.tf_topic = tf_topic
@@ -127,6 +140,11 @@ class KinematicWorld:
         self.arm_home = tuple(float(v) for v in arm_home)
         self.arm_speed = arm_speed
         self.arm_reach = arm_reach
+        self.scan_topics = scan_topics
+        self.room = (float(room[0]), float(room[1]))
+        self.scan_period = 1.0 / scan_rate_hz
+        self.scan_beams = scan_beams
+        self.scan_range = (float(scan_range[0]), float(scan_range[1]))
         self._host: GraphHost | None = None
 
     # --- the plug-in API ------------------------------------------------------------
@@ -149,6 +167,14 @@ class KinematicWorld:
             host.own_topic(self.odom_topic)
         if self._publishes_tf:
             host.own_topic(self.tf_topic)
+        scans = host.topics("sensor_msgs/msg/LaserScan")
+        if self.scan_topics is None:
+            self._scans = [topic for topic in scans if not host.provided(topic)]
+        else:
+            self._scans = [topic for topic in self.scan_topics if topic in scans]
+        for topic in self._scans:
+            host.own_topic(topic)
+        self._next_scan = host.now
         if host.type_of(self.cmd_topic) in {
             "geometry_msgs/msg/Twist",
             "geometry_msgs/msg/TwistStamped",
@@ -162,9 +188,10 @@ class KinematicWorld:
             host.serve_action(self.move_group_action, _Handler(self._move_arm, self._cancel_arm))
 
     def next_event(self) -> float | None:
-        if not (self._publishes_odom or self._publishes_tf):
-            return None
-        return self._next_publish
+        events = [self._next_scan] if self._scans else []
+        if self._publishes_odom or self._publishes_tf:
+            events.append(self._next_publish)
+        return min(events, default=None)
 
     def advance(self, until: float) -> None:
         while self._time < until - 1e-12:
@@ -176,6 +203,10 @@ class KinematicWorld:
             self._publish()
             while self._next_publish <= until + 1e-9:
                 self._next_publish += self.period
+        if self._scans and until >= self._next_scan - 1e-9:
+            self._publish_scans()
+            while self._next_scan <= until + 1e-9:
+                self._next_scan += self.scan_period
 
     def close(self) -> None:
         self._host = None
@@ -396,6 +427,55 @@ class KinematicWorld:
                     }
                 )
             host.publish(self.tf_topic, {"transforms": transforms})
+
+    # --- laser scans ---------------------------------------------------------------
+
+    def _publish_scans(self) -> None:
+        host = self._require_host()
+        wanted = [topic for topic in self._scans if host.wants(topic)]
+        if not wanted:
+            return
+        near, far = self.scan_range
+        increment = 2.0 * math.pi / self.scan_beams
+        ranges = [
+            _inside_or_inf(self._wall_distance(self._theta - math.pi + i * increment), near, far)
+            for i in range(self.scan_beams)
+        ]
+        for topic in wanted:
+            scan = host.message("sensor_msgs/msg/LaserScan")
+            scan["header"] = {"stamp": host.stamp(), "frame_id": self.base_frame}
+            scan["angle_min"] = -math.pi
+            scan["angle_max"] = math.pi - increment
+            scan["angle_increment"] = increment
+            scan["scan_time"] = self.scan_period
+            scan["time_increment"] = self.scan_period / self.scan_beams
+            scan["range_min"], scan["range_max"] = near, far
+            scan["ranges"] = ranges
+            host.publish(topic, scan)
+
+    def _wall_distance(self, heading: float) -> float:
+        """Distance from the base along ``heading`` (world frame) to the nearest wall of the
+        room ahead, ``inf`` when none is (the base has left the room)."""
+        half_x, half_y = self.room[0] / 2.0, self.room[1] / 2.0
+        cx, cy = self.start[0], self.start[1]
+        dx, dy = math.cos(heading), math.sin(heading)
+        nearest = math.inf
+        for wall_x in (cx - half_x, cx + half_x):
+            if abs(dx) > 1e-12:
+                t = (wall_x - self._x) / dx
+                if t > 0 and abs(self._y + t * dy - cy) <= half_y:
+                    nearest = min(nearest, t)
+        for wall_y in (cy - half_y, cy + half_y):
+            if abs(dy) > 1e-12:
+                t = (wall_y - self._y) / dy
+                if t > 0 and abs(self._x + t * dx - cx) <= half_x:
+                    nearest = min(nearest, t)
+        return nearest
+
+
+def _inside_or_inf(distance: float, near: float, far: float) -> float:
+    """A beam's reading: the distance, or ``inf`` beyond the scanner's range (REP 117)."""
+    return distance if near <= distance <= far else math.inf
 
 
 class _Handler:
