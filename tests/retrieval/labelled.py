@@ -9,14 +9,16 @@ A capability can need more interfaces than ``k`` (the MR-1's mapping needs six);
 needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
 the *attainable* count, ``min(needs, k)`` summed over the capabilities.
 
-The paper's robot is read from its Cap2Skill reports by the report import. Six more robots,
+The paper's robot is read from its Cap2Skill reports by the report import. Seven more robots,
 written down from public sources (``tests/retrieval/robots``), run the paper's nine
 capabilities and specs, as the robot this retrieval is judged on does: a TurtleBot 4 with Nav2,
 PAL TIAGo (a mobile manipulator with Nav2, SLAM Toolbox, MoveIt and ros2_control), a UR5e arm,
 a Unitree Go2 whose names are not English words, a Husarion ROSbot XL with an
 OpenMANIPULATOR-X (a second mobile manipulator of that kind, with other vendors' names), and a
 Clearpath Husky with a Kinova arm whose every name sits under the robot's serial
-(``/a200_0000/...``). The last two were labelled by someone who saw no ranking of them. Only
+(``/a200_0000/...``), and a Hello Robot Stretch 3, whose one driver node moves base and arm and
+takes base velocity only in navigation mode. The last three were labelled by someone who saw
+no ranking of them. Only
 the capabilities a robot can serve are labelled; the label files say why the others are left
 out.
 """
@@ -50,6 +52,7 @@ SETS = (
     "go2",
     "rosbotxl",
     "husky",
+    "stretch3",
 )
 """The labelled settings: our MR-1 recording; the paper's robot with its full report
 (infrastructure left out by our rules); the same robot with only the 33 interfaces the
@@ -57,7 +60,7 @@ paper's relevance filter kept, carrying the paper's LLM-written descriptions; an
 robots of ``tests/retrieval/robots``."""
 
 ROBOTS = {"mr1": "mr1", "cap2skill": "mmo700", "cap2skill-filtered": "mmo700"} | {
-    name: name for name in ("tb4", "tiago", "ur5e", "go2", "rosbotxl", "husky")
+    name: name for name in ("tb4", "tiago", "ur5e", "go2", "rosbotxl", "husky", "stretch3")
 }
 """The robot of each set (the two Cap2Skill settings share one), for leave-one-robot-out."""
 
