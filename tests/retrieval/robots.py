@@ -16,6 +16,10 @@ the files stay readable and the graphs stay as large as real ones:
 Definitions come from the offline type stores where they have the type (standard messages);
 the others (nav2_msgs, moveit_msgs, vendor packages) stay unknown, as they would for a source
 that names types only. Infrastructure is flagged by the same rules as for any source.
+
+A topic may be written ``{type: ..., publishers: n, subscribers: n}`` where the sources say
+who is at either end, as a live graph would show it (the Stretch's /cmd_vel that nothing
+reads).
 """
 
 from __future__ import annotations
@@ -26,7 +30,14 @@ from pathlib import Path
 import yaml
 
 from skillwright.interfaces.infrastructure import classify
-from skillwright.interfaces.inventory import Interface, InterfaceKind, Inventory, Resource, Source
+from skillwright.interfaces.inventory import (
+    Endpoints,
+    Interface,
+    InterfaceKind,
+    Inventory,
+    Resource,
+    Source,
+)
 from skillwright.interfaces.typestore import fill_missing_definitions
 
 ROBOTS = Path(__file__).resolve().parent / "robots"
@@ -72,14 +83,21 @@ def robot_inventory(name: str) -> Inventory:
             entries[(f"{node_name}/transition_event", "topic")] = (
                 "lifecycle_msgs/msg/TransitionEvent"
             )
+    counts: dict[tuple[str, InterfaceKind], Endpoints] = {}
     for section, kind in (("topics", "topic"), ("services", "service"), ("actions", "action")):
-        for interface_name, type_name in (document.get(section) or {}).items():
-            entries[(interface_name, kind)] = type_name  # type: ignore[index]
+        for interface_name, entry in (document.get(section) or {}).items():
+            key = (interface_name, kind)
+            if isinstance(entry, dict):  # {type: ..., publishers: n, subscribers: n}
+                entries[key] = entry.pop("type")  # type: ignore[index]
+                counts[key] = Endpoints(**entry)  # type: ignore[index]
+            else:
+                entries[key] = entry  # type: ignore[index]
     interfaces = [
         Interface(
             name=interface_name,
             kind=kind,
             type_name=type_name,
+            endpoints=counts.get((interface_name, kind)),
             infrastructure=classify(kind, interface_name, type_name),
         )
         for (interface_name, kind), type_name in sorted(

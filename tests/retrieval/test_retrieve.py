@@ -12,7 +12,13 @@ import pytest
 from skillwright.capability import Capability, load_capability
 from skillwright.capability.model import DataElement, Parameter
 from skillwright.errors import OperationCancelledError
-from skillwright.interfaces.inventory import Interface, InterfaceKind, Inventory, Resource
+from skillwright.interfaces.inventory import (
+    Endpoints,
+    Interface,
+    InterfaceKind,
+    Inventory,
+    Resource,
+)
 from skillwright.interfaces.load import load_inventory
 from skillwright.retrieval.retrieve import Ranking, rank_interfaces
 from skillwright.spec import SkillSpec, load_spec, parse_spec
@@ -243,6 +249,28 @@ def forward_capability() -> Capability:
 def test_direct_interfaces_beat_composite_behaviours_that_share_the_words() -> None:
     hits = rank_interfaces(behaviour_inventory(), forward_capability(), k=2)
     assert [h.name for h in hits] == ["/cmd_vel", "/odom"]
+
+
+def test_a_command_topic_the_live_graph_shows_nobody_reading_gives_way() -> None:
+    # A Stretch: Nav2's behaviour server publishes /cmd_vel, which nothing reads; the driver
+    # listens on /stretch/cmd_vel.
+    base = behaviour_inventory()
+    dead = base.interface("/cmd_vel").model_copy(
+        update={"endpoints": Endpoints(publishers=1, subscribers=0)}
+    )
+    driver = Interface(
+        name="/stretch/cmd_vel",
+        kind="topic",
+        type_name="geometry_msgs/msg/Twist",
+        endpoints=Endpoints(publishers=2, subscribers=1),
+    )
+    others = [i for i in base.interfaces if i.name != "/cmd_vel"]
+    inventory = base.model_copy(update={"interfaces": [dead, driver, *others]})
+    hits = [h.name for h in rank_interfaces(inventory, forward_capability(), k=2)]
+    assert hits == ["/stretch/cmd_vel", "/odom"]
+    counted = Ranking(unreached_factor=1.0)
+    ranked = rank_interfaces(inventory, forward_capability(), k=2, ranking=counted)
+    assert ranked[0].name == "/cmd_vel"  # by its name alone it looks like the base's command
 
 
 def test_without_the_type_prior_a_behaviour_wins_a_place() -> None:

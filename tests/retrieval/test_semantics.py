@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import pytest
 
-from skillwright.interfaces.inventory import Interface, InterfaceKind
+from skillwright.interfaces.inventory import Endpoints, Interface, InterfaceKind, Traffic
 from skillwright.retrieval.semantics import (
     body_of,
     body_of_text,
     directness,
+    unreached,
 )
 
 
@@ -67,6 +68,8 @@ def test_a_costmap_is_auxiliary_while_the_map_of_the_same_type_is_direct() -> No
         "/slam_toolbox/scan_visualization",
         "/lidar/debug/points",
         "/planner_debug",
+        "/cost_cloud",
+        "/a200_0000/cost_cloud",
     ],
 )
 def test_a_costmaps_layers_and_what_is_republished_for_display_are_auxiliary(name: str) -> None:
@@ -117,3 +120,86 @@ def test_a_capability_about_a_mobile_robots_manipulator_is_about_the_arm() -> No
     assert body_of_text("Move the manipulator of the mobile robot to a goal point.") == "arm"
     assert body_of_text("Navigate the mobile robot to a goal point.") == "base"
     assert body_of_text("Print the current time.") is None
+
+
+@pytest.mark.parametrize(
+    ("kind", "type_name", "role", "endpoints", "traffic", "expected"),
+    [
+        (
+            "topic",
+            "geometry_msgs/msg/Twist",
+            "command",
+            Endpoints(publishers=1, subscribers=0),
+            0,
+            True,
+        ),
+        (
+            "topic",
+            "geometry_msgs/msg/Twist",
+            "command",
+            Endpoints(publishers=0, subscribers=1),
+            0,
+            False,
+        ),
+        (
+            "topic",
+            "sensor_msgs/msg/LaserScan",
+            "measure",
+            Endpoints(publishers=0, subscribers=2),
+            0,
+            True,
+        ),
+        (
+            "topic",
+            "sensor_msgs/msg/LaserScan",
+            "measure",
+            Endpoints(publishers=0, subscribers=2),
+            40,
+            False,
+        ),
+        ("topic", "sensor_msgs/msg/LaserScan", "measure", None, 0, False),
+        (
+            "action",
+            "nav2_msgs/action/NavigateToPose",
+            "command",
+            Endpoints(servers=0, clients=1),
+            0,
+            True,
+        ),
+        (
+            "action",
+            "nav2_msgs/action/NavigateToPose",
+            "command",
+            Endpoints(servers=1, clients=0),
+            0,
+            False,
+        ),
+        ("service", "std_srvs/srv/Trigger", None, Endpoints(servers=0, clients=0), 0, False),
+    ],
+    ids=[
+        "command nobody reads",
+        "command read",
+        "sensor nobody publishes",
+        "sensor recorded",
+        "counts unknown",
+        "action without a server",
+        "action served",
+        "service",
+    ],
+)
+def test_an_interface_is_unreached_only_when_the_graph_shows_nobody_at_the_other_end(
+    kind: InterfaceKind,
+    type_name: str,
+    role: str | None,
+    endpoints: Endpoints | None,
+    traffic: int,
+    expected: bool,
+) -> None:
+    found = Interface(
+        name="/x",
+        kind=kind,
+        type_name=type_name,
+        endpoints=endpoints,
+        traffic=Traffic(message_count=traffic) if traffic else None,
+    )
+    assert unreached(found, role) is expected

@@ -37,7 +37,7 @@ from skillwright.retrieval.documents import (
 )
 from skillwright.retrieval.lexical import BM25
 from skillwright.retrieval.query import Facet, Query, build_query
-from skillwright.retrieval.semantics import body_of, body_of_text, directness
+from skillwright.retrieval.semantics import body_of, body_of_text, directness, unreached
 from skillwright.spec.model import SkillSpec
 
 __all__ = ["DENSE_WEIGHT", "Embedder", "Hit", "Ranking", "candidates", "rank_interfaces"]
@@ -94,6 +94,10 @@ class Ranking:
     the same from 0.5 down to 0 on every labelled set; at 0.5 nine hits in the first 4 were
     for the other part (the paper's robot's joint trajectory action for navigate-to-point),
     and a small model given one uses it. At 0.1 there are none."""
+    unreached_factor: float = 0.1
+    """Evidence factor for an interface the live graph shows nobody at the other end of
+    (see :func:`~skillwright.retrieval.semantics.unreached`): a command topic no one reads
+    drives nothing, however well its name fits."""
 
 
 @dataclass(frozen=True)
@@ -259,8 +263,8 @@ def _apply_type_semantics(
         "neutral": ranking.neutral_factor,
         "auxiliary": ranking.auxiliary_factor,
     }
+    roles = [interface_role(i) for i in pool]
     if ranking.intent_factor != 1.0:
-        roles = [interface_role(i) for i in pool]
         for f, facet in enumerate(facets):
             if facet.intent is not None:
                 row = mixed[f]
@@ -272,6 +276,11 @@ def _apply_type_semantics(
     if body is not None and ranking.body_factor != 1.0:
         other = [(b is not None and b != body) for b in map(body_of, pool)]
         prior = [p * (ranking.body_factor if o else 1.0) for p, o in zip(prior, other, strict=True)]
+    if ranking.unreached_factor != 1.0:
+        prior = [
+            p * (ranking.unreached_factor if unreached(i, role) else 1.0)
+            for p, i, role in zip(prior, pool, roles, strict=True)
+        ]
     for row in mixed:
         row[:] = [v * p for v, p in zip(row, prior, strict=True)]
 

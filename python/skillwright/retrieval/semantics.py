@@ -35,7 +35,8 @@ are its controller's and assisted teleop's velocities on their way to the veloci
 not the base's command, and ``goal_pose`` is the pose RViz's goal tool hands the navigator
 (the ``NavigateToPose`` action does the same with feedback, a result and a cancel); and a
 name with a ``visualization`` or ``debug`` part (SLAM Toolbox's
-``/slam_toolbox/scan_visualization``) is a copy republished for display, not the sensor.
+``/slam_toolbox/scan_visualization``) is a copy republished for display, not the sensor; so
+is the DWB controller's ``cost_cloud``, its trajectory scores as points.
 """
 
 from __future__ import annotations
@@ -107,6 +108,7 @@ _AUXILIARY = re.compile(
 
 
 _COSTMAP = re.compile(r"(^|/)[^/]*costmap[^/]*(/|$)")
+_DWB_COSTS = re.compile(r"(^|/)cost_cloud$")
 _NAV2_VELOCITY = re.compile(r"(^|/)cmd_vel_(nav|teleop)$")
 _TWIST = "geometry_msgs/msg/Twist"  # and TwistStamped
 _NAV2_GOAL = re.compile(r"(^|/)goal_pose$")
@@ -116,7 +118,7 @@ _DISPLAY = re.compile(r"(^|/|_)(visuali[sz]ation|debug)(/|_|$)")
 
 def directness(interface: Interface) -> Directness:
     """How directly the interface's type carries what a skill commands or measures."""
-    if _COSTMAP.search(interface.name) or _DISPLAY.search(interface.name):
+    if any(p.search(interface.name) for p in (_COSTMAP, _DWB_COSTS, _DISPLAY)):
         return "auxiliary"
     if _NAV2_VELOCITY.search(interface.name) and interface.type_name.startswith(_TWIST):
         return "auxiliary"
@@ -127,6 +129,28 @@ def directness(interface: Interface) -> Directness:
     if _AUXILIARY.fullmatch(interface.type_name):
         return "auxiliary"
     return "neutral"
+
+
+def unreached(interface: Interface, role: str | None) -> bool:
+    """Whether the graph shows nobody at the other end of what a skill would do with the
+    interface: a command topic (``role`` ``command``) nobody subscribes to, a measured topic
+    nobody publishes and nothing was recorded on, an action no server serves. Only a live
+    graph counts endpoints; without counts nothing is unreached.
+
+    On a Stretch, Nav2's behaviour server publishes a ``/cmd_vel`` that nothing reads (the
+    driver listens on ``/stretch/cmd_vel``); by its name it looks like the base's command.
+    """
+    counts = interface.endpoints
+    if counts is None:
+        return False
+    if interface.kind == "action":
+        return counts.servers == 0
+    if interface.kind != "topic":
+        return False
+    if role == "command":
+        return counts.subscribers == 0
+    recorded = interface.traffic is not None and interface.traffic.message_count > 0
+    return counts.publishers == 0 and not recorded
 
 
 # Types that move or sense one part of a mobile manipulator only: the base (velocity,
