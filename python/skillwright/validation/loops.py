@@ -209,7 +209,7 @@ def _is_reading(node: ast.expr) -> bool:
 
 
 def _is_duration(node: ast.expr) -> bool:
-    """A number of seconds rather than a moment: a positive number, or a name that says
+    """A number of seconds rather than a moment: a number, or a name that says
     timeout or duration, or a constant's name that does not say deadline or start."""
     if isinstance(node, ast.Constant):
         return isinstance(node.value, int | float) and not isinstance(node.value, bool)
