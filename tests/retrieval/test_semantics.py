@@ -122,59 +122,24 @@ def test_a_capability_about_a_mobile_robots_manipulator_is_about_the_arm() -> No
     assert body_of_text("Print the current time.") is None
 
 
+_TWIST, _SCAN, _NAV = (
+    ("topic", "geometry_msgs/msg/Twist", "command"),
+    ("topic", "sensor_msgs/msg/LaserScan", "measure"),
+    ("action", "nav2_msgs/action/NavigateToPose", "command"),
+)
+
+
 @pytest.mark.parametrize(
-    ("kind", "type_name", "role", "endpoints", "traffic", "expected"),
+    ("what", "endpoints", "traffic", "expected"),
     [
-        (
-            "topic",
-            "geometry_msgs/msg/Twist",
-            "command",
-            Endpoints(publishers=1, subscribers=0),
-            0,
-            True,
-        ),
-        (
-            "topic",
-            "geometry_msgs/msg/Twist",
-            "command",
-            Endpoints(publishers=0, subscribers=1),
-            0,
-            False,
-        ),
-        (
-            "topic",
-            "sensor_msgs/msg/LaserScan",
-            "measure",
-            Endpoints(publishers=0, subscribers=2),
-            0,
-            True,
-        ),
-        (
-            "topic",
-            "sensor_msgs/msg/LaserScan",
-            "measure",
-            Endpoints(publishers=0, subscribers=2),
-            40,
-            False,
-        ),
-        ("topic", "sensor_msgs/msg/LaserScan", "measure", None, 0, False),
-        (
-            "action",
-            "nav2_msgs/action/NavigateToPose",
-            "command",
-            Endpoints(servers=0, clients=1),
-            0,
-            True,
-        ),
-        (
-            "action",
-            "nav2_msgs/action/NavigateToPose",
-            "command",
-            Endpoints(servers=1, clients=0),
-            0,
-            False,
-        ),
-        ("service", "std_srvs/srv/Trigger", None, Endpoints(servers=0, clients=0), 0, False),
+        (_TWIST, Endpoints(publishers=1, subscribers=0), 0, True),
+        (_TWIST, Endpoints(publishers=0, subscribers=1), 0, False),
+        (_SCAN, Endpoints(publishers=0, subscribers=2), 0, True),
+        (_SCAN, Endpoints(publishers=0, subscribers=2), 40, False),
+        (_SCAN, None, 0, False),
+        (_NAV, Endpoints(servers=0, clients=1), 0, True),
+        (_NAV, Endpoints(servers=1, clients=0), 0, False),
+        (("service", "std_srvs/srv/Trigger", None), Endpoints(servers=0, clients=0), 0, False),
     ],
     ids=[
         "command nobody reads",
@@ -188,13 +153,12 @@ def test_a_capability_about_a_mobile_robots_manipulator_is_about_the_arm() -> No
     ],
 )
 def test_an_interface_is_unreached_only_when_the_graph_shows_nobody_at_the_other_end(
-    kind: InterfaceKind,
-    type_name: str,
-    role: str | None,
+    what: tuple[InterfaceKind, str, str | None],
     endpoints: Endpoints | None,
     traffic: int,
     expected: bool,
 ) -> None:
+    kind, type_name, role = what
     found = Interface(
         name="/x",
         kind=kind,
