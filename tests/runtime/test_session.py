@@ -187,9 +187,76 @@ def test_a_result_wait_that_gives_up_on_a_running_goal_says_the_wait_was_too_sho
 
     [finding] = [f for f in report.findings if f.check == "run.exception"]
     assert "no result of the /navigate_to_pose goal" in finding.message
-    assert ("the goal was still running" in finding.message) is still_running
+    assert ("the /navigate_to_pose goal was still running" in finding.message) is still_running
     if still_running:
         assert f"still running after {patience:g} s, so the wait gave up" in finding.message
+
+
+_GIVE_UP = "                raise RuntimeError('the motion was not finished within 2 s')\n"
+
+
+@pytest.mark.parametrize(
+    ("motion", "under_way"),
+    [
+        (  # MR-1 rotate: its own loop drives the base, stops it, and gives up after 2 s
+            "        from geometry_msgs.msg import Twist\n"
+            "        cmd = self.node.create_publisher(Twist, '/cmd_vel', 10)\n"
+            "        deadline = time.monotonic() + 2.0\n"
+            "        while True:\n"
+            "            turn = Twist()\n"
+            "            turn.angular.z = 0.3\n"
+            "            cmd.publish(turn)\n"
+            "            if time.monotonic() > deadline:\n"
+            "                cmd.publish(Twist())\n" + _GIVE_UP + "            time.sleep(0.05)\n",
+            "the base was still moving on the skill's commands on /cmd_vel",
+        ),
+        (  # MR-1 navigate-to-point: cancels the goal Nav2 is still driving, then gives up
+            "        from nav2_msgs.action import NavigateToPose\n"
+            "        from rclpy.action import ActionClient\n"
+            "        client = ActionClient(self.node, NavigateToPose, '/navigate_to_pose')\n"
+            "        goal = NavigateToPose.Goal()\n"
+            "        goal.pose.header.frame_id = 'map'\n"
+            "        goal.pose.pose.position.x = 3.0\n"
+            "        goal.pose.pose.orientation.w = 1.0\n"
+            "        sent = client.send_goal_async(goal)\n"
+            "        while not sent.done():\n"
+            "            time.sleep(0.02)\n"
+            "        handle = sent.result()\n"
+            "        deadline = time.monotonic() + 2.0\n"
+            "        while True:\n"
+            "            if time.monotonic() > deadline:\n"
+            "                handle.cancel_goal_async()\n"
+            "                time.sleep(0.1)\n" + _GIVE_UP + "            time.sleep(0.05)\n",
+            "the /navigate_to_pose goal was still running when the skill cancelled it",
+        ),
+        (  # nothing moves: the message stays as the skill wrote it
+            "        deadline = time.monotonic() + 2.0\n"
+            "        while True:\n"
+            "            if time.monotonic() > deadline:\n"
+            + _GIVE_UP
+            + "            time.sleep(0.05)\n",
+            None,
+        ),
+    ],
+    ids=["velocity", "cancelled goal", "no motion"],
+)
+def test_a_state_that_gives_up_on_a_motion_under_way_is_told_its_timeout_was_too_short(
+    mr1_inventory: Inventory, motion: str, under_way: str | None
+) -> None:
+    source = HEAD.format(imports="", body=motion)
+    report = run_skill(
+        Path("subject.py"), mr1_inventory, source=source, scenario=quick(world="kinematic")
+    )
+
+    [finding] = [f for f in report.findings if f.check == "run.exception"]
+    assert finding.message.startswith(
+        "execute raised RuntimeError: the motion was not finished within 2 s"
+    )
+    if under_way is None:
+        assert finding.message.endswith("within 2 s")
+    else:
+        assert f"; {under_way} when the skill gave up after 2 s" in finding.message
+        assert "its timeout was too short" in finding.message
 
 
 def test_a_skill_that_writes_garbage_to_the_runtimes_socket_is_a_protocol_finding(

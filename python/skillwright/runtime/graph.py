@@ -899,7 +899,8 @@ class GraphHost:
             (r for r in self._goals.values() if r.client == endpoint.id and r.sequence == sequence),
             None,
         )
-        self._recorder.record("cancel", action=endpoint.name, line=line)
+        running = record is not None and record.goal.active and not record.goal.cancel_requested
+        self._recorder.record("cancel", action=endpoint.name, line=line, running=running)
         if record is None:
             self._out({"id": endpoint.id, "kind": "cancel", "goal": sequence, "return_code": 2})
             return

@@ -23,12 +23,11 @@ from skillwright.runtime.sandbox import ChildPool
 from skillwright.runtime.scenario import RunScenario
 from skillwright.runtime.session import Episode, EpisodePlan, EpisodeResult
 from skillwright.runtime.skillinfo import SkillInfo, SkillSourceError, read_skill
-from skillwright.runtime.typesys import is_zero_motion, registry_for
+from skillwright.runtime.typesys import MOTION_TYPES, is_zero_motion, registry_for
 from skillwright.validation.model import Finding
 
 __all__ = ["MOTION_TYPES", "WorldSpec", "recording_files", "run_skill"]
 
-MOTION_TYPES: Final = frozenset({"geometry_msgs/msg/Twist", "geometry_msgs/msg/TwistStamped"})
 """Message types whose non-zero values command a base to move."""
 
 _DEFAULT_EPOCH_NS: Final = 1_767_225_600 * 1_000_000_000

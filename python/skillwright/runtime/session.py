@@ -35,6 +35,7 @@ from skillwright.runtime.sandbox import (
     limits_config,
     read_roots,
 )
+from skillwright.runtime.typesys import MOTION_TYPES, is_zero_motion
 
 if TYPE_CHECKING:
     from skillwright.interfaces.inventory import Inventory
@@ -61,8 +62,11 @@ _IMPORT_NAME = re.compile(
     r"cannot import name '(?P<name>\w+)' from '(?P<package>\w+)\.(?P<namespace>\w+)'"
 )
 _NO_MODULE = re.compile(r"No module named '(?P<module>[\w.]+)'")
-_RESULT_WAIT = re.compile(r"no result of the (?P<action>\S+) goal within (?P<timeout>[\d.]+) s")
-"""The skeleton's result helper giving up (``_result_of``'s RuntimeError)."""
+_GAVE_UP = re.compile(
+    r"(?:no result of the (?P<action>\S+) goal )?within (?P<timeout>\d+(?:\.\d+)?) ?s\b"
+)
+"""A state giving up after a time: the skeleton's result helper (``_result_of``'s
+RuntimeError names the action) or the model's own words ("not finished within 2 s")."""
 _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
@@ -587,23 +591,61 @@ class Episode:
         self._recorder.finding(check, text, line=line, stack=_outer(frames))
 
     def _still_running(self, message: str) -> str:
-        """What to add when a wait for a goal's result gave up while the server was still
-        working on the goal: the wait, not the robot, was too short."""
-        wait = _RESULT_WAIT.search(message)
+        """What to add when a state gave up "within N s" while the motion it waited for was
+        still under way: the timeout, not the robot, was too short.
+
+        The motion is a goal the server was still working on (or that the skill cancelled
+        while it was), or, for a skill that drives the base itself, a velocity command other
+        than zero in the last second before it gave up.
+        """
+        wait = _GAVE_UP.search(message)
         if wait is None:
             return ""
-        running = [
-            goal
-            for goal, _ in self._graph.active_goals()
-            if goal.action == wait["action"] and not goal.cancel_requested
-        ]
-        if not running:
+        what = self._motion_under_way(wait["action"])
+        if what is None:
             return ""
+        timeout = wait["timeout"]
+        if wait["action"] is not None:
+            return (
+                f"; {what} after {timeout} s, so the wait gave up, not the robot: a result wait "
+                "has to last as long as the whole goal can take (for a motion, its distance "
+                "over the robot's speed, with a margin)"
+            )
         return (
-            f"; the goal was still running after {wait['timeout']} s, so the wait gave up, not "
-            "the robot: a result wait has to last as long as the whole goal can take (for a "
-            "motion, its distance over the robot's speed, with a margin)"
+            f"; {what} when the skill gave up after {timeout} s: its timeout was too short, "
+            "not the robot too slow; a wait for a motion has to last as long as the motion can "
+            "take (its distance over the robot's speed, with a margin)"
         )
+
+    def _motion_under_way(self, action: str | None) -> str | None:
+        """What was still moving the robot for the state that is ending, if anything."""
+        graph, since = self._graph, self._state_start
+        running = [
+            goal.action
+            for goal, _ in graph.active_goals()
+            if not goal.cancel_requested and action in (None, goal.action)
+        ]
+        if running:
+            return f"the {running[0]} goal was still running"
+        cancelled = [
+            entry["action"]
+            for entry in self._recorder.entries
+            if entry["kind"] == "cancel"
+            and entry.get("running")
+            and entry["t"] >= since
+            and action in (None, entry["action"])
+        ]
+        if cancelled:
+            return f"the {cancelled[-1]} goal was still running when the skill cancelled it"
+        if action is not None:
+            return None
+        for topic, sent in graph.published.items():
+            recent = [m for t, m, *_ in sent if t >= max(since, graph.now - 1.0)]
+            if graph.published_type(topic) in MOTION_TYPES and any(
+                not is_zero_motion(m) for m in recent
+            ):
+                return f"the base was still moving on the skill's commands on {topic}"
+        return None
 
     def _import_problem(self, message: str) -> str:
         """What an ImportError means here: a type or package the robot does not have, or a

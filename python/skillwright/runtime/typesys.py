@@ -442,6 +442,10 @@ def _scalar(base: str, value: Any) -> Any:
     return value
 
 
+MOTION_TYPES: Final = frozenset({"geometry_msgs/msg/Twist", "geometry_msgs/msg/TwistStamped"})
+"""Types of a base velocity command."""
+
+
 def is_zero_motion(message: dict[str, Any]) -> bool:
     """Whether every number in a (Twist-like) message is zero."""
     for value in message.values():
