@@ -208,7 +208,7 @@ _GIVE_UP = "                raise RuntimeError('the motion was not finished with
             "            cmd.publish(turn)\n"
             "            if time.monotonic() > deadline:\n"
             "                cmd.publish(Twist())\n" + _GIVE_UP + "            time.sleep(0.05)\n",
-            "the base was still moving on the skill's commands on /cmd_vel",
+            "the base was still moving on its commands on /cmd_vel",
         ),
         (  # MR-1 navigate-to-point: cancels the goal Nav2 is still driving, then gives up
             "        from nav2_msgs.action import NavigateToPose\n"
@@ -227,7 +227,7 @@ _GIVE_UP = "                raise RuntimeError('the motion was not finished with
             "            if time.monotonic() > deadline:\n"
             "                handle.cancel_goal_async()\n"
             "                time.sleep(0.1)\n" + _GIVE_UP + "            time.sleep(0.05)\n",
-            "the /navigate_to_pose goal was still running when the skill cancelled it",
+            "the /navigate_to_pose goal was still running (the skill cancelled it)",
         ),
         (  # nothing moves: the message stays as the skill wrote it
             "        deadline = time.monotonic() + 2.0\n"
@@ -255,7 +255,7 @@ def test_a_state_that_gives_up_on_a_motion_under_way_is_told_its_timeout_was_too
     if under_way is None:
         assert finding.message.endswith("within 2 s")
     else:
-        assert f"; {under_way} when the skill gave up after 2 s" in finding.message
+        assert f"; it gave up after 2 s while {under_way}: its timeout" in finding.message
         assert "its timeout was too short" in finding.message
 
 

@@ -612,9 +612,9 @@ class Episode:
                 "over the robot's speed, with a margin)"
             )
         return (
-            f"; {what} when the skill gave up after {timeout} s: its timeout was too short, "
-            "not the robot too slow; a wait for a motion has to last as long as the motion can "
-            "take (its distance over the robot's speed, with a margin)"
+            f"; it gave up after {timeout} s while {what}: its timeout was too short, not the "
+            "robot too slow; a wait for a motion has to last as long as the motion can take "
+            "(its distance over the robot's speed, with a margin)"
         )
 
     def _motion_under_way(self, action: str | None) -> str | None:
@@ -636,7 +636,7 @@ class Episode:
             and action in (None, entry["action"])
         ]
         if cancelled:
-            return f"the {cancelled[-1]} goal was still running when the skill cancelled it"
+            return f"the {cancelled[-1]} goal was still running (the skill cancelled it)"
         if action is not None:
             return None
         for topic, sent in graph.published.items():
@@ -644,7 +644,7 @@ class Episode:
             if graph.published_type(topic) in MOTION_TYPES and any(
                 not is_zero_motion(m) for m in recent
             ):
-                return f"the base was still moving on the skill's commands on {topic}"
+                return f"the base was still moving on its commands on {topic}"
         return None
 
     def _import_problem(self, message: str) -> str:
