@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import math
 import textwrap
 from pathlib import Path
 
@@ -15,6 +16,7 @@ from skillwright.generation.names import class_name, python_import, snake_case
 from skillwright.generation.skeleton import (
     build_skeleton,
     class_constants,
+    full_turn,
     helper_dependencies,
     helper_summaries,
     mint_skill_iri,
@@ -528,3 +530,46 @@ def test_no_limit_warning_where_the_capability_or_the_sentence_gives_a_value() -
     states["completing"] = "Log the velocity reached."
     spec = parse_spec({"name": "drive", "skill_interface": "REST", "states": states})
     assert unstated_limits(bare, spec) == []
+
+
+def test_an_angle_the_capability_bounds_to_one_turn_is_reported_in_that_range() -> None:
+    # MR-1 get-position: outHeading >= 0 and outHeading < 2 * pi. Its model wrapped the
+    # heading to (-pi, pi], and the simulation found it negative.
+    capability, spec = shipped("get-position")
+    skeleton = build_skeleton(capability, spec, [CMD_VEL, ODOM])
+    turns = {p.name: p.turn for p in skeleton.parameters}
+    assert turns == {"outHeading": "math.tau", "outPositionX": None, "outPositionY": None}
+    namespace: dict[str, object] = {}
+    tree = ast.parse(skeleton.code)
+    assert any(isinstance(n, ast.Import) and n.names[0].name == "math" for n in tree.body)
+    getter = next(
+        n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef) and n.name == "get_out_heading"
+    )
+    getter.decorator_list = []
+    exec(  # the getter alone, on a stand-in for the skill
+        compile(ast.Module(body=[getter], type_ignores=[]), "getter", "exec"),
+        {"math": math},
+        namespace,
+    )
+    report = namespace["get_out_heading"]
+    for heading, expected in [(-math.pi / 2, 1.5 * math.pi), (0.5, 0.5), (2 * math.pi, 0.0)]:
+        held = type("Held", (), {"out_heading": heading})()
+        assert report(held) == pytest.approx(expected)  # type: ignore[operator]
+    x_getter = next(
+        n
+        for n in ast.walk(tree)
+        if isinstance(n, ast.FunctionDef) and n.name == "get_out_position_x"
+    )
+    assert ast.unparse(x_getter.body[-1]) == "return self.out_position_x"
+
+
+def test_a_bound_in_degrees_or_without_its_lower_half_makes_no_turn() -> None:
+    capability, _ = shipped("get-position")
+    heading = next(c for p in capability.outputs for c in p.components if c.name == "outHeading")
+    assert full_turn(capability, heading.iri, "rad") == "math.tau"
+    assert full_turn(capability, heading.iri, "m") is None  # not an angle
+    assert full_turn(capability, "urn:other", "rad") is None
+    only_upper = capability.model_copy(
+        update={"constraints": [c for c in capability.constraints if c.relation != ">="]}
+    )
+    assert full_turn(only_upper, heading.iri, "rad") is None

@@ -40,6 +40,11 @@ class SkeletonParameter(BaseModel):
     python_type: str = Field(description="Python type of the value: float, int, bool or str.")
     direction: Literal["input", "output"] = Field(description="Parameter or output.")
     description: str = Field(description="Description in the annotation.")
+    turn: str | None = Field(
+        default=None,
+        description="For an angle the capability bounds to [0, one turn): the turn as Python "
+        "(`math.tau`, `360.0`); the getter reports the angle in that range.",
+    )
 
 
 class Skeleton(BaseModel):

@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import ast
 import json
+import math
 import re
 from collections.abc import Collection, Sequence
 from typing import TYPE_CHECKING, Literal
 
-from skillwright.capability.model import Capability, Parameter
+from skillwright.capability.model import Capability, Expression, Parameter
 from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParameter
 from skillwright.generation.names import attribute_name, class_name, python_import, snake_case
 from skillwright.spec.model import PACKML_STATES, SkillSpec
@@ -101,7 +102,62 @@ def _docstring(text: str, indent: str) -> list[str]:
     return [f'{indent}"""{lines[0]}', *(f"{indent}{line}" for line in lines[1:]), f'{indent}"""']
 
 
-def _parameters(parameters: Sequence[Parameter]) -> list[SkeletonParameter]:
+_ANGLE_UNITS = frozenset({"rad", "radian", "radians", "°", "deg", "degree", "degrees"})
+_TURNS = {math.tau: "math.tau", 360.0: "360.0"}
+_TURN_TEXT = {"math.tau": "2 pi", "360.0": "360"}
+
+
+def full_turn(capability: Capability, iri: str | None, unit: str | None) -> str | None:
+    """The full turn (as Python) when the capability bounds the angle ``iri`` to
+    [0, one turn): ``angle >= 0`` and ``angle < 2 * pi`` (or ``< 360`` in degrees).
+
+    An angle a turn further is the same heading, so the skill reports it in the range the
+    capability states: MR-1 get-position's model wrapped its heading to (-pi, pi], and the
+    simulation found it negative.
+    """
+    if iri is None or (unit or "").strip().lower() not in _ANGLE_UNITS:
+        return None
+    lower = upper = None
+    for constraint in capability.constraints:
+        expression = constraint.expression
+        operator = (expression.operator or "").rsplit("/", 1)[-1]
+        if len(expression.arguments) != 2:
+            continue
+        angle, bound = expression.arguments
+        if angle.kind != "variable" or angle.refers_to != iri:
+            continue
+        value = _constant(bound)
+        if operator == "relation1#geq" and value == 0.0:
+            lower = value
+        elif operator == "relation1#lt" and value is not None:
+            upper = value
+    if lower is None or upper is None:
+        return None
+    return next((text for turn, text in _TURNS.items() if math.isclose(upper, turn)), None)
+
+
+def _constant(expression: Expression) -> float | None:
+    """The value of a term without variables (a literal, pi, a product or sum of them)."""
+    if expression.kind == "literal":
+        try:
+            return float(expression.text)
+        except ValueError:
+            return None
+    if expression.kind == "variable":
+        named = expression.refers_to or expression.text
+        return math.pi if named == "pi" or named.endswith("nums1#pi") else None
+    values = [_constant(argument) for argument in expression.arguments]
+    if any(v is None for v in values) or not values:
+        return None
+    operator = (expression.operator or "").rsplit("/", 1)[-1]
+    if operator == "arith1#times":
+        return math.prod(v for v in values if v is not None)
+    if operator == "arith1#plus":
+        return math.fsum(v for v in values if v is not None)
+    return None
+
+
+def _parameters(parameters: Sequence[Parameter], capability: Capability) -> list[SkeletonParameter]:
     out = []
     for parameter in parameters:
         for component in parameter.components:
@@ -118,6 +174,9 @@ def _parameters(parameters: Sequence[Parameter]) -> list[SkeletonParameter]:
                     python_type=python_type,
                     direction=parameter.direction,
                     description=" ".join(pieces),
+                    turn=full_turn(capability, component.iri, component.unit)
+                    if parameter.direction == "output"
+                    else None,
                 )
             )
     return out
@@ -288,6 +347,7 @@ def _module_head(
     interfaces: Sequence[InterfaceRef],
     source_note: str,
     helpers: Sequence[str],
+    turns: bool = False,
 ) -> None:
     imports: dict[str, set[str]] = {}
     for interface in interfaces:
@@ -314,8 +374,8 @@ def _module_head(
     if source_note:
         out.add(source_note, "")
     out.add(*SKELETON_NOTE, '"""', "")
-    if helpers:
-        out.add("import time", "")
+    if turns or helpers:
+        out.add(*(["import math"] if turns else []), *(["import time"] if helpers else []), "")
     out.add("import rclpy")
     if any(i.kind == "action" for i in interfaces):
         out.add("from rclpy.action import ActionClient")
@@ -404,7 +464,16 @@ def _accessors(out: _Writer, parameters: Sequence[SkeletonParameter]) -> None:
             f"        description={_literal(parameter.description)},",
             "    )",
             f"    def get_{parameter.attribute}(self) -> {parameter.python_type}:",
-            f"        return self.{parameter.attribute}",
+            *(
+                [
+                    f"        # The capability bounds {parameter.name} to [0, "
+                    f"{_TURN_TEXT.get(parameter.turn, parameter.turn)}):",
+                    "        # an angle a turn further is the same one.",
+                    f"        return self.{parameter.attribute} % {parameter.turn}",
+                ]
+                if parameter.turn
+                else [f"        return self.{parameter.attribute}"]
+            ),
         )
 
 
@@ -756,7 +825,9 @@ def build_skeleton(
         notes.append("the capability names no providing resource; module_iri is the capability's")
     cls = class_name(spec.name)
     skill_iri = mint_skill_iri(capability, spec.name)
-    parameters = _parameters(capability.inputs) + _parameters(capability.outputs)
+    parameters = _parameters(capability.inputs, capability) + _parameters(
+        capability.outputs, capability
+    )
 
     halting = halting_states(spec, interfaces)
     offered = skeleton_helpers(interfaces, helpers or ())
@@ -779,7 +850,14 @@ def build_skeleton(
         ]
 
     out = _Writer()
-    _module_head(out, capability, interfaces, source_note, list(helper_code))
+    _module_head(
+        out,
+        capability,
+        interfaces,
+        source_note,
+        list(helper_code),
+        turns=any(p.turn == "math.tau" for p in parameters),
+    )
     _class_head(out, capability, spec, cls, skill_iri)
     _init(out, spec, parameters, interfaces, notes)
     _accessors(out, parameters)
