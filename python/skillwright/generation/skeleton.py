@@ -117,21 +117,19 @@ def full_turn(capability: Capability, iri: str | None, unit: str | None) -> str 
     """
     if iri is None or (unit or "").strip().lower() not in _ANGLE_UNITS:
         return None
-    lower = upper = None
+    non_negative, upper = False, None
     for constraint in capability.constraints:
         expression = constraint.expression
-        operator = (expression.operator or "").rsplit("/", 1)[-1]
         if len(expression.arguments) != 2:
             continue
         angle, bound = expression.arguments
         if angle.kind != "variable" or angle.refers_to != iri:
             continue
+        operator = (expression.operator or "").rsplit("/", 1)[-1]
         value = _constant(bound)
-        if operator == "relation1#geq" and value == 0.0:
-            lower = value
-        elif operator == "relation1#lt" and value is not None:
-            upper = value
-    if lower is None or upper is None:
+        non_negative |= operator == "relation1#geq" and value == 0.0
+        upper = value if operator == "relation1#lt" and value is not None else upper
+    if not non_negative or upper is None:
         return None
     return next((text for turn, text in _TURNS.items() if math.isclose(upper, turn)), None)
 

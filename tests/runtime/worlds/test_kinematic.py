@@ -154,3 +154,13 @@ def test_a_recorded_or_scripted_scan_is_left_to_the_recording_or_the_script(
     )
     scripted.attach_world(KinematicWorld())
     assert {tuple(s["ranges"]) for s in _scans(scripted, 1.0)} == {(0.4, 0.5)}
+
+
+def test_a_wall_nearer_than_the_scanner_can_measure_reads_minus_inf(
+    mr1_inventory: Inventory,
+) -> None:
+    graph, _ = make_graph(mr1_inventory, replay="off")
+    graph.attach_world(KinematicWorld(room=(0.06, 6.0), scan_range=(0.05, 12.0)))
+    [first, *_] = _scans(graph, 0.05)
+    assert first["ranges"][180] == -math.inf  # 3 cm to the wall ahead
+    assert first["ranges"][270] == pytest.approx(3.0)

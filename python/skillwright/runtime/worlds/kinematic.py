@@ -20,7 +20,8 @@ What it takes over, where the robot has them:
 * ``scan_topics`` (``sensor_msgs/msg/LaserScan``; by default every one that neither the
   recording nor the scenario publishes): a 360-degree scan from the base's pose of the
   walls of a ``room`` (width along x, depth along y) centred on the start, at
-  ``scan_rate_hz``. Beams beyond ``scan_range``'s far end read ``inf`` (REP 117). Without
+  ``scan_rate_hz``. Beams beyond ``scan_range``'s far end read ``inf``, nearer than its near
+  end ``-inf`` (REP 117). Without
   it a robot known only from a report had scans with no ranges at all, and a skill that
   rightly refuses an empty scan failed its run.
 
@@ -474,8 +475,11 @@ class KinematicWorld:
 
 
 def _inside_or_inf(distance: float, near: float, far: float) -> float:
-    """A beam's reading: the distance, or ``inf`` beyond the scanner's range (REP 117)."""
-    return distance if near <= distance <= far else math.inf
+    """A beam's reading (REP 117): the distance, ``inf`` beyond the scanner's range and
+    ``-inf`` nearer than it can measure."""
+    if distance < near:
+        return -math.inf
+    return distance if distance <= far else math.inf
 
 
 class _Handler:
