@@ -3,6 +3,7 @@ goes back to the model."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -136,3 +137,31 @@ def test_a_failed_oracle_in_the_simulation_reaches_the_models_repair_prompt(
     assert not outcome.passed
     # The repair repeated the answer: the same file is not simulated again.
     assert simulation.repair_runs == 1
+
+
+def test_a_wait_that_gives_up_on_the_moving_base_gets_a_measured_timeout_without_the_model(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The velocity wait allows 0.01 s: the base is still speeding up when it gives up. A
+    # second run allowing most of the state's deadline gets past it, and the fix puts a
+    # number measured there in the call, which the repair loop applies without the model.
+    impatient = MEASURED_EXECUTE.replace("            5.0,\n", "            0.01,\n")
+    assert impatient != MEASURED_EXECUTE
+    model = MethodScript({**SET_VELOCITY, "execute": [impatient]}, model_id="tiny")
+    use_model(monkeypatch, model)
+    outcome = run_generation(
+        request(tmp_path / "out", models_file=models_file, run=True, attempts=1)
+    )
+    assert outcome.record.model is not None
+    tries = [a for a in outcome.record.model.attempts if a.target == "execute"]
+    assert [(a.number, a.finish) for a in tries] == [(1, "stop"), (2, "fixed")], tries
+    assert any("the wait that gave up allows 0.01 s" in p for p in tries[1].problems)
+    run = outcome.record.run
+    assert run is not None
+    assert run.passed, run.findings
+    code = outcome.skill_path.read_text(encoding="utf-8")
+    allowed = re.search(r"<= 0\.01\n\s+and .*<= 0\.01,\n\s+([\d.]+),\n", code)
+    assert allowed is not None, code
+    assert float(allowed[1]) >= 1.0  # the lambda's tolerance 0.01 is not a timeout
+    assert f"allows {float(allowed[1]):g} s" in tries[1].problems[0]
+    assert len(_asks(model, "execute")) == 1

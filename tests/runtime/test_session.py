@@ -18,7 +18,7 @@ from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime.report import RunReport
 from skillwright.runtime.run import run_skill
 from skillwright.runtime.sandbox import CHILD_ROOT
-from skillwright.runtime.session import compiled
+from skillwright.runtime.session import compiled, gave_up
 from tests.runtime.conftest import SKILLS, quick
 
 HEAD = """import os
@@ -189,7 +189,10 @@ def test_a_result_wait_that_gives_up_on_a_running_goal_says_the_wait_was_too_sho
     assert "no result of the /navigate_to_pose goal" in finding.message
     assert ("the /navigate_to_pose goal was still running" in finding.message) is still_running
     if still_running:
-        assert f"still running after {patience:g} s, so the wait gave up" in finding.message
+        assert (
+            f"it gave up after {patience:g} s while the /navigate_to_pose goal was still "
+            "running: the result wait was too short" in finding.message
+        )
 
 
 _GIVE_UP = "                raise RuntimeError('the motion was not finished within 2 s')\n"
@@ -415,3 +418,25 @@ def test_the_host_compiles_a_skill_once_as_the_child_would() -> None:
     # compile() inherits: the host's code must carry it too.
     assert code.co_flags & __future__.annotations.compiler_flag
     assert compiled("def broken(:\n") is None
+
+
+@pytest.mark.parametrize(
+    ("message", "parsed"),
+    [
+        (
+            "execute raised RuntimeError: not turned within 2 s; it gave up after 2 s while "
+            "the base was still moving: its timeout was too short",
+            ("execute", 2.0, "execute raised RuntimeError: not turned within 2 s"),
+        ),
+        (
+            "starting raised RuntimeError: no odometry on /odom within 0.5 s",
+            ("starting", 0.5, "starting raised RuntimeError: no odometry on /odom within 0.5 s"),
+        ),
+        ("execute raised ValueError: not a number", None),
+        ("nothing arrived on /odom within 2 s", None),
+    ],
+)
+def test_a_finding_of_a_wait_that_gave_up_names_its_state_and_seconds(
+    message: str, parsed: tuple[str, float, str] | None
+) -> None:
+    assert gave_up(message) == parsed

@@ -192,6 +192,7 @@ class Behaviour:
         key = _digest(code)
         if key in self._runs:
             return self._runs[key]
+        from skillwright.pipeline.waits import probe_waits
         from skillwright.runtime.run import run_skill
         from skillwright.sim.validate import runtime_scenario
 
@@ -204,9 +205,17 @@ class Behaviour:
             )
             scenario = scenario.model_copy(update={"world": RUN_WORLD, "deadlines": deadlines})
             with budget.running() as cancel:
-                report = run_skill(
-                    self.skill_path, self.inventory, scenario=scenario, source=code, cancel=cancel
-                )
+
+                def run(source: str) -> RunReport:
+                    return run_skill(
+                        self.skill_path,
+                        self.inventory,
+                        scenario=scenario,
+                        source=source,
+                        cancel=cancel,
+                    )
+
+                report = probe_waits(run(code), code, run, scenario.deadlines.state)
             result = RunResult(report, time.perf_counter() - started)
         except GenerationCancelledError:
             if self._cancelled() or not budget.expired:

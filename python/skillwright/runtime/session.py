@@ -44,7 +44,7 @@ if TYPE_CHECKING:
     from skillwright.runtime.skillinfo import SkillInfo
     from skillwright.runtime.typesys import TypeRegistry
 
-__all__ = ["Episode", "EpisodePlan", "EpisodeResult"]
+__all__ = ["GAVE_UP_NOTE", "Episode", "EpisodePlan", "EpisodeResult", "gave_up"]
 
 _POLL_SECONDS = 0.05
 _GRACE_SECONDS = 5.0
@@ -67,6 +67,9 @@ _GAVE_UP = re.compile(
 )
 """A state giving up after a time: the skeleton's result helper (``_result_of``'s
 RuntimeError names the action) or the model's own words ("not finished within 2 s")."""
+GAVE_UP_NOTE = "; it gave up after "
+"""How the note begins that a run adds to a state's giving up while its motion was under way."""
+_STATE_RAISED = re.compile(r"^(?P<state>\w+) raised \w+: ")
 _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
@@ -151,6 +154,17 @@ class EpisodeResult:
     """State -> how many messages the skill had published when it ended (or was absent)."""
     goals_after: dict[str, list[tuple[ActionGoal, int]]] = field(default_factory=dict)
     """State -> goals active and not being cancelled when it ended, with their lines."""
+
+
+def gave_up(message: str) -> tuple[str, float, str] | None:
+    """For the message of a run finding whose state raised because a wait gave up "within N
+    s": the state, N, and the message without the note on a motion still under way."""
+    raised = _STATE_RAISED.match(message)
+    head = message.split(GAVE_UP_NOTE, 1)[0]
+    wait = _GAVE_UP.search(head)
+    if raised is None or wait is None:
+        return None
+    return raised["state"], float(wait["timeout"]), head
 
 
 @lru_cache(maxsize=8)
@@ -607,12 +621,12 @@ class Episode:
         timeout = wait["timeout"]
         if wait["action"] is not None:
             return (
-                f"; {what} after {timeout} s, so the wait gave up, not the robot: a result wait "
-                "has to last as long as the whole goal can take (for a motion, its distance "
-                "over the robot's speed, with a margin)"
+                f"{GAVE_UP_NOTE}{timeout} s while {what}: the result wait was too short, not "
+                "the robot too slow; a result wait has to last as long as the whole goal can "
+                "take (for a motion, its distance over the robot's speed, with a margin)"
             )
         return (
-            f"; it gave up after {timeout} s while {what}: its timeout was too short, not the "
+            f"{GAVE_UP_NOTE}{timeout} s while {what}: its timeout was too short, not the "
             "robot too slow; a wait for a motion has to last as long as the motion can take "
             "(its distance over the robot's speed, with a margin)"
         )

@@ -1,0 +1,127 @@
+"""A second run of a skill whose wait gave up: too short, or waiting for what never comes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from skillwright.interfaces.inventory import Inventory
+from skillwright.interfaces.load import load_inventory
+from skillwright.pipeline.waits import probe_waits
+from skillwright.runtime.report import RunReport
+from skillwright.runtime.run import run_skill
+from skillwright.runtime.session import GAVE_UP_NOTE
+from tests.pipeline.conftest import RECORDING
+from tests.runtime.conftest import quick
+from tests.runtime.test_session import HEAD, line_of
+
+SCENARIO = quick(world="kinematic")
+"""10 s of virtual time per state: the second run allows a wait 8 s."""
+
+
+@pytest.fixture(scope="module")
+def inventory() -> Inventory:
+    return load_inventory(RECORDING)
+
+
+def drive(seconds: float, *, commanded: str = "0.4") -> str:
+    """A state that drives the base until odometry shows 1 m, giving up after ``seconds``."""
+    return HEAD.format(
+        imports="from geometry_msgs.msg import Twist\nfrom nav_msgs.msg import Odometry\n",
+        body=(
+            "        cmd = self.node.create_publisher(Twist, '/cmd_vel', 10)\n"
+            "        self.node.create_subscription(Odometry, '/odom', self.messages.append, 10)\n"
+            "        while not self.messages:\n"
+            "            time.sleep(0.05)\n"
+            "        start = self.messages[-1].pose.pose.position.x\n"
+            f"        deadline = time.monotonic() + {seconds}\n"
+            "        while self.messages[-1].pose.pose.position.x - start < 1.0:\n"
+            "            if time.monotonic() > deadline:\n"
+            "                cmd.publish(Twist())\n"
+            f"                raise RuntimeError('the base did not cover 1 m within {seconds:g} s')\n"
+            "            move = Twist()\n"
+            f"            move.linear.x = {commanded}\n"
+            "            cmd.publish(move)\n"
+            "            time.sleep(0.05)\n"
+            "        cmd.publish(Twist())\n"
+        ),
+    )
+
+
+class Runs:
+    """Runs code in the scenario, counting the runs."""
+
+    def __init__(self, inventory: Inventory) -> None:
+        self.inventory = inventory
+        self.sources: list[str] = []
+
+    def __call__(self, source: str) -> RunReport:
+        self.sources.append(source)
+        return run_skill(Path("subject.py"), self.inventory, source=source, scenario=SCENARIO)
+
+
+def test_a_timeout_too_short_for_the_motion_is_replaced_by_a_measured_one(
+    inventory: Inventory,
+) -> None:
+    source = drive(1.0)
+    runs = Runs(inventory)
+    first = runs(source)
+    [gave_up] = [f for f in first.findings if f.check == "run.exception"]
+    assert GAVE_UP_NOTE in gave_up.message
+
+    report = probe_waits(first, source, runs, SCENARIO.deadlines.state)
+
+    assert len(runs.sources) == 2
+    assert "deadline = time.monotonic() + 8.0" in runs.sources[1]
+    fixed = [f for f in report.findings if f.check == "run.timeout"]
+    assert [(f.line, f.severity) for f in fixed] == [
+        (line_of(source, "deadline = time"), "error"),
+        (line_of(source, "raise RuntimeError('the base"), "error"),
+    ]
+    # 1 m at 0.4 m/s takes 2.5 s and more with the speeding up; three times that, rounded up
+    took = float(fixed[0].message.split(" took ")[1].split(" s,")[0])
+    assert 2.5 <= took < 4.0
+    allowed = fixed[0].replacement
+    assert allowed is not None
+    assert allowed.startswith("deadline = time.monotonic() + ")
+    seconds = float(allowed.rsplit("+ ", 1)[1])
+    assert seconds >= 3 * took
+    assert seconds.is_integer()
+    assert fixed[1].replacement == (
+        f"raise RuntimeError('the base did not cover 1 m within {seconds:g} s')"
+    )
+    assert gave_up in report.findings  # the run's own finding stays as it was
+    assert runs(source.replace("+ 1.0\n", f"+ {seconds}\n")).passed
+
+
+def test_a_wait_for_what_never_happens_is_told_a_longer_wait_is_not_the_fix(
+    inventory: Inventory,
+) -> None:
+    source = drive(1.0, commanded="-0.4")  # drives backwards: it never covers 1 m forwards
+    runs = Runs(inventory)
+    first = runs(source)
+
+    report = probe_waits(first, source, runs, SCENARIO.deadlines.state)
+
+    assert len(runs.sources) == 2
+    assert not [f for f in report.findings if f.check == "run.timeout"]
+    [finding] = [f for f in report.findings if f.check == "run.exception"]
+    assert finding.message.startswith(
+        "execute raised RuntimeError: the base did not cover 1 m within 1 s; given 8 s "
+        "instead of 1 s in the same run, execute still gave up there: a longer wait is not "
+        "the fix"
+    )
+    assert GAVE_UP_NOTE not in finding.message  # "its timeout was too short" would mislead
+
+
+def test_a_wait_that_already_allows_most_of_the_deadline_is_not_run_again(
+    inventory: Inventory,
+) -> None:
+    source = drive(5.0, commanded="0.05")
+    runs = Runs(inventory)
+    first = runs(source)
+    assert not first.passed
+
+    assert probe_waits(first, source, runs, SCENARIO.deadlines.state) is first
+    assert len(runs.sources) == 1
