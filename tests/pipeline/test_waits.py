@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from skillwright.errors import GenerationCancelledError, SkillwrightError
 from skillwright.interfaces.inventory import Inventory
 from skillwright.interfaces.load import load_inventory
 from skillwright.pipeline.waits import probe_waits
@@ -125,3 +126,21 @@ def test_a_wait_that_already_allows_most_of_the_deadline_is_not_run_again(
 
     assert probe_waits(first, source, runs, SCENARIO.deadlines.state) is first
     assert len(runs.sources) == 1
+
+
+def test_a_second_run_that_cannot_run_leaves_the_first_runs_findings(
+    inventory: Inventory,
+) -> None:
+    source = drive(1.0)
+    first = run_skill(Path("subject.py"), inventory, source=source, scenario=SCENARIO)
+
+    def refuses(_source: str) -> RunReport:
+        raise SkillwrightError("the sandbox could not start")
+
+    assert probe_waits(first, source, refuses, SCENARIO.deadlines.state) is first
+
+    def cancelled(_source: str) -> RunReport:
+        raise GenerationCancelledError("cancelled")
+
+    with pytest.raises(GenerationCancelledError):
+        probe_waits(first, source, cancelled, SCENARIO.deadlines.state)

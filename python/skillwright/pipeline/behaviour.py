@@ -215,7 +215,13 @@ class Behaviour:
                         cancel=cancel,
                     )
 
-                report = probe_waits(run(code), code, run, scenario.deadlines.state)
+                report = run(code)
+                try:
+                    report = probe_waits(report, code, run, scenario.deadlines.state)
+                except GenerationCancelledError:
+                    # the budget ran out in the second run: the first one's findings stand
+                    if self._cancelled() or not budget.expired:
+                        raise
             result = RunResult(report, time.perf_counter() - started)
         except GenerationCancelledError:
             if self._cancelled() or not budget.expired:

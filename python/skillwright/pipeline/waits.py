@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from skillwright.errors import OperationCancelledError, SkillwrightError
 from skillwright.runtime.report import RunReport
 from skillwright.runtime.session import gave_up
 from skillwright.validation.model import Finding
@@ -55,7 +56,12 @@ def probe_waits(
         site = timeout_site(code, finding.line, finding.stack, seconds)
         if site is None:
             continue
-        probe = run(with_seconds(code, site, probe_seconds))
+        try:
+            probe = run(with_seconds(code, site, probe_seconds))
+        except OperationCancelledError:
+            raise
+        except SkillwrightError:
+            continue  # the second run is advice: the first run's finding stands as it is
         if _gave_up_again(probe, finding.line):
             findings[index] = finding.model_copy(
                 update={
