@@ -68,7 +68,7 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
 
 
 # (set, k, needs found at least). Needs: mr1 22, cap2skill 18 (both settings), tb4 16,
-# tiago 19, ur5e 2, go2 16, rosbotxl 19, husky 19, stretch3 26. At k=4 the MR-1's mapping
+# tiago 19, ur5e 2, go2 16, rosbotxl 19, husky 19, stretch3 26, locobot 19, mur620 19. At k=4 the MR-1's mapping
 # needs 6 interfaces, so 20 of its 22 needs are attainable (the Stretch's mapping 5, so 25 of
 # 26); every need of the other robots is. Before facets and coverage (pooled query, relevance order) the lexical numbers at k=4 were 14, 15 and 16;
 # before the type semantics (words only) mr1 18, tb4 13, tiago 12, ur5e 2, go2 10. The
@@ -81,6 +81,11 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
 # once its file says who reads and writes its three Twist topics, as a live graph shows it,
 # and an unreached command topic gives way, 9/18/19. The six left at k=4 are the driver's
 # navigation-mode switch (a Trigger service no spec mentions), one pose and the arm's stop.
+# Two mobile manipulators of the held-out kind were labelled blind the same way: a LoCoBot
+# (Create 3 base, Nav2 and SLAM Toolbox at the root, the driver under /locobot) scored
+# 9/19/19 of 19 at first; a match MuR620 (MiR base, two UR10e, Jazzy, stamped velocity, four
+# scans) 8/16/16 of 19, all three misses the half-view /mur620a/b_scan winning a tie with the
+# merged /mur620a/scan by the alphabet; with the plainer name first among equals, 9/19/19.
 LEXICAL_FLOORS = [
     ("mr1", 1, 9),
     ("mr1", 4, 20),
@@ -109,6 +114,12 @@ LEXICAL_FLOORS = [
     ("stretch3", 1, 9),
     ("stretch3", 4, 18),
     ("stretch3", 8, 19),
+    ("locobot", 1, 9),
+    ("locobot", 4, 19),
+    ("locobot", 8, 19),
+    ("mur620", 1, 9),
+    ("mur620", 4, 19),
+    ("mur620", 8, 19),
 ]
 
 HYBRID_FLOORS = [

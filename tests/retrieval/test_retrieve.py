@@ -311,3 +311,24 @@ def test_a_cancel_set_before_ranking_embeds_nothing() -> None:
     with pytest.raises(OperationCancelledError):
         rank_interfaces(mr1(), capability, embed=embed, cancel=cancel)
     assert embedded == []
+
+
+def test_among_equal_scores_the_plainer_name_wins_not_the_alphabet() -> None:
+    # A MuR620: front and back scanners see half the room each, the merged /scan all of it.
+    # Their words the query knows are the same, so their scores are equal.
+    scans = [
+        Interface(name=f"/mur620a/{leaf}", kind="topic", type_name="sensor_msgs/msg/LaserScan")
+        for leaf in ("b_scan", "f_scan", "scan")
+    ]
+    inventory = Inventory(resource=Resource(name="mur620"), interfaces=scans)
+    capability = Capability(
+        iri="http://example.org/nearest",
+        name="getDistanceToNearestObject",
+        label="Get distance to nearest object",
+        kinds=["CaSk:ProvidedCapability"],
+        comment="I measure the distance to the nearest object around the robot.",
+        outputs=[parameter("outDistance", "m", "The distance to the nearest object.")],
+    )
+    hits = rank_interfaces(inventory, capability, k=3)
+    assert len({round(h.lexical, 9) for h in hits}) == 1
+    assert hits[0].name == "/mur620a/scan"

@@ -38,6 +38,7 @@ from skillwright.retrieval.documents import (
 from skillwright.retrieval.lexical import BM25
 from skillwright.retrieval.query import Facet, Query, build_query
 from skillwright.retrieval.semantics import body_of, body_of_text, directness, unreached
+from skillwright.retrieval.text import split_words
 from skillwright.spec.model import SkillSpec
 
 __all__ = ["DENSE_WEIGHT", "Embedder", "Hit", "Ranking", "candidates", "rank_interfaces"]
@@ -323,8 +324,13 @@ def rank_interfaces(
     total = sum(weights)
     relevance = [_weighted(scores.mixed, weights, i) for i in range(len(pool))]
     covered = [0.0] * len(facets)
-    # candidates in relevance order, so that ties go to the more relevant, then by name
-    remaining = sorted(range(len(pool)), key=lambda i: (-relevance[i], pool[i].name))
+    # candidates in relevance order, so that ties go to the more relevant; among equals, the
+    # plainer name: a robot's merged /scan over its half-view /b_scan and /f_scan, whose
+    # extra word the query does not know (the MuR620 picked /b_scan by the alphabet)
+    remaining = sorted(
+        range(len(pool)),
+        key=lambda i: (-relevance[i], len(split_words(pool[i].name)), pool[i].name),
+    )
     picked_types: set[str] = set()
     hits: list[Hit] = []
     while remaining and len(hits) < k:
