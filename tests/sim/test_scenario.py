@@ -77,6 +77,25 @@ def test_a_capability_without_a_file_gets_a_derived_scenario_within_its_limits(
     assert default_scenario(capability).world == "open_floor"
 
 
+@pytest.mark.parametrize(
+    ("stem", "world"),
+    [
+        ("get-distance-to-nearest-object", "walled_room"),
+        ("collision-avoidance", "walled_room"),
+        ("mapping", "walled_room"),
+        ("move-forward", "open_floor"),
+        ("rotate", "open_floor"),
+    ],
+)
+def test_a_derived_scenario_has_walls_for_a_capability_that_senses_or_maps_them(
+    mr1_capabilities: dict[str, Capability], stem: str, world: str
+) -> None:
+    # On the open floor a scan returns nothing: a skill that says "no object detected" there
+    # is right, and the scenario expecting it to complete would blame it.
+    capability = mr1_capabilities[stem].model_copy(update={"iri": "urn:other"})
+    assert default_scenario(capability).world == world
+
+
 def _write(tmp_path: Path, text: str) -> Path:
     path = tmp_path / "mine.yaml"
     path.write_text(text, encoding="utf-8")

@@ -268,8 +268,9 @@ def _limit_for_unit(capability: Capability, unit: str) -> float | None:
 
 
 def default_scenario(capability: Capability) -> Scenario:
-    """A scenario derived from the capability alone: the open floor, the origin, inputs
-    from the parameters' types and units, ground truth inferred for every output."""
+    """A scenario derived from the capability alone: the walled room for a capability that
+    senses or maps its surroundings, else the open floor; the origin, inputs from the
+    parameters' types and units, ground truth inferred for every output."""
     inputs: dict[str, Scalar] = {}
     for parameter in capability.inputs:
         for element in parameter.components:
@@ -277,8 +278,23 @@ def default_scenario(capability: Capability) -> Scenario:
     return Scenario(
         name="derived",
         description=f"derived from the capability model of {capability.name}",
+        world="walled_room" if _surroundings(capability) else "open_floor",
         inputs=inputs,
     )
+
+
+def _surroundings(capability: Capability) -> bool:
+    """Whether the capability senses or maps what is around the robot (on the open floor
+    its scan returns nothing: the paper's get-distance-to-nearest-object rightly raised "no
+    object detected" there, and the scenario blamed it)."""
+    parts = [capability.name, capability.label or "", capability.comment or ""]
+    for parameter in (*capability.inputs, *capability.outputs):
+        parts += [parameter.name, parameter.comment or ""]
+        parts += [f"{e.name} {e.definition or ''}" for e in parameter.components]
+    text = " ".join(parts).lower()
+    outputs = [e.name for p in capability.outputs for e in p.components]
+    maps = any("map" in name.lower() for name in (capability.name, *outputs))
+    return maps or any(w in text for w in _SENSED_WORDS)
 
 
 def _complete(scenario: Scenario, capability: Capability, notes: list[str]) -> Scenario:
@@ -481,7 +497,8 @@ def scenarios_for(capability: Capability, scenario_file: Path | None = None) -> 
         )
     notes.append(
         f"no scenario file for {capability.iri}; one scenario derived from the capability model "
-        "(open floor, inputs from the parameters' units)"
+        "(the walled room for a capability that senses or maps its surroundings, else the "
+        "open floor; inputs from the parameters' units)"
     )
     scenario = _complete(default_scenario(capability), capability, notes)
     return ScenarioSet(source=f"derived from {capability.name}", scenarios=[scenario], notes=notes)
