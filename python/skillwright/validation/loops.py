@@ -31,9 +31,9 @@ import copy
 from collections.abc import Iterable, Iterator
 
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import statement_holding
+from skillwright.validation.syntax import skips_its_end, statement_holding
 
-__all__ = ["check_waits", "waits_error"]
+__all__ = ["callback_attributes", "check_waits", "waits_error"]
 
 _CLOCK = frozenset({"monotonic", "time", "perf_counter", "now", "get_clock"})
 _READINGS = frozenset({"monotonic", "time", "perf_counter"})
@@ -103,7 +103,7 @@ def _waits(node: ast.AST, waiting: set[str], nodes: Iterable[ast.AST] | None = N
     return False
 
 
-def _callback_attributes(methods: dict[str, ast.FunctionDef]) -> set[str]:
+def callback_attributes(methods: dict[str, ast.FunctionDef]) -> set[str]:
     """Attributes that methods handed over as callbacks (``self._on_odom`` given to
     ``create_subscription``) assign."""
     handed: set[str] = set()
@@ -159,7 +159,7 @@ def check_waits(cls: ast.ClassDef) -> list[Finding]:
     for timeouts that compare the clock's reading with a duration."""
     methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
     waiting = _waiting_methods(methods)
-    changing = _callback_attributes(methods)
+    changing = callback_attributes(methods)
     findings = []
     for method in methods.values():
         owners = _loops_of_durations(method)
@@ -285,7 +285,7 @@ def _fixed_loop(
     its timeouts compare the clock with, the comparisons made with the deadlines, and a
     sleep at the end when it never waits. ``None`` when a sleep is needed but a
     ``continue`` would skip it."""
-    if sleep and _continues(loop):
+    if sleep and skips_its_end(loop):
         return None
     fixed = copy.deepcopy(loop)
     before: list[str] = []
@@ -322,15 +322,3 @@ def _free_name(stem: str, taken: set[str]) -> str:
         name = f"{stem}_{number}"
     taken.add(name)
     return name
-
-
-def _continues(loop: ast.While) -> bool:
-    """Whether a ``continue`` of this loop (not of a loop inside it) skips its last line."""
-    pending: list[ast.AST] = [*loop.body, *loop.orelse]
-    while pending:
-        node = pending.pop()
-        if isinstance(node, ast.Continue):
-            return True
-        if not isinstance(node, ast.While | ast.For | ast.FunctionDef | ast.Lambda):
-            pending.extend(ast.iter_child_nodes(node))
-    return False

@@ -37,6 +37,7 @@ from skillwright.validation.names import (
     check_names,
     simple_statements,
 )
+from skillwright.validation.stale import check_stale_conditions
 
 __all__ = ["check_skill", "local_name"]
 
@@ -1668,6 +1669,7 @@ def check_skill(
         _check_timers(ctx, cls)
         ctx.findings += check_names(source, tree, cls, imports)
         ctx.findings += check_waits(cls)
+        ctx.findings += check_stale_conditions(cls)
         ctx.findings += check_first_messages(cls, methods)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import ast
 
-__all__ = ["statement_holding"]
+__all__ = ["skips_its_end", "statement_holding"]
 
 
 def statement_holding(root: ast.AST, node: ast.AST) -> ast.stmt | None:
@@ -18,3 +18,16 @@ def statement_holding(root: ast.AST, node: ast.AST) -> ast.stmt | None:
         and any(n is node for n in ast.walk(s))
     ]
     return holding[-1] if holding else None
+
+
+def skips_its_end(loop: ast.While | ast.For) -> bool:
+    """Whether a ``continue`` of ``loop`` (not of a loop inside it) may skip the end of its
+    body, where a check would add a statement."""
+    pending: list[ast.AST] = [*loop.body, *loop.orelse]
+    while pending:
+        node = pending.pop()
+        if isinstance(node, ast.Continue):
+            return True
+        if not isinstance(node, ast.While | ast.For | ast.FunctionDef | ast.Lambda):
+            pending.extend(ast.iter_child_nodes(node))
+    return False

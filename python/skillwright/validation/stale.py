@@ -1,0 +1,209 @@
+"""Loops whose condition nothing in them changes (check ``stale``).
+
+``last_angle = self._yaw()`` before ``while abs(last_angle - target) > 0.05:`` and no new
+reading inside the loop: the condition is decided once, so the loop turns the robot until its
+timeout raises, every time. The 1.5B model wrote exactly this for cap2skill rotate in every
+evaluation since ev46, and the run can only say that the state gave up.
+
+A loop is flagged when its condition reads local names (and nothing a callback or another
+method may change), calls nothing but pure arithmetic, and its body assigns none of those
+names and has no ``break`` or ``return``: it can only end by raising. A name that is used as
+an object anywhere in the method (``msgs.append`` handed to a subscription, ``queue[0]``) may
+change without an assignment, and is left alone.
+
+When each such name was last assigned, before the loop, by an expression that calls a method
+of the skill (a reading: ``self._yaw()``, ``self._transform(...)``), the fix repeats that
+assignment at the end of the loop's body, so the condition sees a fresh reading after each
+pass; otherwise the model is told which name to read again.
+"""
+
+from __future__ import annotations
+
+import ast
+import copy
+
+from skillwright.validation.loops import callback_attributes
+from skillwright.validation.model import Finding
+from skillwright.validation.syntax import skips_its_end
+
+__all__ = ["check_stale_conditions"]
+
+_PURE = frozenset(
+    {"abs", "min", "max", "float", "int", "round", "len", "bool"}
+    | {f"math.{f}" for f in ("fabs", "sqrt", "hypot", "atan2", "degrees", "radians", "cos")}
+    | {f"math.{f}" for f in ("sin", "tan", "isclose", "copysign", "fmod", "remainder")}
+)
+"""Calls a condition may make and still be decided by its names alone."""
+_MODULES = frozenset({"math", "time", "abs", "min", "max", "float", "int", "round", "len", "bool"})
+
+
+def check_stale_conditions(cls: ast.ClassDef) -> list[Finding]:
+    """Findings (check ``stale``) for loops whose condition cannot change while they run."""
+    findings = []
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        for loop in ast.walk(method):
+            if isinstance(loop, ast.While):
+                finding = _stale(cls, method, loop)
+                if finding is not None:
+                    findings.append(finding)
+    return findings
+
+
+def _stale(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> Finding | None:
+    names, attributes = _condition_names(loop.test)
+    if not names or _ends_otherwise(loop) or names & _assigned(loop.body):
+        return None
+    if names & _used_as_objects(method) or attributes & _set_meanwhile(cls, loop):
+        return None
+    ordered = sorted(names)
+    readings = [_reading_before(method, loop, name) for name in ordered]
+    condition = ast.unparse(loop.test)
+    which = ", ".join(ordered)
+    message = (
+        f"the condition of this loop, `{condition}`, reads {which}, which nothing in the loop "
+        "changes: it is decided before the first pass, so the loop ends only by raising (its "
+        f"timeout). Read {which} again inside the loop, after each wait"
+    )
+    replacement = None
+    if all(r is not None for r in readings) and not skips_its_end(loop):
+        fixed = copy.deepcopy(loop)
+        fixed.body = [*fixed.body, *(copy.deepcopy(r) for r in readings if r is not None)]
+        replacement = ast.unparse(ast.fix_missing_locations(fixed))
+        message += (
+            "; the fix repeats "
+            + ", ".join(f"`{ast.unparse(r)}`" for r in readings if r is not None)
+            + " at the end of the loop"
+        )
+    return Finding(
+        check="stale",
+        severity="error",
+        line=loop.lineno,
+        column=loop.col_offset + 1,
+        message=message,
+        replacement=replacement,
+    )
+
+
+def _condition_names(test: ast.expr) -> tuple[set[str], set[str]]:
+    """The local names and the skill's attributes ``test`` decides on; nothing when it
+    reads anything else (another object's attribute, a call that is not arithmetic) or
+    nothing at all (``while True``)."""
+    names: set[str] = set()
+    attributes: set[str] = set()
+    for node in ast.walk(test):
+        if isinstance(node, ast.Call):
+            if ast.unparse(node.func) not in _PURE:
+                return set(), set()
+        elif isinstance(node, ast.Attribute):
+            if isinstance(node.value, ast.Name) and node.value.id == "self":
+                attributes.add(node.attr)
+            elif not (isinstance(node.value, ast.Name) and node.value.id == "math"):
+                return set(), set()
+        elif isinstance(node, ast.Subscript | ast.Await | ast.NamedExpr):
+            return set(), set()
+        elif isinstance(node, ast.Name) and node.id not in _MODULES and node.id != "self":
+            names.add(node.id)
+    return names, attributes
+
+
+def _set_meanwhile(cls: ast.ClassDef, loop: ast.While) -> set[str]:
+    """Attributes of the skill that may change while ``loop`` runs: set by a callback, by
+    the loop, or by a method the loop calls (directly or through another)."""
+    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
+    out = callback_attributes(methods)
+    pending: list[ast.AST] = [loop]
+    seen: set[str] = set()
+    while pending:
+        root = pending.pop()
+        for node in ast.walk(root):
+            if (
+                isinstance(node, ast.Attribute)
+                and isinstance(node.value, ast.Name)
+                and node.value.id == "self"
+            ):
+                if isinstance(node.ctx, ast.Store | ast.Del):
+                    out.add(node.attr)
+                elif node.attr in methods and node.attr not in seen:
+                    seen.add(node.attr)
+                    pending.append(methods[node.attr])
+    return out
+
+
+def _ends_otherwise(loop: ast.While) -> bool:
+    """Whether a ``break`` of this loop or a ``return`` may end it without raising."""
+    pending: list[ast.AST] = [*loop.body, *loop.orelse]
+    while pending:
+        node = pending.pop()
+        if isinstance(node, ast.Return | ast.Yield | ast.YieldFrom):
+            return True
+        if isinstance(node, ast.Break):
+            return True
+        if isinstance(node, ast.FunctionDef | ast.Lambda | ast.ClassDef):
+            continue
+        if isinstance(node, ast.While | ast.For):
+            # their own breaks end them, not this loop; a return still ends this one
+            pending.extend(n for n in ast.walk(node) if isinstance(n, ast.Return))
+            continue
+        pending.extend(ast.iter_child_nodes(node))
+    return False
+
+
+def _assigned(body: list[ast.stmt]) -> set[str]:
+    names: set[str] = set()
+    for statement in body:
+        for node in ast.walk(statement):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store | ast.Del):
+                names.add(node.id)
+            elif isinstance(node, ast.Global | ast.Nonlocal):
+                names.update(node.names)
+    return names
+
+
+def _used_as_objects(method: ast.FunctionDef) -> set[str]:
+    """Names of ``method`` something may change without assigning them: the base of an
+    attribute or subscript, or an argument of a call that is not arithmetic."""
+    out: set[str] = set()
+    for node in ast.walk(method):
+        if isinstance(node, ast.Attribute | ast.Subscript) and isinstance(node.value, ast.Name):
+            out.add(node.value.id)
+        elif isinstance(node, ast.Call) and ast.unparse(node.func) not in _PURE:
+            arguments = [*node.args, *(k.value for k in node.keywords)]
+            out.update(a.id for a in arguments if isinstance(a, ast.Name))
+    return out
+
+
+def _reading_before(method: ast.FunctionDef, loop: ast.While, name: str) -> ast.Assign | None:
+    """The last plain ``name = ...`` before ``loop`` in the block that holds it, when its
+    value calls a method of the skill (a reading of the robot's state)."""
+    block = _block_of(method, loop)
+    if block is None:
+        return None
+    found: ast.Assign | None = None
+    for statement in block[: block.index(loop)]:
+        if isinstance(statement, ast.Assign) and any(
+            isinstance(t, ast.Name) and t.id == name for t in statement.targets
+        ):
+            single = len(statement.targets) == 1 and _reads_the_skill(statement.value)
+            found = statement if single else None
+        elif name in _assigned([statement]):
+            found = None
+    return found
+
+
+def _reads_the_skill(value: ast.expr) -> bool:
+    return any(
+        isinstance(n, ast.Call)
+        and isinstance(n.func, ast.Attribute)
+        and isinstance(n.func.value, ast.Name)
+        and n.func.value.id == "self"
+        for n in ast.walk(value)
+    )
+
+
+def _block_of(root: ast.AST, statement: ast.stmt) -> list[ast.stmt] | None:
+    for node in ast.walk(root):
+        for field in ("body", "orelse", "finalbody"):
+            block = getattr(node, field, None)
+            if isinstance(block, list) and any(s is statement for s in block):
+                return block
+    return None
