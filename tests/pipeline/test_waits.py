@@ -75,7 +75,7 @@ def test_a_timeout_too_short_for_the_motion_is_replaced_by_a_measured_one(
 
     assert len(runs.sources) == 2
     assert "deadline = time.monotonic() + 8.0" in runs.sources[1]
-    fixed = [f for f in report.findings if f.check == "run.timeout"]
+    fixed = [f for f in report.findings if f.check == "run.short_wait"]
     assert [(f.line, f.severity) for f in fixed] == [
         (line_of(source, "deadline = time"), "error"),
         (line_of(source, "raise RuntimeError('the base"), "error"),
@@ -106,14 +106,33 @@ def test_a_wait_for_what_never_happens_is_told_a_longer_wait_is_not_the_fix(
     report = probe_waits(first, source, runs, SCENARIO.deadlines.state)
 
     assert len(runs.sources) == 2
-    assert not [f for f in report.findings if f.check == "run.timeout"]
+    assert not [f for f in report.findings if f.check == "run.short_wait"]
     [finding] = [f for f in report.findings if f.check == "run.exception"]
     assert finding.message.startswith(
         "execute raised RuntimeError: the base did not cover 1 m within 1 s; given 8 s "
-        "instead of 1 s in the same run, execute still gave up there: a longer wait is not "
-        "the fix"
+        "instead of 1 s in the same run, execute still gave up there, so a longer wait is "
+        "not the fix: the robot was moving when it gave up, yet what it waits for did not "
+        "come true"
     )
     assert GAVE_UP_NOTE not in finding.message  # "its timeout was too short" would mislead
+
+
+def test_a_wait_with_nothing_moving_the_robot_is_told_to_check_its_commands(
+    inventory: Inventory,
+) -> None:
+    source = drive(1.0, commanded="0.0")  # MR-1 rotate published zero inside its loop
+    runs = Runs(inventory)
+    first = runs(source)
+    assert GAVE_UP_NOTE not in first.findings[0].message
+
+    report = probe_waits(first, source, runs, SCENARIO.deadlines.state)
+
+    [finding] = [f for f in report.findings if f.check == "run.exception"]
+    assert finding.message.endswith(
+        "execute still gave up there, so a longer wait is not the fix: no goal was running "
+        "and no velocity other than zero went out in its last second, so nothing brings "
+        "about what it waits for: check what it commands while it waits"
+    )
 
 
 def test_a_wait_that_already_allows_most_of_the_deadline_is_not_run_again(

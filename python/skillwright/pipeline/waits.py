@@ -7,14 +7,17 @@ the repair needs to know which. So when the run finds such a state and the numbe
 takes the seconds from can be found (:mod:`skillwright.validation.timeouts`), the same
 scenario runs once more with the wait allowed most of the state's deadline:
 
-* if the state gets past the wait, the timeout was too short. Findings ``run.timeout`` put a
-  number in its place: what the state took in that run times :data:`MARGIN`, rounded up to
-  a number an engineer would write, and never less than twice the old one. They carry the
+* if the state gets past the wait, the timeout was too short. Findings ``run.short_wait``
+  put a number in its place: what the state took in that run times :data:`MARGIN`, rounded
+  up to a number an engineer would write, and never less than twice the old one. They carry the
   changed statements, so the repair loop applies them without the model, and the next run
   shows whether they hold. The simulated robot is only as fast as its world: the finding
   says so and says how long the state took.
 * if it still gives up, waiting longer is not the fix, and the finding says that instead of
-  blaming the timeout (the run's note about a motion still under way is dropped).
+  blaming the timeout (the run's note about a motion still under way is dropped), and what
+  the first run saw: the robot still moving (then the condition does not follow the
+  motion: cap2skill rotate never read its heading again), or nothing moving it (MR-1 rotate
+  published zero velocity inside its loop).
 
 MR-1 and cap2skill rotate (ev49) allowed a turn 2 s, MR-1 navigate-to-point gave Nav2 5 s;
 the 1.5B model kept those numbers through every repair that said they were too short.
@@ -26,7 +29,7 @@ from collections.abc import Callable
 
 from skillwright.errors import OperationCancelledError, SkillwrightError
 from skillwright.runtime.report import RunReport
-from skillwright.runtime.session import gave_up
+from skillwright.runtime.session import GAVE_UP_NOTE, gave_up
 from skillwright.validation.model import Finding
 from skillwright.validation.timeouts import fixes, rounded_up, timeout_site, with_seconds
 
@@ -63,12 +66,19 @@ def probe_waits(
         except SkillwrightError:
             continue  # the second run is advice: the first run's finding stands as it is
         if _gave_up_again(probe, finding.line):
+            why = (
+                "the robot was moving when it gave up, yet what it waits for did not come "
+                "true: check that the condition reads the robot's state again on every pass"
+                if GAVE_UP_NOTE in finding.message
+                else "no goal was running and no velocity other than zero went out in its "
+                "last second, so nothing brings about what it waits for: check what it "
+                "commands while it waits"
+            )
             findings[index] = finding.model_copy(
                 update={
                     "message": f"{head}; given {probe_seconds:g} s instead of {seconds:g} s "
-                    f"in the same run, {state} still gave up there: a longer wait is not the "
-                    "fix, what it waits for never happens (check the condition it waits on "
-                    "and what it commands to bring it about)"
+                    f"in the same run, {state} still gave up there, so a longer wait is not "
+                    f"the fix: {why}"
                 }
             )
             continue
@@ -85,7 +95,7 @@ def probe_waits(
         )
         added += [
             Finding(
-                check="run.timeout",
+                check="run.short_wait",
                 severity="error",
                 line=line,
                 column=column,
