@@ -179,3 +179,17 @@ def test_seconds_are_rounded_up_to_a_number_an_engineer_would_write(
     seconds: float, rounded: float
 ) -> None:
     assert rounded_up(seconds) == rounded
+
+
+def test_only_the_seconds_the_raise_names_change_in_its_text() -> None:
+    code = HELPERS + (
+        "    def execute(self):\n"
+        "        deadline = time.monotonic() + 5\n"
+        "        if time.monotonic() > deadline:\n"
+        "            raise RuntimeError('not there within 5 s (0.5 s steps, 15 s at most)')\n"
+    )
+    site = timeout_site(code, line_of(code, "not there within"), (), 5.0)
+    assert site is not None
+    changed = with_seconds(code, site, 20.0)
+    assert "deadline = time.monotonic() + 20\n" in changed
+    assert "'not there within 20 s (0.5 s steps, 15 s at most)'" in changed

@@ -100,7 +100,7 @@ def with_seconds(code: str, site: TimeoutSite, seconds: float) -> str:
             raw[:start].decode("utf-8") + _number_text(old, seconds) + raw[end:].decode("utf-8")
         )
     if site.raise_line is not None and site.raise_end is not None:
-        said = re.compile(rf"(?<![\w.]){re.escape(f'{site.seconds:g}')}(?:\.0+)?{_UNITS}")
+        said = _said(site.seconds)
         for index in range(site.raise_line - 1, site.raise_end):
             lines[index] = said.sub(f"{seconds:g}", lines[index])
     return "".join(lines)
@@ -307,9 +307,13 @@ def _bound(
     return arguments, left_out
 
 
+def _said(seconds: float) -> re.Pattern[str]:
+    """The seconds as a text says them: "5 s", "5.0 seconds", not "15 s" or "0.5 s"."""
+    return re.compile(rf"(?<![\w.]){re.escape(f'{seconds:g}')}(?:\.0+)?{_UNITS}")
+
+
 def _names_seconds(code: str, statement: ast.Raise, seconds: float) -> bool:
-    text = ast.get_source_segment(code, statement) or ""
-    return re.search(rf"(?<![\w.]){re.escape(f'{seconds:g}')}(?:\.0+)?{_UNITS}", text) is not None
+    return _said(seconds).search(ast.get_source_segment(code, statement) or "") is not None
 
 
 def _node_at(tree: ast.AST, line: int, column: int) -> ast.AST | None:
