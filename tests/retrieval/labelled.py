@@ -42,38 +42,17 @@ from tests.retrieval.robots import robot_inventory
 
 LABELS = Path(__file__).resolve().parent / "labels"
 
-SETS = (
-    "mr1",
-    "cap2skill",
-    "cap2skill-filtered",
-    "tb4",
-    "tiago",
-    "ur5e",
-    "go2",
-    "rosbotxl",
-    "husky",
-    "stretch3",
-    "locobot",
-    "mur620",
-)
+WRITTEN = ("tb4", "tiago", "ur5e", "go2", "rosbotxl", "husky", "stretch3", "locobot", "mur620")
+"""The robots of ``tests/retrieval/robots``: graphs written from public sources."""
+
+SETS = ("mr1", "cap2skill", "cap2skill-filtered", *WRITTEN)
 """The labelled settings: our MR-1 recording; the paper's robot with its full report
 (infrastructure left out by our rules); the same robot with only the 33 interfaces the
-paper's relevance filter kept, carrying the paper's LLM-written descriptions; and the nine
-robots of ``tests/retrieval/robots``."""
+paper's relevance filter kept, carrying the paper's LLM-written descriptions; and the
+robots of :data:`WRITTEN`."""
 
 ROBOTS = {"mr1": "mr1", "cap2skill": "mmo700", "cap2skill-filtered": "mmo700"} | {
-    name: name
-    for name in (
-        "tb4",
-        "tiago",
-        "ur5e",
-        "go2",
-        "rosbotxl",
-        "husky",
-        "stretch3",
-        "locobot",
-        "mur620",
-    )
+    name: name for name in WRITTEN
 }
 """The robot of each set (the two Cap2Skill settings share one), for leave-one-robot-out."""
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import threading
 from collections.abc import Sequence
 from functools import cache
@@ -231,15 +232,28 @@ def parameter(name: str, unit: str, definition: str) -> Parameter:
     )
 
 
-def forward_capability() -> Capability:
+def provided(
+    name: str, comment: str, inputs: list[Parameter], outputs: list[Parameter]
+) -> Capability:
+    """A provided capability of the base, as a model would state it."""
+    label = " ".join(w.lower() for w in re.findall(r"[A-Z]?[a-z]+", name)).capitalize()
     return Capability(
-        iri="http://example.org/forward",
-        name="moveForward",
-        label="Move forward",
+        iri=f"http://example.org/{name}",
+        name=name,
+        label=label,
         kinds=["CaSk:ProvidedCapability"],
-        comment="I drive the base forward by a distance at a speed, then stop.",
-        inputs=[parameter("inDistance", "m", "The distance to drive.")],
-        outputs=[
+        comment=comment,
+        inputs=inputs,
+        outputs=outputs,
+    )
+
+
+def forward_capability() -> Capability:
+    return provided(
+        "moveForward",
+        "I drive the base forward by a distance at a speed, then stop.",
+        [parameter("inDistance", "m", "The distance to drive.")],
+        [
             parameter("outDistance", "m", "The distance to drive."),
             parameter("outVelocity", "m/s", "The velocity reached."),
         ],
@@ -321,13 +335,11 @@ def test_among_equal_scores_the_plainer_name_wins_not_the_alphabet() -> None:
         for leaf in ("b_scan", "f_scan", "scan")
     ]
     inventory = Inventory(resource=Resource(name="mur620"), interfaces=scans)
-    capability = Capability(
-        iri="http://example.org/nearest",
-        name="getDistanceToNearestObject",
-        label="Get distance to nearest object",
-        kinds=["CaSk:ProvidedCapability"],
-        comment="I measure the distance to the nearest object around the robot.",
-        outputs=[parameter("outDistance", "m", "The distance to the nearest object.")],
+    capability = provided(
+        "getDistanceToNearestObject",
+        "I measure the distance to the nearest object around the robot.",
+        [],
+        [parameter("outDistance", "m", "The distance to the nearest object.")],
     )
     hits = rank_interfaces(inventory, capability, k=3)
     assert len({round(h.lexical, 9) for h in hits}) == 1

@@ -9,15 +9,15 @@ import pytest
 
 from skillwright.validation.model import Finding
 from skillwright.validation.stale import check_stale_conditions
+from tests.validation.test_loops import HEAD as LOOPS_HEAD
 
-HEAD = """
-class Skill:
-    def starting(self):
-        self.odom_subscription = self.node.create_subscription(Odometry, "/odom", self._on_odom, 10)
+HEAD = (
+    LOOPS_HEAD
+    + """    def watching(self):
+        self.node.create_subscription(Pose2D, "/pose", self._on_pose, 10)
 
-    def _on_odom(self, msg):
-        self.odom_msg = msg
-        self.heading = yaw_of(msg)
+    def _on_pose(self, msg):
+        self.heading = msg.theta
 
     def _yaw(self):
         return self.heading
@@ -26,6 +26,9 @@ class Skill:
         self.turned = self.turned + 1
 
 """
+)
+"""The loops' skill (a subscription's callback sets ``odom_msg``), with a heading another
+callback sets and a method that changes an attribute."""
 
 
 def _stale(execute: str) -> list[Finding]:

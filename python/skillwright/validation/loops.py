@@ -31,7 +31,7 @@ import copy
 from collections.abc import Iterable, Iterator
 
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import skips_its_end, statement_holding
+from skillwright.validation.syntax import error_at, skips_its_end, statement_holding
 
 __all__ = ["callback_attributes", "check_waits", "waits_error"]
 
@@ -44,14 +44,7 @@ _WAITING = frozenset({"sleep", "spin", "spin_once", "spin_until_future_complete"
 
 def waits_error(statement: ast.stmt, message: str, replacement: str | None) -> Finding:
     """An error of the ``waits`` check at ``statement``."""
-    return Finding(
-        check="waits",
-        severity="error",
-        line=statement.lineno,
-        column=statement.col_offset + 1,
-        message=message,
-        replacement=replacement,
-    )
+    return error_at("waits", statement, message, replacement)
 
 
 def _called_name(call: ast.Call) -> str | None:

@@ -24,7 +24,7 @@ import copy
 
 from skillwright.validation.loops import callback_attributes
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import skips_its_end
+from skillwright.validation.syntax import error_at, skips_its_end
 
 __all__ = ["check_stale_conditions"]
 
@@ -74,14 +74,7 @@ def _stale(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> Findi
             + ", ".join(f"`{ast.unparse(r)}`" for r in readings if r is not None)
             + " at the end of the loop"
         )
-    return Finding(
-        check="stale",
-        severity="error",
-        line=loop.lineno,
-        column=loop.col_offset + 1,
-        message=message,
-        replacement=replacement,
-    )
+    return error_at("stale", loop, message, replacement)
 
 
 def _condition_names(test: ast.expr) -> tuple[set[str], set[str]]:

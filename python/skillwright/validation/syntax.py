@@ -4,7 +4,24 @@ from __future__ import annotations
 
 import ast
 
-__all__ = ["skips_its_end", "statement_holding"]
+from skillwright.validation.model import Finding
+
+__all__ = ["error_at", "skips_its_end", "statement_holding"]
+
+
+def error_at(
+    check: str, statement: ast.stmt, message: str, replacement: str | None = None
+) -> Finding:
+    """An error of ``check`` at ``statement``, with the statements to put in its place when
+    the check knows them."""
+    return Finding(
+        check=check,
+        severity="error",
+        line=statement.lineno,
+        column=statement.col_offset + 1,
+        message=message,
+        replacement=replacement,
+    )
 
 
 def statement_holding(root: ast.AST, node: ast.AST) -> ast.stmt | None:

@@ -199,17 +199,21 @@ def _read(node: ast.AST) -> set[str]:
         current = pending.pop()
         if isinstance(current, ast.Lambda):
             continue
-        if isinstance(current, ast.Name) and isinstance(current.ctx, ast.Load):
-            out.add(current.id)
-        elif (
-            isinstance(current, ast.Attribute)
-            and isinstance(current.value, ast.Name)
-            and current.value.id == "self"
-        ):
-            out.add(f"self.{current.attr}")
-            continue
-        pending.extend(ast.iter_child_nodes(current))
+        name = _traced_name(current)
+        if name is not None and isinstance(getattr(current, "ctx", None), ast.Load):
+            out.add(name)
+        if name is None or isinstance(current, ast.Name):
+            pending.extend(ast.iter_child_nodes(current))
     return out
+
+
+def _traced_name(node: ast.AST) -> str | None:
+    """``x`` for a local name, ``self.x`` for an attribute of the skill, else ``None``."""
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+        return f"self.{node.attr}" if node.value.id == "self" else None
+    return None
 
 
 def _target_names(statement: ast.stmt) -> set[str]:
@@ -218,17 +222,7 @@ def _target_names(statement: ast.stmt) -> set[str]:
         targets = list(statement.targets)
     elif isinstance(statement, ast.AnnAssign | ast.AugAssign):
         targets = [statement.target]
-    names = set()
-    for target in targets:
-        if isinstance(target, ast.Name):
-            names.add(target.id)
-        elif (
-            isinstance(target, ast.Attribute)
-            and isinstance(target.value, ast.Name)
-            and target.value.id == "self"
-        ):
-            names.add(f"self.{target.attr}")
-    return names
+    return {n for n in map(_traced_name, targets) if n is not None}
 
 
 def _traced(
