@@ -105,3 +105,23 @@ def test_inputs_parse_to_numbers_booleans_and_text() -> None:
     }
     with pytest.raises(InvalidArgumentError, match="NAME=VALUE"):
         parse_inputs(("=1",))
+
+
+def test_a_wait_too_short_for_the_motion_gets_a_measured_timeout(tmp_path: Path) -> None:
+    from tests.runtime.test_waits import drive
+
+    skill = tmp_path / "skill.py"
+    skill.write_text(drive(1.0), encoding="utf-8")
+    result = CliRunner().invoke(
+        main,
+        ["run", str(skill), "--interfaces", str(MR1_RECORDING), "--world", "kinematic"],
+        terminal_width=400,
+    )
+    assert result.exit_code == 1
+    assert "[run.exception] execute raised RuntimeError: the base did not cover 1 m" in (
+        result.stdout
+    )
+    assert "[run.short_wait] the wait that gave up allows 1 s, less than execute needs" in (
+        result.stdout
+    )
+    assert skill.read_text(encoding="utf-8") == drive(1.0)  # advice only: the file stays

@@ -192,8 +192,8 @@ class Behaviour:
         key = _digest(code)
         if key in self._runs:
             return self._runs[key]
-        from skillwright.pipeline.waits import probe_waits
         from skillwright.runtime.run import run_skill
+        from skillwright.runtime.waits import probe_waits
         from skillwright.sim.validate import runtime_scenario
 
         started = time.perf_counter()

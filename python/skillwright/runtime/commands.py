@@ -153,15 +153,18 @@ def run(
     The skill runs in a separate process without network, with time, memory and file
     limits, in virtual time: starting, execute, completing and resetting, and, when it
     moved the robot, a second time with a Stop during execute. Everything it publishes,
-    calls and logs is traced; problems are reported at their line in SKILL_FILE.
-    Exit status 0 when the run finds no error, 1 when it does, 2 for bad input,
+    calls and logs is traced; problems are reported at their line in SKILL_FILE. A state
+    whose wait gave up ("within 2 s") runs once more with the wait allowed longer, to tell
+    a timeout too short for the motion (the finding gives a measured one) from a wait for
+    what never happens. Exit status 0 when the run finds no error, 1 when it does, 2 for bad input,
     130 when interrupted.
     """
     from skillwright.console import err_console, out_console, print_model_json
     from skillwright.errors import GenerationCancelledError
     from skillwright.interfaces.load import discover_path, is_json_file
     from skillwright.runtime.run import run_skill
-    from skillwright.runtime.scenario import load_scenario
+    from skillwright.runtime.scenario import RunScenario, load_scenario
+    from skillwright.runtime.waits import probe_waits
 
     inputs = parse_inputs(input_values)
     scenario = load_scenario(scenario_file) if scenario_file is not None else None
@@ -177,6 +180,20 @@ def run(
             recording=recording,
             on_progress=None if as_json else _Progress(err_console()),
         )
+
+        def again(source_text: str) -> RunReport:
+            return run_skill(
+                skill_file,
+                inventory,
+                inputs=inputs,
+                scenario=scenario,
+                world=world,
+                recording=recording,
+                source=source_text,
+            )
+
+        deadline = (scenario or RunScenario()).deadlines.state
+        report = probe_waits(report, skill_file.read_text(encoding="utf-8"), again, deadline)
     except KeyboardInterrupt:
         raise GenerationCancelledError(
             "run interrupted; the sandboxed process was killed"

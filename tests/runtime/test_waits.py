@@ -8,12 +8,10 @@ import pytest
 
 from skillwright.errors import GenerationCancelledError, SkillwrightError
 from skillwright.interfaces.inventory import Inventory
-from skillwright.interfaces.load import load_inventory
-from skillwright.pipeline.waits import probe_waits
 from skillwright.runtime.report import RunReport
 from skillwright.runtime.run import run_skill
 from skillwright.runtime.session import GAVE_UP_NOTE
-from tests.pipeline.conftest import RECORDING
+from skillwright.runtime.waits import probe_waits
 from tests.runtime.conftest import quick
 from tests.runtime.test_session import HEAD, line_of
 
@@ -21,9 +19,9 @@ SCENARIO = quick(world="kinematic")
 """10 s of virtual time per state: the second run allows a wait 8 s."""
 
 
-@pytest.fixture(scope="module")
-def inventory() -> Inventory:
-    return load_inventory(RECORDING)
+@pytest.fixture
+def inventory(mr1_inventory: Inventory) -> Inventory:
+    return mr1_inventory
 
 
 def drive(seconds: float, *, commanded: str = "0.4") -> str:
