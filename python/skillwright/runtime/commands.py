@@ -171,17 +171,8 @@ def run(
     inventory = discover_path(source)
     recording = None if is_json_file(source) else source
     try:
-        report = run_skill(
-            skill_file,
-            inventory,
-            inputs=inputs,
-            scenario=scenario,
-            world=world,
-            recording=recording,
-            on_progress=None if as_json else _Progress(err_console()),
-        )
 
-        def again(source_text: str) -> RunReport:
+        def run_once(source_text: str | None, progress: _Progress | None = None) -> RunReport:
             return run_skill(
                 skill_file,
                 inventory,
@@ -190,10 +181,12 @@ def run(
                 world=world,
                 recording=recording,
                 source=source_text,
+                on_progress=progress,
             )
 
+        report = run_once(None, None if as_json else _Progress(err_console()))
         deadline = (scenario or RunScenario()).deadlines.state
-        report = probe_waits(report, skill_file.read_text(encoding="utf-8"), again, deadline)
+        report = probe_waits(report, skill_file.read_text(encoding="utf-8"), run_once, deadline)
     except KeyboardInterrupt:
         raise GenerationCancelledError(
             "run interrupted; the sandboxed process was killed"
