@@ -38,6 +38,7 @@ from skillwright.validation.names import (
     simple_statements,
 )
 from skillwright.validation.stale import check_stale_conditions
+from skillwright.validation.stops import check_stops
 
 __all__ = ["check_skill", "local_name"]
 
@@ -1670,6 +1671,7 @@ def check_skill(
         ctx.findings += check_names(source, tree, cls, imports)
         ctx.findings += check_waits(cls)
         ctx.findings += check_stale_conditions(cls)
+        ctx.findings += check_stops(cls)
         ctx.findings += check_first_messages(cls, methods)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
