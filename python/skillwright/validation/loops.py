@@ -31,7 +31,12 @@ import copy
 from collections.abc import Iterable, Iterator
 
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import error_at, skips_its_end, statement_holding
+from skillwright.validation.syntax import (
+    error_at,
+    self_method,
+    skips_its_end,
+    statement_holding,
+)
 
 __all__ = ["callback_attributes", "check_waits", "waits_error"]
 
@@ -53,17 +58,6 @@ def _called_name(call: ast.Call) -> str | None:
         return func.attr
     if isinstance(func, ast.Name):
         return func.id
-    return None
-
-
-def _self_method(call: ast.Call) -> str | None:
-    func = call.func
-    if (
-        isinstance(func, ast.Attribute)
-        and isinstance(func.value, ast.Name)
-        and func.value.id == "self"
-    ):
-        return func.attr
     return None
 
 
@@ -91,7 +85,7 @@ def _waits(node: ast.AST, waiting: set[str], nodes: Iterable[ast.AST] | None = N
         name = _called_name(call)
         if name is None:
             continue
-        if name in _WAITING or name.startswith("wait_for") or _self_method(call) in waiting:
+        if name in _WAITING or name.startswith("wait_for") or self_method(call) in waiting:
             return True
     return False
 

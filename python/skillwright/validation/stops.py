@@ -19,7 +19,7 @@ from __future__ import annotations
 import ast
 
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import error_at
+from skillwright.validation.syntax import error_at, self_method
 
 __all__ = ["check_stops"]
 
@@ -118,16 +118,8 @@ def _publishes(body: list[ast.stmt], stoppers: dict[str, str]) -> list[tuple[str
 
 
 def _self_call(call: ast.Call) -> str | None:
-    func = call.func
-    if (
-        isinstance(func, ast.Attribute)
-        and isinstance(func.value, ast.Name)
-        and func.value.id == "self"
-        and not call.args
-        and not call.keywords
-    ):
-        return func.attr
-    return None
+    """The method of the skill ``call`` calls without arguments, if it does."""
+    return None if call.args or call.keywords else self_method(call)
 
 
 def _stopper_call(call: ast.Call, stoppers: dict[str, str]) -> bool:

@@ -6,7 +6,7 @@ import ast
 
 from skillwright.validation.model import Finding
 
-__all__ = ["error_at", "skips_its_end", "statement_holding"]
+__all__ = ["error_at", "self_method", "skips_its_end", "statement_holding"]
 
 
 def error_at(
@@ -48,3 +48,11 @@ def skips_its_end(loop: ast.While | ast.For) -> bool:
         if not isinstance(node, ast.While | ast.For | ast.FunctionDef | ast.Lambda):
             pending.extend(ast.iter_child_nodes(node))
     return False
+
+
+def self_method(call: ast.Call) -> str | None:
+    """The method's name when ``call`` calls a method of the skill (``self.name(...)``)."""
+    func = call.func
+    if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
+        return func.attr if func.value.id == "self" else None
+    return None
