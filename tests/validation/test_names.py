@@ -724,3 +724,62 @@ def test_a_goal_sends_value_used_as_its_result_is_fixed_to_a_wait_for_the_result
     else:
         assert found.message.endswith("call it as a statement of its own")
         assert found.replacement == "self._send_dock_goal(None, 5.0)"
+
+
+WAIT = (
+    "    def _wait_until(self, condition, timeout: float, what: str) -> None:\n"
+    '        """Waits until condition() is true; raises RuntimeError after timeout."""\n'
+    "        deadline = time.monotonic() + timeout\n"
+    "        while not condition():\n"
+    "            if time.monotonic() > deadline:\n"
+    '                raise RuntimeError(f"no {what} within {timeout:g} s")\n'
+    "            time.sleep(0.02)\n\n"
+    "    @execute\n"
+)
+
+
+@pytest.mark.parametrize(
+    ("test", "kept"),
+    [
+        ("if self._wait_until(lambda: self.odom_msg is not None, 0.5, 'odom'):", "body"),
+        ("if not self._wait_until(lambda: self.odom_msg is not None, 0.5, 'odom'):", "else"),
+    ],
+)
+def test_a_wait_that_raises_used_as_an_if_test_is_called_and_its_branch_kept(
+    move_forward: tuple[Capability, SkillSpec], test: str, kept: str
+) -> None:
+    # MR-1 set-velocity in ev53: `if self._wait_until(...):` around the outputs and a return.
+    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
+    source = GOOD.replace("    @execute\n", WAIT, 1).replace(
+        stop,
+        f"        {test}\n"
+        "            self.out_linear_velocity = 1.0\n"
+        "        else:\n"
+        "            self.out_linear_velocity = 2.0\n" + stop,
+        1,
+    )
+    [found] = [f for f in _names(source, move_forward) if "returns nothing" in f.message]
+    assert found.line == _line(source, "self._wait_until(lambda")
+    branch = "else branch" if kept == "else" else "body"
+    assert found.message.endswith(
+        "It raises when it fails, so once it returns, what it waits for has happened: the fix "
+        f"calls it and goes on with the {branch} of this `if`"
+    )
+    value = "2.0" if kept == "else" else "1.0"
+    assert found.replacement == (
+        "self._wait_until(lambda: self.odom_msg is not None, 0.5, 'odom')\n"
+        f"self.out_linear_velocity = {value}"
+    )
+
+
+def test_a_helper_that_never_raises_used_as_an_if_test_gets_no_fix(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # _halt returns nothing and cannot fail: which branch was meant is not known.
+    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
+    source = GOOD.replace("    @execute\n", HALT, 1).replace(
+        stop, "        if self._halt():\n            self.out_linear_velocity = 1.0\n" + stop, 1
+    )
+    [found] = [f for f in _names(source, move_forward) if "returns nothing" in f.message]
+    assert found.replacement is None
+    assert "It raises" not in found.message

@@ -1161,6 +1161,7 @@ def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
             for s in ast.walk(method)
             if isinstance(s, ast.Assign) and len(s.targets) == 1
         }
+        tested = _tested_calls(method)
         for call in ast.walk(method):
             name = self_attribute(call.func) if isinstance(call, ast.Call) else None
             if name not in nothing or id(call) in plain:
@@ -1177,8 +1178,40 @@ def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
             if fix is not None and wait is not None:
                 message += f", then wait for the result: {wait}"
                 fix += f"\n{wait}"
+            guard = tested.get(id(call))
+            if guard is not None and _raises(nothing[name]):
+                statement, negated = guard
+                message += (
+                    f". It raises when it fails, so once it returns, what it waits for has "
+                    f"happened: the fix calls it and goes on with the "
+                    f"{'else branch' if negated else 'body'} of this `if`"
+                )
+                kept = statement.orelse if negated else statement.body
+                fix = "\n".join(ast.unparse(s) for s in [ast.Expr(call), *kept])
             findings.append(_finding(call, message, fix))
     return findings
+
+
+def _tested_calls(method: ast.FunctionDef) -> dict[int, tuple[ast.If, bool]]:
+    """Calls that are the whole test of an ``if`` (``if self._wait_until(...):``, or with
+    ``not``), with their statement and whether the test negates them."""
+    tested: dict[int, tuple[ast.If, bool]] = {}
+    for statement in ast.walk(method):
+        if not isinstance(statement, ast.If):
+            continue
+        test, negated = statement.test, False
+        if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+            test, negated = test.operand, True
+        if isinstance(test, ast.Call):
+            tested[id(test)] = (statement, negated)
+    return tested
+
+
+def _raises(method: ast.FunctionDef) -> bool:
+    """Whether ``method`` raises on some path of its own: a helper that returns nothing and
+    raises when what it waits for does not come (the skeleton's ``_wait_until``) has
+    succeeded when it returns."""
+    return any(isinstance(node, ast.Raise) for node in ast.walk(method))
 
 
 RESULT_WAIT_SECONDS = 60.0
