@@ -1187,7 +1187,7 @@ def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
                     f"{'else branch' if negated else 'body'} of this `if`"
                 )
                 kept = statement.orelse if negated else statement.body
-                fix = "\n".join(ast.unparse(s) for s in [ast.Expr(call), *kept])
+                fix = "\n".join([ast.unparse(call), *(ast.unparse(s) for s in kept)])
             findings.append(_finding(call, message, fix))
     return findings
 
