@@ -9,18 +9,21 @@ A capability can need more interfaces than ``k`` (the MR-1's mapping needs six);
 needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
 the *attainable* count, ``min(needs, k)`` summed over the capabilities.
 
-The paper's robot is read from its Cap2Skill reports by the report import. Seven more robots,
+The paper's robot is read from its Cap2Skill reports by the report import. Eleven more robots,
 written down from public sources (``tests/retrieval/robots``), run the paper's nine
 capabilities and specs, as the robot this retrieval is judged on does: a TurtleBot 4 with Nav2,
 PAL TIAGo (a mobile manipulator with Nav2, SLAM Toolbox, MoveIt and ros2_control), a UR5e arm,
 a Unitree Go2 whose names are not English words, a Husarion ROSbot XL with an
-OpenMANIPULATOR-X (a second mobile manipulator of that kind, with other vendors' names), and a
+OpenMANIPULATOR-X (a second mobile manipulator of that kind, with other vendors' names), a
 Clearpath Husky with a Kinova arm whose every name sits under the robot's serial
-(``/a200_0000/...``), and a Hello Robot Stretch 3, whose one driver node moves base and arm and
-takes base velocity only in navigation mode. The last three were labelled by someone who saw
-no ranking of them. Only
-the capabilities a robot can serve are labelled; the label files say why the others are left
-out.
+(``/a200_0000/...``), a Hello Robot Stretch 3, whose one driver node moves base and arm and
+takes base velocity only in navigation mode, an Interbotix LoCoBot (a Create 3 base, Nav2 at the
+root, the driver under ``/locobot``), a match MuR620 (a MiR base with two UR10e arms, four
+scans), a Robotnik RB-KAIROS+ (a mecanum base with a UR arm, everything under ``/robot``) and a
+KUKA KMR iiwa on a research stack (a Java bridge's own topics, two scanners merged into one,
+an arm planned through a vendor action). The last six were labelled by someone who saw no
+ranking of them. Only the capabilities a robot can serve are labelled; the label files say why
+the others are left out.
 """
 
 from __future__ import annotations
@@ -42,7 +45,19 @@ from tests.retrieval.robots import robot_inventory
 
 LABELS = Path(__file__).resolve().parent / "labels"
 
-WRITTEN = ("tb4", "tiago", "ur5e", "go2", "rosbotxl", "husky", "stretch3", "locobot", "mur620")
+WRITTEN = (
+    "tb4",
+    "tiago",
+    "ur5e",
+    "go2",
+    "rosbotxl",
+    "husky",
+    "stretch3",
+    "locobot",
+    "mur620",
+    "rbkairos",
+    "kmriiwa",
+)
 """The robots of ``tests/retrieval/robots``: graphs written from public sources."""
 
 SETS = ("mr1", "cap2skill", "cap2skill-filtered", *WRITTEN)
