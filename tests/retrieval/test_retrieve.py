@@ -344,3 +344,30 @@ def test_among_equal_scores_the_plainer_name_wins_not_the_alphabet() -> None:
     hits = rank_interfaces(inventory, capability, k=3)
     assert len({round(h.lexical, 9) for h in hits}) == 1
     assert hits[0].name == "/mur620a/scan"
+
+
+def test_a_scan_that_merges_its_neighbours_has_their_evidence_and_goes_first() -> None:
+    # A KMR iiwa: two 270-degree scanners (/scan, /scan_2) and the concatenator's merged scan.
+    # Among equals the plainer /scan would win; the merged one goes first. A camera's cloud
+    # in another namespace is not a part of the merged cloud.
+    inventory = Inventory(
+        resource=Resource(name="kmriiwa"),
+        interfaces=[
+            Interface(name=n, kind="topic", type_name="sensor_msgs/msg/LaserScan")
+            for n in ("/scan", "/scan_2", "/scan_concatenated")
+        ]
+        + [
+            Interface(name=n, kind="topic", type_name="sensor_msgs/msg/PointCloud2")
+            for n in ("/camera/pointcloud", "/pc_concatenated")
+        ],
+    )
+    capability = provided(
+        "getDistanceToNearestObject",
+        "I measure the distance to the nearest object around the robot with a laser scan.",
+        [],
+        [parameter("outDistance", "m", "The distance to the nearest object.")],
+    )
+    hits = rank_interfaces(inventory, capability, k=5)
+    names = [h.name for h in hits]
+    assert names[0] == "/scan_concatenated"
+    assert names.index("/pc_concatenated") > names.index("/scan_concatenated")

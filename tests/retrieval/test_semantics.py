@@ -9,6 +9,7 @@ from skillwright.retrieval.semantics import (
     body_of,
     body_of_text,
     directness,
+    merges,
     unreached,
 )
 
@@ -167,3 +168,19 @@ def test_an_interface_is_unreached_only_when_the_graph_shows_nobody_at_the_other
         traffic=Traffic(message_count=traffic) if traffic else None,
     )
     assert unreached(found, role) is expected
+
+
+@pytest.mark.parametrize(
+    ("name", "type_name", "expected"),
+    [
+        ("/scan_concatenated", "sensor_msgs/msg/LaserScan", True),
+        ("/scan_merged", "sensor_msgs/msg/LaserScan", True),
+        ("/mur620a/scan_merged_raw", "sensor_msgs/msg/LaserScan", True),
+        ("/merged/points", "sensor_msgs/msg/PointCloud2", True),
+        ("/scan", "sensor_msgs/msg/LaserScan", False),
+        ("/emerged_scan", "sensor_msgs/msg/LaserScan", False),
+        ("/map_merged", "nav_msgs/msg/OccupancyGrid", False),
+    ],
+)
+def test_which_streams_say_they_merge_others(name: str, type_name: str, expected: bool) -> None:
+    assert merges(Interface(name=name, kind="topic", type_name=type_name)) is expected

@@ -37,7 +37,13 @@ from skillwright.retrieval.documents import (
 )
 from skillwright.retrieval.lexical import BM25
 from skillwright.retrieval.query import Facet, Query, build_query
-from skillwright.retrieval.semantics import body_of, body_of_text, directness, unreached
+from skillwright.retrieval.semantics import (
+    body_of,
+    body_of_text,
+    directness,
+    merges,
+    unreached,
+)
 from skillwright.retrieval.text import split_words
 from skillwright.spec.model import SkillSpec
 
@@ -284,6 +290,32 @@ def _apply_type_semantics(
         ]
     for row in mixed:
         row[:] = [v * p for v, p in zip(row, prior, strict=True)]
+    for merged, parts in _merges(pool).items():
+        for row in mixed:
+            row[merged] = max(row[merged], *(row[p] for p in parts))
+
+
+def _merges(pool: Sequence[Interface]) -> dict[int, list[int]]:
+    """Each sensor stream that merges others of its kind (:func:`~skillwright.retrieval.
+    semantics.merges`), with the streams of its type beside it in the same namespace: its
+    parts. A merged stream sees what each part sees, so it has at least the evidence of the
+    best of them; its longer name (the KMR iiwa's ``/scan_concatenated`` beside ``/scan`` and
+    ``/scan_2``) costs it a little of every word's weight."""
+    out: dict[int, list[int]] = {}
+    for i, interface in enumerate(pool):
+        if not merges(interface):
+            continue
+        namespace = interface.name.rsplit("/", 1)[0]
+        parts = [
+            j
+            for j, other in enumerate(pool)
+            if other.type_name == interface.type_name
+            and other.name.rsplit("/", 1)[0] == namespace
+            and not merges(other)
+        ]
+        if parts:
+            out[i] = parts
+    return out
 
 
 def rank_interfaces(
@@ -324,12 +356,19 @@ def rank_interfaces(
     total = sum(weights)
     relevance = [_weighted(scores.mixed, weights, i) for i in range(len(pool))]
     covered = [0.0] * len(facets)
-    # candidates in relevance order, so that ties go to the more relevant; among equals, the
-    # plainer name: a robot's merged /scan over its half-view /b_scan and /f_scan, whose
-    # extra word the query does not know (the MuR620 picked /b_scan by the alphabet)
+    # candidates in relevance order, so that ties go to the more relevant; among equals, a
+    # stream that merges the others, then the plainer name: a robot's merged /scan over its
+    # half-view /b_scan and /f_scan, whose extra word the query does not know (the MuR620
+    # picked /b_scan by the alphabet)
+    merged = {i for i, interface in enumerate(pool) if merges(interface)}
     remaining = sorted(
         range(len(pool)),
-        key=lambda i: (-relevance[i], len(split_words(pool[i].name)), pool[i].name),
+        key=lambda i: (
+            -relevance[i],
+            i not in merged,
+            len(split_words(pool[i].name)),
+            pool[i].name,
+        ),
     )
     picked_types: set[str] = set()
     hits: list[Hit] = []

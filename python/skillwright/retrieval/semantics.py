@@ -37,6 +37,10 @@ not the base's command, and ``goal_pose`` is the pose RViz's goal tool hands the
 name with a ``visualization`` or ``debug`` part (SLAM Toolbox's
 ``/slam_toolbox/scan_visualization``) is a copy republished for display, not the sensor; so
 is the DWB controller's ``cost_cloud``, its trajectory scores as points.
+
+A sensor stream whose name says it merges others of its kind (``/scan_concatenated``,
+``/scan_merged``) sees what each of them sees: :func:`merges` finds it, and retrieval gives it
+at least the evidence of the streams of its type beside it.
 """
 
 from __future__ import annotations
@@ -52,6 +56,8 @@ __all__ = [
     "body_of",
     "body_of_text",
     "directness",
+    "merges",
+    "unreached",
 ]
 
 Body = Literal["arm", "base"]
@@ -129,6 +135,19 @@ def directness(interface: Interface) -> Directness:
     if _AUXILIARY.fullmatch(interface.type_name):
         return "auxiliary"
     return "neutral"
+
+
+_SENSOR_STREAM = re.compile(r"sensor_msgs/msg/(LaserScan|PointCloud2?|Range)")
+_MERGING = re.compile(r"(^|/|_)(merged?|concat(enated)?|combined|fused|fusion)(/|_|$)")
+
+
+def merges(interface: Interface) -> bool:
+    """Whether a sensor stream's name says it merges several of its kind (a scan merger's
+    ``/scan_merged``, the KMR iiwa's ``/scan_concatenated`` of two 270-degree scanners): the
+    one that sees all around, where each part sees a side."""
+    return bool(
+        _SENSOR_STREAM.fullmatch(interface.type_name) and _MERGING.search(interface.name.lower())
+    )
 
 
 def unreached(interface: Interface, role: str | None) -> bool:
