@@ -42,6 +42,9 @@ from skillwright.interfaces.typestore import fill_missing_definitions
 
 ROBOTS = Path(__file__).resolve().parent / "robots"
 
+_BEFORE_TYPE_DESCRIPTIONS = frozenset({"foxy", "galactic", "humble", "iron"})
+"""Distributions whose nodes offer no ``get_type_description`` service."""
+
 _PARAMETER_SERVICES = {
     "describe_parameters": "rcl_interfaces/srv/DescribeParameters",
     "get_parameters": "rcl_interfaces/srv/GetParameters",
@@ -73,7 +76,7 @@ def robot_inventory(name: str) -> Inventory:
         node_name, lifecycle = (node, False) if isinstance(node, str) else (node["name"], True)
         for service, type_name in _PARAMETER_SERVICES.items():
             entries[(f"{node_name}/{service}", "service")] = type_name
-        if distro != "humble":
+        if distro not in _BEFORE_TYPE_DESCRIPTIONS:
             entries[(f"{node_name}/get_type_description", "service")] = (
                 "type_description_interfaces/srv/GetTypeDescription"
             )
