@@ -37,6 +37,13 @@ CMD_VEL = InterfaceRef(
     name="/cmd_vel", kind="topic", type_name="geometry_msgs/msg/Twist", role="publish"
 )
 ODOM = InterfaceRef(name="/odom", kind="topic", type_name="nav_msgs/msg/Odometry", role="subscribe")
+SCAN = InterfaceRef(
+    name="/scan",
+    kind="topic",
+    type_name="sensor_msgs/msg/LaserScan",
+    role="subscribe",
+    qos="sensor_data",
+)
 NAVIGATE = InterfaceRef(
     name="/navigate_to_pose",
     kind="action",
@@ -155,13 +162,6 @@ def test_move_forward_skeleton_carries_iris_types_limits_and_handles() -> None:
 
 def test_subscriptions_use_the_qos_the_publishers_offer() -> None:
     capability, spec = shipped("collision-avoidance")
-    scan = InterfaceRef(
-        name="/scan",
-        kind="topic",
-        type_name="sensor_msgs/msg/LaserScan",
-        role="subscribe",
-        qos="sensor_data",
-    )
     grid = InterfaceRef(
         name="/map",
         kind="topic",
@@ -169,7 +169,7 @@ def test_subscriptions_use_the_qos_the_publishers_offer() -> None:
         role="subscribe",
         qos="latched",
     )
-    code = build_skeleton(capability, spec, [CMD_VEL, scan, grid, ODOM]).code
+    code = build_skeleton(capability, spec, [CMD_VEL, SCAN, grid, ODOM]).code
     assert "from rclpy.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data" in code
     assert 'LaserScan, "/scan", self._on_scan, qos_profile_sensor_data' in code
     assert (
@@ -573,15 +573,6 @@ def test_a_bound_in_degrees_or_without_its_lower_half_makes_no_turn() -> None:
         update={"constraints": [c for c in capability.constraints if c.relation != ">="]}
     )
     assert full_turn(only_upper, heading.iri, "rad") is None
-
-
-SCAN = InterfaceRef(
-    name="/scan",
-    kind="topic",
-    type_name="sensor_msgs/msg/LaserScan",
-    role="subscribe",
-    qos="sensor_data",
-)
 
 
 def test_the_nearest_scan_reading_comes_with_its_bearing_in_radians(tmp_path: Path) -> None:
