@@ -37,6 +37,7 @@ from skillwright.validation.names import (
     check_names,
     simple_statements,
 )
+from skillwright.validation.positions import check_filtered_positions
 from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
 
@@ -1672,6 +1673,7 @@ def check_skill(
         ctx.findings += check_waits(cls)
         ctx.findings += check_stale_conditions(cls)
         ctx.findings += check_stops(cls)
+        ctx.findings += check_filtered_positions(cls)
         ctx.findings += check_first_messages(cls, methods)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
