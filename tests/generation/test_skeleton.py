@@ -575,14 +575,14 @@ def test_a_bound_in_degrees_or_without_its_lower_half_makes_no_turn() -> None:
     assert full_turn(only_upper, heading.iri, "rad") is None
 
 
-def test_the_nearest_scan_reading_comes_with_its_bearing_in_radians(tmp_path: Path) -> None:
+def test_the_nearest_scan_range_bearing_comes_with_its_bearing_in_radians(tmp_path: Path) -> None:
     report = _run_with_helpers(
         "get-distance-to-nearest-object",
         [SCAN],
         {
             "starting": 'self._wait_until(lambda: self.scan_msg is not None, 2.0, "scan")',
             "execute": """
-                nearest = self._nearest_scan_reading()
+                nearest = self._nearest_scan_range_bearing()
                 if nearest is None:
                     raise RuntimeError("nothing in range")
                 self.out_distance, self.out_angle = nearest
@@ -615,17 +615,17 @@ def test_the_odometry_pose_gives_the_heading_a_turn_is_measured_by(tmp_path: Pat
         {
             "starting": 'self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry")',
             "execute": """
-                _, _, start = self._odom_pose()
+                _, _, start = self._odom_xy_yaw()
                 command = Twist()
                 command.angular.z = self.in_angular_velocity
                 turned = 0.0
                 while turned < self.in_angle:
                     self.cmd_vel_publisher.publish(command)
                     time.sleep(0.02)
-                    _, _, yaw = self._odom_pose()
+                    _, _, yaw = self._odom_xy_yaw()
                     turned = (yaw - start) % math.tau
                 self._stop_base()
-                self.out_heading = self._odom_pose()[2] % math.tau
+                self.out_heading = self._odom_xy_yaw()[2] % math.tau
                 self.out_angular_velocity = self.odom_msg.twist.twist.angular.z
             """,
             "completing": 'self.node.get_logger().info("done")',
@@ -642,13 +642,13 @@ def test_reading_helpers_import_math_and_are_offered_per_subscription() -> None:
     capability, spec = shipped("collision-avoidance")
     back = SCAN.model_copy(update={"name": "/back/scan"})
     skeleton = build_skeleton(capability, spec, [CMD_VEL, SCAN, back, ODOM])
-    assert {"_nearest_scan_reading", "_nearest_back_scan_reading", "_odom_pose"} <= set(
+    assert {"_nearest_scan_range_bearing", "_nearest_back_scan_range_bearing", "_odom_xy_yaw"} <= set(
         skeleton.helpers
     )
     assert "\nimport math\n" in skeleton.code
     summaries = helper_summaries([SCAN, ODOM, CMD_VEL])
-    assert "of /scan, or None when nothing is in range" in summaries["_nearest_scan_reading"]
-    assert "(x in m, y in m, yaw in rad)" in summaries["_odom_pose"]
+    assert "of /scan, or None when nothing is in range" in summaries["_nearest_scan_range_bearing"]
+    assert "three floats (x in m, y in m, yaw in rad)" in summaries["_odom_xy_yaw"]
     # A published LaserScan or Odometry is not read: no helper for it.
     published = [
         SCAN.model_copy(update={"role": "publish"}),

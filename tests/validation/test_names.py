@@ -783,3 +783,62 @@ def test_a_helper_that_never_raises_used_as_an_if_test_gets_no_fix(
     [found] = [f for f in _names(source, move_forward) if "returns nothing" in f.message]
     assert found.replacement is None
     assert "It raises" not in found.message
+
+
+XY_YAW = (
+    "    def _odom_xy_yaw(self) -> tuple[float, float, float]:\n"
+    '        """The latest odometry as (x in m, y in m, yaw in rad); waits for it."""\n'
+    "        return 0.0, 0.0, 0.0\n\n"
+    "    @execute\n"
+)
+
+
+def test_a_tuple_unpacked_into_too_few_names_keeps_the_first_and_names_the_rest(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # cap2skill get-position in ev54: x and y of (x, y, yaw).
+    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
+    source = GOOD.replace("    @execute\n", XY_YAW, 1).replace(
+        stop,
+        "        self.out_distance, self.out_linear_velocity = self._odom_xy_yaw()\n" + stop,
+        1,
+    )
+    [found] = [f for f in _names(source, move_forward) if "returns 3 values" in f.message]
+    assert found.message.startswith(
+        f"self._odom_xy_yaw() returns 3 values (its definition, line "
+        f"{_line(source, 'def _odom_xy_yaw')}, says -> tuple[float, float, float]) (The latest "
+        "odometry as (x in m, y in m, yaw in rad)), not 2"
+    )
+    assert found.replacement == (
+        "self.out_distance, self.out_linear_velocity, _ = self._odom_xy_yaw()"
+    )
+
+
+@pytest.mark.parametrize(
+    "use",
+    [
+        "        twist = self._odom_xy_yaw()\n        self.out_distance = twist.linear.x\n",
+        "        self.out_distance = self._odom_xy_yaw().pose.pose.position.x\n",
+    ],
+)
+def test_an_attribute_read_of_a_tuple_a_helper_returns_is_an_error(
+    move_forward: tuple[Capability, SkillSpec], use: str
+) -> None:
+    # MR-1 set-velocity and navigate-to-point in ev54 read it as a message.
+    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
+    source = GOOD.replace("    @execute\n", XY_YAW, 1).replace(stop, use + stop, 1)
+    [found] = [f for f in _names(source, move_forward) if "a tuple has no" in f.message]
+    assert found.replacement is None
+    assert found.message.endswith("unpack its values or index it")
+
+
+def test_a_tuple_used_as_one_is_left_alone(move_forward: tuple[Capability, SkillSpec]) -> None:
+    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
+    source = GOOD.replace("    @execute\n", XY_YAW, 1).replace(
+        stop,
+        "        x, y, yaw = self._odom_xy_yaw()\n"
+        "        pose = self._odom_xy_yaw()\n"
+        "        self.out_distance = pose[0] + pose.count(x) + self._odom_xy_yaw()[2]\n" + stop,
+        1,
+    )
+    assert [f for f in _names(source, move_forward) if "values" in f.message] == []

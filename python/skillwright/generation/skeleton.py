@@ -585,15 +585,15 @@ def _reading_helpers(interface: InterfaceRef) -> dict[str, list[str]]:
     stem, name = snake_case(interface.name), interface.name
     if leaf == "LaserScan":
         return {
-            f"_nearest_{stem}_reading": [
-                f"    def _nearest_{stem}_reading(self) -> tuple[float, float] | None:",
+            f"_nearest_{stem}_range_bearing": [
+                f"    def _nearest_{stem}_range_bearing(self) -> tuple[float, float] | None:",
                 f'        """The nearest valid reading of the latest scan from {name} as (range in',
                 "        m, bearing in rad from the scanner's forward axis, counter-clockwise), or",
                 "        None when no reading lies within the scan's range_min and range_max;",
-                '        raises RuntimeError before the first scan."""',
+                '        waits at most 2 s for the first scan."""',
+                f"        self._wait_until(lambda: self.{stem}_msg is not None, 2.0, "
+                f'"scan on {name}")',
                 f"        scan = self.{stem}_msg",
-                "        if scan is None:",
-                f'            raise RuntimeError("no scan from {name} yet")',
                 "        nearest = None",
                 "        for index, distance in enumerate(scan.ranges):",
                 "            if not math.isfinite(distance):",
@@ -610,13 +610,13 @@ def _reading_helpers(interface: InterfaceRef) -> dict[str, list[str]]:
         }
     if leaf == "Odometry":
         return {
-            f"_{stem}_pose": [
-                f"    def _{stem}_pose(self) -> tuple[float, float, float]:",
+            f"_{stem}_xy_yaw": [
+                f"    def _{stem}_xy_yaw(self) -> tuple[float, float, float]:",
                 f'        """The latest odometry from {name} as (x in m, y in m, yaw in rad);',
-                '        raises RuntimeError before the first message."""',
+                '        waits at most 2 s for the first message."""',
+                f"        self._wait_until(lambda: self.{stem}_msg is not None, 2.0, "
+                f'"odometry on {name}")',
                 f"        odometry = self.{stem}_msg",
-                "        if odometry is None:",
-                f'            raise RuntimeError("no odometry from {name} yet")',
                 "        q = odometry.pose.pose.orientation",
                 "        yaw = math.atan2(",
                 "            2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z)",
@@ -666,15 +666,15 @@ def helper_summaries(interfaces: Sequence[InterfaceRef]) -> dict[str, str]:
             continue
         leaf = interface.type_name.rsplit("/", 1)[-1]
         if leaf == "LaserScan":
-            out[f"_nearest_{stem}_reading"] = (
-                f"self._nearest_{stem}_reading() returns (range in m, bearing in rad, "
-                f"counter-clockwise from straight ahead) of the nearest valid reading of "
+            out[f"_nearest_{stem}_range_bearing"] = (
+                f"self._nearest_{stem}_range_bearing() returns two floats (range in m, bearing in "
+                f"rad, counter-clockwise from straight ahead) of the nearest valid reading of "
                 f"{name}, or None when nothing is in range"
             )
         elif leaf == "Odometry":
-            out[f"_{stem}_pose"] = (
-                f"self._{stem}_pose() returns (x in m, y in m, yaw in rad) from the latest "
-                f"odometry of {name}"
+            out[f"_{stem}_xy_yaw"] = (
+                f"self._{stem}_xy_yaw() returns three floats (x in m, y in m, yaw in rad) from "
+                f"the latest odometry of {name}"
             )
     if any(i.type_name in _MOVE_GROUP for i in interfaces):
         out["_position_goal"] = (
