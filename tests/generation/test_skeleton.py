@@ -642,9 +642,11 @@ def test_reading_helpers_import_math_and_are_offered_per_subscription() -> None:
     capability, spec = shipped("collision-avoidance")
     back = SCAN.model_copy(update={"name": "/back/scan"})
     skeleton = build_skeleton(capability, spec, [CMD_VEL, SCAN, back, ODOM])
-    assert {"_nearest_scan_range_bearing", "_nearest_back_scan_range_bearing", "_odom_xy_yaw"} <= set(
-        skeleton.helpers
-    )
+    assert {
+        "_nearest_scan_range_bearing",
+        "_nearest_back_scan_range_bearing",
+        "_odom_xy_yaw",
+    } <= set(skeleton.helpers)
     assert "\nimport math\n" in skeleton.code
     summaries = helper_summaries([SCAN, ODOM, CMD_VEL])
     assert "of /scan, or None when nothing is in range" in summaries["_nearest_scan_range_bearing"]
