@@ -37,13 +37,6 @@ CMD_VEL = InterfaceRef(
     name="/cmd_vel", kind="topic", type_name="geometry_msgs/msg/Twist", role="publish"
 )
 ODOM = InterfaceRef(name="/odom", kind="topic", type_name="nav_msgs/msg/Odometry", role="subscribe")
-SCAN = InterfaceRef(
-    name="/scan",
-    kind="topic",
-    type_name="sensor_msgs/msg/LaserScan",
-    role="subscribe",
-    qos="sensor_data",
-)
 NAVIGATE = InterfaceRef(
     name="/navigate_to_pose",
     kind="action",
@@ -162,6 +155,13 @@ def test_move_forward_skeleton_carries_iris_types_limits_and_handles() -> None:
 
 def test_subscriptions_use_the_qos_the_publishers_offer() -> None:
     capability, spec = shipped("collision-avoidance")
+    scan = InterfaceRef(
+        name="/scan",
+        kind="topic",
+        type_name="sensor_msgs/msg/LaserScan",
+        role="subscribe",
+        qos="sensor_data",
+    )
     grid = InterfaceRef(
         name="/map",
         kind="topic",
@@ -169,7 +169,7 @@ def test_subscriptions_use_the_qos_the_publishers_offer() -> None:
         role="subscribe",
         qos="latched",
     )
-    code = build_skeleton(capability, spec, [CMD_VEL, SCAN, grid, ODOM]).code
+    code = build_skeleton(capability, spec, [CMD_VEL, scan, grid, ODOM]).code
     assert "from rclpy.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data" in code
     assert 'LaserScan, "/scan", self._on_scan, qos_profile_sensor_data' in code
     assert (
@@ -573,87 +573,3 @@ def test_a_bound_in_degrees_or_without_its_lower_half_makes_no_turn() -> None:
         update={"constraints": [c for c in capability.constraints if c.relation != ">="]}
     )
     assert full_turn(only_upper, heading.iri, "rad") is None
-
-
-def test_the_nearest_scan_range_bearing_comes_with_its_bearing_in_radians(tmp_path: Path) -> None:
-    report = _run_with_helpers(
-        "get-distance-to-nearest-object",
-        [SCAN],
-        {
-            "starting": 'self._wait_until(lambda: self.scan_msg is not None, 2.0, "scan")',
-            "execute": """
-                nearest = self._nearest_scan_range_bearing()
-                if nearest is None:
-                    raise RuntimeError("nothing in range")
-                self.out_distance, self.out_angle = nearest
-            """,
-            "completing": 'self.node.get_logger().info("done")',
-            "resetting": "self.out_distance = 0.0",
-        },
-        tmp_path,
-    )
-    assert report.findings == []
-    name = "get_distance_to_nearest_object"
-    shipped_run = run_skill(
-        SHIPPED_CAPABILITIES / "skills" / f"{name}.py",
-        load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1"),
-        scenario=load_scenario(SHIPPED_CAPABILITIES / "skills" / f"{name}.scenario.yaml"),
-    )
-    # The same reading as the shipped skill, which picks it by hand.
-    expected = shipped_run.trace.episodes[0].outputs
-    outputs = report.trace.episodes[0].outputs
-    assert (outputs["outDistance"], outputs["outAngle"]) == pytest.approx(
-        (expected["outDistance"], expected["outAngle"])
-    )
-    assert outputs["outDistance"] > 0.5
-
-
-def test_the_odometry_pose_gives_the_heading_a_turn_is_measured_by(tmp_path: Path) -> None:
-    report = _run_with_helpers(
-        "rotate",
-        [CMD_VEL, ODOM],
-        {
-            "starting": 'self._wait_until(lambda: self.odom_msg is not None, 2.0, "odometry")',
-            "execute": """
-                _, _, start = self._odom_xy_yaw()
-                command = Twist()
-                command.angular.z = self.in_angular_velocity
-                turned = 0.0
-                while turned < self.in_angle:
-                    self.cmd_vel_publisher.publish(command)
-                    time.sleep(0.02)
-                    _, _, yaw = self._odom_xy_yaw()
-                    turned = (yaw - start) % math.tau
-                self._stop_base()
-                self.out_heading = self._odom_xy_yaw()[2] % math.tau
-                self.out_angular_velocity = self.odom_msg.twist.twist.angular.z
-            """,
-            "completing": 'self.node.get_logger().info("done")',
-            "stopping": "self._stop_base()",
-            "resetting": "self._stop_base()",
-        },
-        tmp_path,
-    )
-    assert report.findings == []
-    assert report.trace.episodes[0].outputs["outHeading"] == pytest.approx(math.pi / 2, abs=0.15)
-
-
-def test_reading_helpers_import_math_and_are_offered_per_subscription() -> None:
-    capability, spec = shipped("collision-avoidance")
-    back = SCAN.model_copy(update={"name": "/back/scan"})
-    skeleton = build_skeleton(capability, spec, [CMD_VEL, SCAN, back, ODOM])
-    assert {
-        "_nearest_scan_range_bearing",
-        "_nearest_back_scan_range_bearing",
-        "_odom_xy_yaw",
-    } <= set(skeleton.helpers)
-    assert "\nimport math\n" in skeleton.code
-    summaries = helper_summaries([SCAN, ODOM, CMD_VEL])
-    assert "of /scan, or None when nothing is in range" in summaries["_nearest_scan_range_bearing"]
-    assert "three floats (x in m, y in m, yaw in rad)" in summaries["_odom_xy_yaw"]
-    # A published LaserScan or Odometry is not read: no helper for it.
-    published = [
-        SCAN.model_copy(update={"role": "publish"}),
-        ODOM.model_copy(update={"role": "publish"}),
-    ]
-    assert set(skeleton_helpers(published)) == {"_wait_until"}

@@ -345,7 +345,7 @@ def _module_head(
     interfaces: Sequence[InterfaceRef],
     source_note: str,
     helpers: Sequence[str],
-    uses_math: bool = False,
+    turns: bool = False,
 ) -> None:
     imports: dict[str, set[str]] = {}
     for interface in interfaces:
@@ -372,8 +372,8 @@ def _module_head(
     if source_note:
         out.add(source_note, "")
     out.add(*SKELETON_NOTE, '"""', "")
-    if uses_math or helpers:
-        out.add(*(["import math"] if uses_math else []), *(["import time"] if helpers else []), "")
+    if turns or helpers:
+        out.add(*(["import math"] if turns else []), *(["import time"] if helpers else []), "")
     out.add("import rclpy")
     if any(i.kind == "action" for i in interfaces):
         out.add("from rclpy.action import ActionClient")
@@ -555,8 +555,6 @@ def skeleton_helpers(
             "                    ) from None",
             "            time.sleep(0.05)",
         ]
-    for interface in interfaces:
-        helpers.update(_reading_helpers(interface))
     twists = [i for i in interfaces if _is_twist_publisher(i)]
     if twists:
         lines = [
@@ -571,61 +569,6 @@ def skeleton_helpers(
             ]
         helpers["_stop_base"] = lines
     return helpers
-
-
-def _reading_helpers(interface: InterfaceRef) -> dict[str, list[str]]:
-    """What a small model gets wrong when it reads standard messages itself, written once:
-    the nearest valid reading of a LaserScan with its bearing (the 1.5B model took the index
-    of the nearest range after filtering the list, and reported radians as degrees), and the
-    planar pose of an Odometry (it reported the commanded distance instead of a measured one).
-    """
-    if interface.role != "subscribe":
-        return {}
-    leaf = interface.type_name.rsplit("/", 1)[-1]
-    stem, name = snake_case(interface.name), interface.name
-    if leaf == "LaserScan":
-        return {
-            f"_nearest_{stem}_range_bearing": [
-                f"    def _nearest_{stem}_range_bearing(self) -> tuple[float, float] | None:",
-                f'        """The nearest valid reading of the latest scan from {name} as (range in',
-                "        m, bearing in rad from the scanner's forward axis, counter-clockwise), or",
-                "        None when no reading lies within the scan's range_min and range_max;",
-                '        waits at most 2 s for the first scan."""',
-                f"        self._wait_until(lambda: self.{stem}_msg is not None, 2.0, "
-                f'"scan on {name}")',
-                f"        scan = self.{stem}_msg",
-                "        nearest = None",
-                "        for index, distance in enumerate(scan.ranges):",
-                "            if not math.isfinite(distance):",
-                "                continue",
-                "            if scan.range_min <= distance <= scan.range_max and (",
-                "                nearest is None or distance < nearest[0]",
-                "            ):",
-                "                nearest = (distance, index)",
-                "        if nearest is None:",
-                "            return None",
-                "        bearing = scan.angle_min + nearest[1] * scan.angle_increment",
-                "        return nearest[0], math.atan2(math.sin(bearing), math.cos(bearing))",
-            ]
-        }
-    if leaf == "Odometry":
-        return {
-            f"_{stem}_xy_yaw": [
-                f"    def _{stem}_xy_yaw(self) -> tuple[float, float, float]:",
-                f'        """The latest odometry from {name} as (x in m, y in m, yaw in rad);',
-                '        waits at most 2 s for the first message."""',
-                f"        self._wait_until(lambda: self.{stem}_msg is not None, 2.0, "
-                f'"odometry on {name}")',
-                f"        odometry = self.{stem}_msg",
-                "        q = odometry.pose.pose.orientation",
-                "        yaw = math.atan2(",
-                "            2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z)",
-                "        )",
-                "        position = odometry.pose.pose.position",
-                "        return position.x, position.y, yaw",
-            ]
-        }
-    return {}
 
 
 def helper_dependencies(helpers: Collection[str], offered: dict[str, list[str]]) -> set[str]:
@@ -660,22 +603,6 @@ def helper_summaries(interfaces: Sequence[InterfaceRef]) -> dict[str, str]:
         out[f"_cancel_{stem}_goal"] = (
             f"self._cancel_{stem}_goal(timeout) cancels it if it is in progress"
         )
-    for interface in interfaces:
-        stem, name = snake_case(interface.name), interface.name
-        if interface.role != "subscribe":
-            continue
-        leaf = interface.type_name.rsplit("/", 1)[-1]
-        if leaf == "LaserScan":
-            out[f"_nearest_{stem}_range_bearing"] = (
-                f"self._nearest_{stem}_range_bearing() returns two floats (range in m, bearing in "
-                f"rad, counter-clockwise from straight ahead) of the nearest valid reading of "
-                f"{name}, or None when nothing is in range"
-            )
-        elif leaf == "Odometry":
-            out[f"_{stem}_xy_yaw"] = (
-                f"self._{stem}_xy_yaw() returns three floats (x in m, y in m, yaw in rad) from "
-                f"the latest odometry of {name}"
-            )
     if any(i.type_name in _MOVE_GROUP for i in interfaces):
         out["_position_goal"] = (
             "self._position_goal(group, link, frame, x, y, z, tolerance) returns a "
@@ -927,8 +854,7 @@ def build_skeleton(
         interfaces,
         source_note,
         list(helper_code),
-        uses_math=any(p.turn == "math.tau" for p in parameters)
-        or any("math." in line for lines in helper_code.values() for line in lines),
+        turns=any(p.turn == "math.tau" for p in parameters),
     )
     _class_head(out, capability, spec, cls, skill_iri)
     _init(out, spec, parameters, interfaces, notes)

@@ -1234,9 +1234,9 @@ def _tuple_arity(returns: ast.expr | None) -> int | None:
 
 def _used_tuples(cls: ast.ClassDef) -> list[Finding]:
     """Values of the class's own methods annotated to return a tuple, used as something
-    else: unpacked into another number of names (``x, y = self._odom_xy_yaw()`` of (x, y,
+    else: unpacked into another number of names (``x, y = self._pose()`` of (x, y,
     yaw), fixed by naming the rest ``_``), or read for an attribute (``twist =
-    self._odom_xy_yaw()`` and then ``twist.linear``)."""
+    self._pose()`` and then ``twist.linear``)."""
     arity = {
         node.name: (node, n)
         for node in cls.body
