@@ -29,6 +29,13 @@ def stopping_with(statements: str) -> str:
     return GOOD.replace(halt, halt + statements, 1)
 
 
+def with_method(method: str, statements: str) -> str:
+    """The good skill with ``method`` (class indentation, ending in ``@execute``) before its
+    execute state, and ``statements`` before the execute's stop."""
+    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
+    return GOOD.replace("    @execute\n", method, 1).replace(stop, statements + stop, 1)
+
+
 def _names(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:
     """The findings of the names check."""
     return [f for f in _check(source, inputs).findings if f.check == "names"]
@@ -749,14 +756,12 @@ def test_a_wait_that_raises_used_as_an_if_test_is_called_and_its_branch_kept(
     move_forward: tuple[Capability, SkillSpec], test: str, kept: str
 ) -> None:
     # MR-1 set-velocity in ev53: `if self._wait_until(...):` around the outputs and a return.
-    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
-    source = GOOD.replace("    @execute\n", WAIT, 1).replace(
-        stop,
+    source = with_method(
+        WAIT,
         f"        {test}\n"
         "            self.out_linear_velocity = 1.0\n"
         "        else:\n"
-        "            self.out_linear_velocity = 2.0\n" + stop,
-        1,
+        "            self.out_linear_velocity = 2.0\n",
     )
     [found] = [f for f in _names(source, move_forward) if "returns nothing" in f.message]
     assert found.line == _line(source, "self._wait_until(lambda")
@@ -776,9 +781,8 @@ def test_a_helper_that_never_raises_used_as_an_if_test_gets_no_fix(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
     # _halt returns nothing and cannot fail: which branch was meant is not known.
-    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
-    source = GOOD.replace("    @execute\n", HALT, 1).replace(
-        stop, "        if self._halt():\n            self.out_linear_velocity = 1.0\n" + stop, 1
+    source = with_method(
+        HALT, "        if self._halt():\n            self.out_linear_velocity = 1.0\n"
     )
     [found] = [f for f in _names(source, move_forward) if "returns nothing" in f.message]
     assert found.replacement is None
@@ -797,11 +801,8 @@ def test_a_tuple_unpacked_into_too_few_names_keeps_the_first_and_names_the_rest(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
     # cap2skill get-position in ev54: x and y of (x, y, yaw).
-    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
-    source = GOOD.replace("    @execute\n", XY_YAW, 1).replace(
-        stop,
-        "        self.out_distance, self.out_linear_velocity = self._odom_xy_yaw()\n" + stop,
-        1,
+    source = with_method(
+        XY_YAW, "        self.out_distance, self.out_linear_velocity = self._odom_xy_yaw()\n"
     )
     [found] = [f for f in _names(source, move_forward) if "returns 3 values" in f.message]
     assert found.message.startswith(
@@ -825,20 +826,17 @@ def test_an_attribute_read_of_a_tuple_a_helper_returns_is_an_error(
     move_forward: tuple[Capability, SkillSpec], use: str
 ) -> None:
     # MR-1 set-velocity and navigate-to-point in ev54 read it as a message.
-    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
-    source = GOOD.replace("    @execute\n", XY_YAW, 1).replace(stop, use + stop, 1)
+    source = with_method(XY_YAW, use)
     [found] = [f for f in _names(source, move_forward) if "a tuple has no" in f.message]
     assert found.replacement is None
     assert found.message.endswith("unpack its values or index it")
 
 
 def test_a_tuple_used_as_one_is_left_alone(move_forward: tuple[Capability, SkillSpec]) -> None:
-    stop = "        self.cmd_vel_publisher.publish(Twist())\n        self.out_distance"
-    source = GOOD.replace("    @execute\n", XY_YAW, 1).replace(
-        stop,
+    source = with_method(
+        XY_YAW,
         "        x, y, yaw = self._odom_xy_yaw()\n"
         "        pose = self._odom_xy_yaw()\n"
-        "        self.out_distance = pose[0] + pose.count(x) + self._odom_xy_yaw()[2]\n" + stop,
-        1,
+        "        self.out_distance = pose[0] + pose.count(x) + self._odom_xy_yaw()[2]\n",
     )
     assert [f for f in _names(source, move_forward) if "values" in f.message] == []
