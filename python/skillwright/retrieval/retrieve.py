@@ -301,17 +301,16 @@ def _merges(pool: Sequence[Interface]) -> dict[int, list[int]]:
     parts. A merged stream sees what each part sees, so it has at least the evidence of the
     best of them; its longer name (the KMR iiwa's ``/scan_concatenated`` beside ``/scan`` and
     ``/scan_2``) costs it a little of every word's weight."""
+    merged = [i for i, interface in enumerate(pool) if merges(interface)]
     out: dict[int, list[int]] = {}
-    for i, interface in enumerate(pool):
-        if not merges(interface):
-            continue
-        namespace = interface.name.rsplit("/", 1)[0]
+    for i in merged:
+        namespace = pool[i].name.rsplit("/", 1)[0]
         parts = [
             j
             for j, other in enumerate(pool)
-            if other.type_name == interface.type_name
+            if other.type_name == pool[i].type_name
             and other.name.rsplit("/", 1)[0] == namespace
-            and not merges(other)
+            and j not in merged
         ]
         if parts:
             out[i] = parts

@@ -1214,83 +1214,6 @@ def _raises(method: ast.FunctionDef) -> bool:
     return any(isinstance(node, ast.Raise) for node in ast.walk(method))
 
 
-def _tuple_arity(returns: ast.expr | None) -> int | None:
-    """How many values a return annotation ``tuple[float, float]`` (or ``... | None``) says
-    the method returns; None for anything else."""
-    if (
-        isinstance(returns, ast.BinOp)
-        and isinstance(returns.op, ast.BitOr)
-        and isinstance(returns.right, ast.Constant)
-        and returns.right.value is None
-    ):
-        returns = returns.left
-    if not (isinstance(returns, ast.Subscript) and ast.unparse(returns.value) == "tuple"):
-        return None
-    items = returns.slice.elts if isinstance(returns.slice, ast.Tuple) else [returns.slice]
-    if any(isinstance(i, ast.Constant) and i.value is Ellipsis for i in items):
-        return None
-    return len(items)
-
-
-def _used_tuples(cls: ast.ClassDef) -> list[Finding]:
-    """Values of the class's own methods annotated to return a tuple, used as something
-    else: unpacked into another number of names (``x, y = self._pose()`` of (x, y,
-    yaw), fixed by naming the rest ``_``), or read for an attribute (``twist =
-    self._pose()`` and then ``twist.linear``)."""
-    arity = {
-        node.name: (node, n)
-        for node in cls.body
-        if isinstance(node, ast.FunctionDef) and (n := _tuple_arity(node.returns)) is not None
-    }
-    findings = []
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        held: dict[str, str] = {}
-        for node in ast.walk(method):
-            if not (isinstance(node, ast.Assign) and isinstance(node.value, ast.Call)):
-                continue
-            name = self_attribute(node.value.func)
-            if name not in arity or len(node.targets) != 1:
-                continue
-            target = node.targets[0]
-            count = arity[name][1]
-            says = _returns_tuple(*arity[name])
-            if isinstance(target, ast.Name):
-                held[target.id] = says
-            elif isinstance(target, ast.Tuple | ast.List) and len(target.elts) != count:
-                if any(isinstance(e, ast.Starred) for e in target.elts):
-                    continue
-                fix = None
-                message = f"{says}, not {len(target.elts)}: unpack as many names as it returns"
-                if len(target.elts) < count:
-                    names = [ast.unparse(e) for e in target.elts]
-                    names += ["_"] * (count - len(target.elts))
-                    fix = f"{', '.join(names)} = {ast.unparse(node.value)}"
-                    message += f"; the fix keeps the first {len(target.elts)} and names the rest _"
-                findings.append(_finding(node, message, fix))
-        for node in ast.walk(method):
-            if not isinstance(node, ast.Attribute) or node.attr in {"count", "index"}:
-                continue
-            value = node.value
-            tuple_of: str | None = None
-            if isinstance(value, ast.Name) and value.id in held:
-                tuple_of = held[value.id]
-            elif isinstance(value, ast.Call) and self_attribute(value.func) in arity:
-                tuple_of = _returns_tuple(*arity[self_attribute(value.func) or ""])
-            if tuple_of is not None:
-                message = f"{tuple_of}: a tuple has no '{node.attr}'; unpack its values or index it"
-                findings.append(_finding(node, message))
-    return findings
-
-
-def _returns_tuple(definition: ast.FunctionDef, count: int) -> str:
-    doc = (ast.get_docstring(definition) or "").split(";")[0].replace("``", "")
-    about = f" ({' '.join(doc.split())})" if doc else ""
-    return (
-        f"self.{definition.name}() returns {count} values (its definition, line "
-        f"{definition.lineno}, says -> {ast.unparse(definition.returns or definition)}){about}"
-    )
-
-
 RESULT_WAIT_SECONDS = 60.0
 """The timeout of a result wait that the checks write in place of a goal send's value: long
 enough for a motion across a room, short enough that a lost goal ends the skill."""
@@ -1373,5 +1296,4 @@ def check_names(
     if cls is not None:
         findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
         findings += _mismatched_calls(cls) + _none_only_attributes(cls) + _used_nothing(cls)
-        findings += _used_tuples(cls)
     return findings
