@@ -29,11 +29,16 @@ class Skill:
 """
 
 
-def _waits(execute: str) -> list[Finding]:
-    source = HEAD + textwrap.indent(textwrap.dedent(execute).strip(), "    ") + "\n"
+def skill_class(head: str, method: str) -> ast.ClassDef:
+    """The class of ``head`` (a class statement and members) with ``method`` added to it."""
+    source = head + textwrap.indent(textwrap.dedent(method).strip(), "    ") + "\n"
     cls = ast.parse(source).body[0]
     assert isinstance(cls, ast.ClassDef)
-    return check_waits(cls)
+    return cls
+
+
+def _waits(execute: str) -> list[Finding]:
+    return check_waits(skill_class(HEAD, execute))
 
 
 @pytest.mark.parametrize(

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import ast
 import math
 import textwrap
 
@@ -10,6 +9,7 @@ import pytest
 
 from skillwright.validation.model import Finding
 from skillwright.validation.positions import check_filtered_positions
+from tests.validation.test_loops import skill_class
 
 HEAD = """
 class Skill:
@@ -30,10 +30,7 @@ def execute(self):
 
 
 def _positions(execute: str) -> list[Finding]:
-    source = HEAD + textwrap.indent(textwrap.dedent(execute).strip(), "    ") + "\n"
-    cls = ast.parse(source).body[0]
-    assert isinstance(cls, ast.ClassDef)
-    return check_filtered_positions(cls)
+    return check_filtered_positions(skill_class(HEAD, execute))
 
 
 def test_the_index_of_the_nearest_kept_reading_is_asked_of_the_scan() -> None:

@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import ast
-import textwrap
-
 import pytest
 
 from skillwright.validation.model import Finding
 from skillwright.validation.stale import check_stale_conditions
 from tests.validation.test_loops import HEAD as LOOPS_HEAD
+from tests.validation.test_loops import skill_class
 
 HEAD = (
     LOOPS_HEAD
@@ -32,10 +30,7 @@ callback sets and a method that changes an attribute."""
 
 
 def _stale(execute: str) -> list[Finding]:
-    source = HEAD + textwrap.indent(textwrap.dedent(execute).strip(), "    ") + "\n"
-    cls = ast.parse(source).body[0]
-    assert isinstance(cls, ast.ClassDef)
-    return check_stale_conditions(cls)
+    return check_stale_conditions(skill_class(HEAD, execute))
 
 
 def test_a_reading_taken_once_before_the_loop_is_taken_again_at_its_end() -> None:
