@@ -9,7 +9,7 @@ import pytest
 from skillwright.capability.model import Capability
 from skillwright.sim.oracles import RunView, StateSpan, Verdict, judge
 from skillwright.sim.scenario import Scenario
-from skillwright.sim.truth import CommandRecord, ContactRecord, GroundTruth, Sample
+from skillwright.sim.truth import CommandRecord, ContactRecord, GroundTruth, Sample, Sweep
 
 STATES = [
     StateSpan("starting", 0.0, 0.5),
@@ -373,3 +373,57 @@ def test_a_goal_the_world_finished_before_the_state_ended_leaves_the_base_at_res
         )
     )["rest:execute"]
     assert verdict.passed is True
+
+
+NEAREST = Scenario(
+    name="s",
+    ground_truth={
+        "outDistance": "nearest_obstacle_distance",
+        "outAngle": "nearest_obstacle_bearing",
+    },
+)
+
+
+def _flat_wall_and_post(post: bool) -> GroundTruth:
+    """A scan of one degree per beam: a flat wall 1 m to the right (nearest at -90 degrees)
+    and, with ``post``, a thin post 0.9 m ahead instead, whatever else is 3 m away."""
+    truth = _truth(0.0)
+    angles = [math.radians(d) for d in range(-180, 180)]
+    ranges = [
+        1.0 / math.cos(a + math.pi / 2) if abs(a + math.pi / 2) < math.pi / 3 else 3.0
+        for a in angles
+    ]
+    if post:
+        ranges[180] = 0.9
+    nearest = min(range(360), key=ranges.__getitem__)
+    truth.nearest = [(4.0, ranges[nearest], angles[nearest])]
+    truth.sweeps = [Sweep(4.0, -math.pi, math.radians(1.0), ranges)]
+    return truth
+
+
+@pytest.mark.parametrize(
+    ("post", "reported", "passed"),
+    [
+        (False, -90.0, True),
+        (False, -86.0, True),  # 0.002 m farther: the wall is as near there
+        (False, -70.0, False),  # 0.064 m farther
+        (False, 90.0, False),
+        (True, 0.0, True),
+        (True, 4.0, False),  # beside a post the next beam sees the far wall
+    ],
+)
+def test_a_bearing_passes_where_the_nearest_obstacle_is_as_near(
+    mr1_capabilities: dict[str, Capability], post: bool, reported: float, passed: bool
+) -> None:
+    truth = _flat_wall_and_post(post)
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["get-distance-to-nearest-object"],
+            NEAREST,
+            _run({"outDistance": 0.9 if post else 1.0, "outAngle": math.radians(reported)}),
+            truth,
+            "completed",
+        )
+    )["output:outAngle"]
+    assert verdict.passed is passed
+    assert ("as near" in verdict.message) is (passed and reported not in (-90.0, 0.0))

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from skillwright.sim.truth import CommandRecord, GroundTruth, Sample, wrap_pi, wrap_two_pi
+from skillwright.sim.truth import CommandRecord, GroundTruth, Sample, Sweep, wrap_pi, wrap_two_pi
 
 
 def _sample(t: float, x: float, y: float = 0.0) -> Sample:
@@ -61,3 +61,26 @@ def test_a_goal_is_active_from_acceptance_until_it_finishes() -> None:
     assert truth.goals_active_at(3.0) == ["/navigate_to_pose"]
     assert truth.goals_active_at(5.5) == []
     assert truth.goals_active_at(7.0) == ["/spin"]
+
+
+def test_a_sweep_gives_the_range_of_the_beam_nearest_a_bearing() -> None:
+    # A whole turn of 4 beams from -pi: the one at 3*pi/4 rounds up to the first beam.
+    turn = Sweep(0.0, -math.pi, math.pi / 2, [1.0, 2.0, 3.0, 4.0])
+    assert turn.toward(-math.pi / 2) == 2.0
+    assert turn.toward(0.1) == 3.0
+    assert turn.toward(3 * math.pi / 4 + 0.01) == 1.0
+    # A 90-degree fan looks nowhere behind.
+    fan = Sweep(0.0, -math.pi / 4, math.pi / 4, [1.0, 2.0, 3.0])
+    assert fan.toward(math.pi / 4) == 3.0
+    assert fan.toward(math.pi) is None
+
+
+def test_the_range_toward_a_bearing_is_read_from_the_last_scan_by_then() -> None:
+    truth = GroundTruth()
+    assert truth.range_toward(1.0, 0.0) is None
+    truth.sweeps = [
+        Sweep(0.0, -math.pi, math.pi, [1.0, 5.0]),
+        Sweep(1.0, -math.pi, math.pi, [2.0, 6.0]),
+    ]
+    assert truth.range_toward(0.5, 0.0) == 5.0
+    assert truth.range_toward(1.0, 0.0) == 6.0

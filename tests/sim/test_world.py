@@ -90,6 +90,8 @@ def test_scans_have_the_recorded_geometry_and_see_the_corridor(mr1_inventory: In
     assert left == pytest.approx(1.0, abs=0.005)
     assert behind == math.inf
     assert world.truth.nearest[-1][1] == pytest.approx(1.0, abs=0.005)
+    # The truth keeps each scan without noise: its range to the left is the left wall's.
+    assert world.truth.range_toward(0.25, math.pi / 2) == pytest.approx(left, abs=1e-6)
 
 
 def test_a_lidar_with_dropouts_reports_some_beams_as_nan_or_zero(mr1_inventory: Inventory) -> None:

@@ -10,8 +10,10 @@ For one run of a skill in a scenario:
   **measured** (the distance really travelled, the heading really reached), so a skill
   that reports the right number without doing the work fails.
 * ``output:<name>`` — each reported output equals its measured value, within the tolerance
-  of its unit (angles on the circle); ``assured:<name>`` — an output whose value the model
-  asserts (``outLinearVelocity = 0.0``, Assurance) is reported with that value.
+  of its unit (angles on the circle); a bearing to the nearest obstacle also passes when the
+  true range that way is as near, within the distance tolerance. ``assured:<name>`` — an
+  output whose value the model asserts (``outLinearVelocity = 0.0``, Assurance) is reported
+  with that value.
 * ``requirement:<input>`` — an input that is a requirement on the motion
   (``inMinObstacleDistance``, ``>=``): the clearance the lidar saw stays above it, less the
   distance the base needs to brake once something came that close.
@@ -527,6 +529,14 @@ def _output_verdicts(context: _Context) -> list[Verdict]:
                 f"{'within' if passed else 'off by'} {gap:.3g}"
                 f"{' ' + unit if unit else ''} (tolerance {tolerance:g})"
             )
+            if not passed and quantity == "nearest_obstacle_bearing":
+                as_near = _as_near(context, value, unit)
+                if as_near is not None:
+                    passed = True
+                    message = (
+                        f"reported {value:.4g}, measured {float(measured):.4g}: {gap:.3g}"
+                        f"{' ' + unit if unit else ''} apart, but {as_near}"
+                    )
         verdicts.append(
             Verdict(
                 oracle=oracle,
@@ -541,6 +551,36 @@ def _output_verdicts(context: _Context) -> list[Verdict]:
             )
         )
     return verdicts
+
+
+def _as_near(context: _Context, bearing: float, unit: str | None) -> str | None:
+    """Why ``bearing`` points at the nearest obstacle too, when the true range that way is
+    within the distance tolerance of the nearest return (else ``None``).
+
+    On a flat surface the ranges around the nearest point differ by less than the lidar's
+    noise, so which beam reads least is the noise's choice: a skill that reports the bearing
+    of its least reading is right, and one bearing is as near as another."""
+    nearest = context.truth.nearest_at(context.exec_end)
+    radians = math.radians(bearing) if (unit or "").split("/")[0] in _DEGREES else bearing
+    toward = context.truth.range_toward(context.exec_end, radians)
+    if nearest is None or toward is None or not math.isfinite(toward):
+        return None
+    allowance = next(
+        (
+            _tolerance_for(context, element.name, "m")
+            for element, _p in _elements(context.capability, "output")
+            if context.scenario.ground_truth.get(element.name) == "nearest_obstacle_distance"
+        ),
+        context.tolerances.get("m", UNIT_TOLERANCES["m"]),
+    )
+    farther = toward - nearest[0]
+    if farther > allowance + 1e-9:
+        return None
+    return (
+        f"the return that way is {farther:.3g} m farther than the nearest ({nearest[0]:.3g} m): "
+        f"as near, within the {allowance:g} m a distance is judged to (on a flat surface the "
+        "lidar's noise picks the beam that reads least)"
+    )
 
 
 def _requirement_verdicts(context: _Context) -> list[Verdict]:

@@ -12,11 +12,23 @@ from __future__ import annotations
 import bisect
 import itertools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-__all__ = ["CommandRecord", "ContactRecord", "GroundTruth", "Sample", "wrap_pi", "wrap_two_pi"]
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
+__all__ = [
+    "CommandRecord",
+    "ContactRecord",
+    "GroundTruth",
+    "Sample",
+    "Sweep",
+    "wrap_pi",
+    "wrap_two_pi",
+]
 
 
 def wrap_pi(angle: float) -> float:
@@ -72,6 +84,30 @@ class ContactRecord:
     y: float
 
 
+@dataclass(frozen=True)
+class Sweep:
+    """One lidar scan as the world measured it, without noise."""
+
+    t: float
+    angle_min: float
+    angle_increment: float
+    ranges: Sequence[float] | NDArray[np.float64]
+    """Per beam; ``inf`` where the beam returns nothing."""
+
+    def toward(self, bearing: float) -> float | None:
+        """The range of the beam closest to ``bearing`` (lidar frame, radians), or ``None``
+        when the lidar does not look that way."""
+        count = len(self.ranges)
+        if not count or self.angle_increment <= 0:
+            return None
+        index = round(wrap_two_pi(bearing - self.angle_min) / self.angle_increment)
+        if count * self.angle_increment >= 2 * math.pi - 1e-6:
+            index %= count  # a whole turn: past the last beam comes the first
+        elif index >= count:
+            return None
+        return float(self.ranges[index])
+
+
 @dataclass
 class GroundTruth:
     """Everything the world recorded during one run."""
@@ -85,6 +121,8 @@ class GroundTruth:
     """Motion goals served: action, time accepted, outcome, time finished, target."""
     nearest: list[tuple[float, float, float]] = field(default_factory=list)
     """(t, distance, bearing) of the nearest lidar return without noise, per scan."""
+    sweeps: list[Sweep] = field(default_factory=list)
+    """The ranges without noise of every scan, in the order of :attr:`nearest`."""
     extents: list[tuple[float, float, float]] = field(default_factory=list)
     """(t, along, across): extent of the mapped area relative to the start pose."""
     saved_maps: list[dict[str, Any]] = field(default_factory=list)
@@ -174,6 +212,16 @@ class GroundTruth:
                 break
             found = (distance, bearing)
         return found
+
+    def range_toward(self, t: float, bearing: float) -> float | None:
+        """The range without noise along ``bearing`` (lidar frame, radians) in the last scan
+        at or before ``t``; ``None`` before the first scan or outside the lidar's view."""
+        found = None
+        for sweep in self.sweeps:
+            if sweep.t > t + 1e-9:
+                break
+            found = sweep
+        return None if found is None else found.toward(bearing)
 
     def clearance(self, t0: float, t1: float) -> tuple[float, float] | None:
         """The smallest nearest-obstacle range of the scans between two times, and when."""

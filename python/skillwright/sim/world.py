@@ -38,7 +38,7 @@ from skillwright.errors import FileFormatError
 from skillwright.sim.bindings import Bindings, RecordedFacts, ScanGeometry
 from skillwright.sim.drive import Command, DriveLimits, DriverState, MecanumKinematics
 from skillwright.sim.motion import ArmConfig, ArmServer, BaseMotionServer, NavConfig, fill
-from skillwright.sim.truth import CommandRecord, ContactRecord, GroundTruth, Sample
+from skillwright.sim.truth import CommandRecord, ContactRecord, GroundTruth, Sample, Sweep
 
 if TYPE_CHECKING:
     import numpy as np
@@ -844,6 +844,7 @@ class MujocoWorld:
                 self.truth.nearest.append((t, float(ranges[index]), bearing))
             else:
                 self.truth.nearest.append((t, math.inf, 0.0))
+            self.truth.sweeps.append(Sweep(t, geometry.angle_min, geometry.angle_increment, ranges))
             if self.bindings.map_topic and topic == self.bindings.scan_topics[0]:
                 self._integrate_map(geometry, angles, ranges, t)
             sigma = self.config.noise.scan
