@@ -40,6 +40,7 @@ from skillwright.validation.names import (
 from skillwright.validation.positions import check_filtered_positions
 from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
+from skillwright.validation.units import check_angle_units
 
 __all__ = ["check_skill", "local_name"]
 
@@ -1674,6 +1675,7 @@ def check_skill(
         ctx.findings += check_stale_conditions(cls)
         ctx.findings += check_stops(cls)
         ctx.findings += check_filtered_positions(cls)
+        ctx.findings += check_angle_units(cls, capability)
         ctx.findings += check_first_messages(cls, methods)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
