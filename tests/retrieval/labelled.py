@@ -9,7 +9,7 @@ A capability can need more interfaces than ``k`` (the MR-1's mapping needs six);
 needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
 the *attainable* count, ``min(needs, k)`` summed over the capabilities.
 
-The paper's robot is read from its Cap2Skill reports by the report import. Eleven more robots,
+The paper's robot is read from its Cap2Skill reports by the report import. Thirteen more robots,
 written down from public sources (``tests/retrieval/robots``), run the paper's nine
 capabilities and specs, as the robot this retrieval is judged on does: a TurtleBot 4 with Nav2,
 PAL TIAGo (a mobile manipulator with Nav2, SLAM Toolbox, MoveIt and ros2_control), a UR5e arm,
@@ -21,8 +21,10 @@ takes base velocity only in navigation mode, an Interbotix LoCoBot (a Create 3 b
 root, the driver under ``/locobot``), a match MuR620 (a MiR base with two UR10e arms, four
 scans), a Robotnik RB-KAIROS+ (a mecanum base with a UR arm, everything under ``/robot``) and a
 KUKA KMR iiwa on a research stack (a Java bridge's own topics, two scanners merged into one,
-an arm planned through a vendor action). The last six were labelled by someone who saw no
-ranking of them. Only the capabilities a robot can serve are labelled; the label files say why
+an arm planned through a vendor action), a TurtleBot3 with an OpenMANIPULATOR-X on ROBOTIS's
+own Humble stack (Cartographer, Nav2, MoveIt) and a Toyota HSR on Toyota's own Jazzy stack
+(its navigation, planner services and names, 597 interfaces). The last eight were labelled by
+someone who saw no ranking of them. Only the capabilities a robot can serve are labelled; the label files say why
 the others are left out.
 """
 
@@ -57,6 +59,8 @@ WRITTEN = (
     "mur620",
     "rbkairos",
     "kmriiwa",
+    "tb3manip",
+    "hsr",
 )
 """The robots of ``tests/retrieval/robots``: graphs written from public sources."""
 
