@@ -96,7 +96,11 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
 # explain, the arm's status, and the merged scan for mapping behind Nav2's action.
 # Two more, blind: a TurtleBot3 with an OpenMANIPULATOR-X (ROBOTIS's Humble stack) scored
 # 9/20/20 of 20 at first; a Toyota HSR (Toyota's own Jazzy stack: its navigation's
-# /move_base/move, RRT planner services, 597 interfaces) 7/13/16 of 22.
+# /move_base/move, RRT planner services, 597 interfaces) 7/13/16 of 22: SLAM Toolbox's /map
+# lost to its navigation's /dynamic_obstacle_map and /static_distance_ros_map, whose extra
+# words matched the mapping spec by chance. A topic under its type's conventional name
+# (map, scan, odom, cmd_vel) now caps the scores of its same-type neighbours: 7/14/17, the
+# paper's filtered robot 9 at k=1 (/scan before /scan2), nothing else moves.
 LEXICAL_FLOORS = [
     ("mr1", 1, 9),
     ("mr1", 4, 20),
@@ -104,7 +108,7 @@ LEXICAL_FLOORS = [
     ("cap2skill", 1, 9),
     ("cap2skill", 4, 18),
     ("cap2skill", 8, 18),
-    ("cap2skill-filtered", 1, 8),
+    ("cap2skill-filtered", 1, 9),
     ("cap2skill-filtered", 4, 18),
     ("cap2skill-filtered", 8, 18),
     ("tb4", 1, 8),
@@ -141,8 +145,8 @@ LEXICAL_FLOORS = [
     ("tb3manip", 4, 20),
     ("tb3manip", 8, 20),
     ("hsr", 1, 7),
-    ("hsr", 4, 13),
-    ("hsr", 8, 16),
+    ("hsr", 4, 14),
+    ("hsr", 8, 17),
 ]
 
 HYBRID_FLOORS = [

@@ -371,3 +371,32 @@ def test_a_scan_that_merges_its_neighbours_has_their_evidence_and_goes_first() -
     names = [h.name for h in hits]
     assert names[0] == "/scan_concatenated"
     assert names.index("/pc_concatenated") > names.index("/scan_concatenated")
+
+
+def test_a_map_under_its_conventional_name_outranks_variants_that_share_words_by_chance() -> None:
+    # A Toyota HSR: SLAM Toolbox's /map beside its navigation's obstacle and distance maps,
+    # whose extra words match a mapping capability that explores a distance around obstacles.
+    # A costmap in its own namespace is not a variant of /map: its words keep their weight.
+    inventory = Inventory(
+        resource=Resource(name="hsr"),
+        interfaces=[
+            Interface(name=n, kind="topic", type_name="nav_msgs/msg/OccupancyGrid")
+            for n in ("/map", "/dynamic_obstacle_map", "/static_distance_map")
+        ]
+        + [
+            Interface(
+                name="/global_costmap/obstacle_costmap",
+                kind="topic",
+                type_name="nav_msgs/msg/OccupancyGrid",
+            )
+        ],
+    )
+    capability = provided(
+        "mapping",
+        "I map the surroundings up to a distance, driving around obstacles.",
+        [parameter("inDistance", "m", "The distance to explore.")],
+        [parameter("outMap", "", "The map of the obstacles.")],
+    )
+    names = [h.name for h in rank_interfaces(inventory, capability, k=4)]
+    assert names.index("/map") < names.index("/dynamic_obstacle_map")
+    assert names.index("/map") < names.index("/static_distance_map")

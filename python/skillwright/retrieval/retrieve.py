@@ -40,6 +40,7 @@ from skillwright.retrieval.query import Facet, Query, build_query
 from skillwright.retrieval.semantics import (
     body_of,
     body_of_text,
+    conventional,
     directness,
     merges,
     unreached,
@@ -293,6 +294,10 @@ def _apply_type_semantics(
     for merged, parts in _merges(pool).items():
         for row in mixed:
             row[merged] = max(row[merged], *(row[p] for p in parts))
+    for plain, variants in _variants(pool, roles).items():
+        for row in mixed:
+            for v in variants:
+                row[v] = min(row[v], row[plain])
 
 
 def _merges(pool: Sequence[Interface]) -> dict[int, list[int]]:
@@ -314,6 +319,31 @@ def _merges(pool: Sequence[Interface]) -> dict[int, list[int]]:
         ]
         if parts:
             out[i] = parts
+    return out
+
+
+def _variants(pool: Sequence[Interface], roles: Sequence[str | None]) -> dict[int, list[int]]:
+    """Each topic under its type's conventional name (:func:`~skillwright.retrieval.
+    semantics.conventional`) that reaches somebody, with the other topics of its type in the
+    same namespace: variants of it, which score no more than it does on any facet. Their
+    extra words may match the query by chance: the HSR's ``/dynamic_obstacle_map`` matched
+    "obstacle" in the mapping spec, its ``/static_distance_ros_map`` the input "distance", and
+    both came before SLAM Toolbox's ``/map``."""
+    out: dict[int, list[int]] = {}
+    for i, interface in enumerate(pool):
+        if not conventional(interface) or unreached(interface, roles[i]):
+            continue
+        namespace = interface.name.rsplit("/", 1)[0]
+        variants = [
+            j
+            for j, other in enumerate(pool)
+            if j != i
+            and other.kind == "topic"
+            and other.type_name == interface.type_name
+            and other.name.rsplit("/", 1)[0] == namespace
+        ]
+        if variants:
+            out[i] = variants
     return out
 
 

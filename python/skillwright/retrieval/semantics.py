@@ -150,6 +150,30 @@ def merges(interface: Interface) -> bool:
     )
 
 
+_CONVENTIONAL_NAMES = {
+    "nav_msgs/msg/OccupancyGrid": "map",
+    "sensor_msgs/msg/LaserScan": "scan",
+    "nav_msgs/msg/Odometry": "odom",
+    "geometry_msgs/msg/Twist": "cmd_vel",
+    "geometry_msgs/msg/TwistStamped": "cmd_vel",
+}
+"""The name the ROS conventions (REP 105, Nav2, the SLAM packages, the base controllers) give
+the stream of each of these types that the standard stack reads or writes."""
+
+
+def conventional(interface: Interface) -> bool:
+    """Whether a topic carries the conventional name of its type (``map`` for an occupancy
+    grid, ``scan``, ``odom``, ``cmd_vel``): the stream the standard stack produces or
+    consumes, where its siblings' extra words (the HSR's ``/dynamic_obstacle_map`` and
+    ``/static_distance_ros_map`` beside SLAM's ``/map``) name variants of it."""
+    wanted = _CONVENTIONAL_NAMES.get(interface.type_name)
+    return (
+        interface.kind == "topic"
+        and wanted is not None
+        and interface.name.rsplit("/", 1)[-1] == wanted
+    )
+
+
 def unreached(interface: Interface, role: str | None) -> bool:
     """Whether the graph shows nobody at the other end of what a skill would do with the
     interface: a command topic (``role`` ``command``) nobody subscribes to, a measured topic
