@@ -9,7 +9,7 @@ A capability can need more interfaces than ``k`` (the MR-1's mapping needs six);
 needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
 the *attainable* count, ``min(needs, k)`` summed over the capabilities.
 
-The paper's robot is read from its Cap2Skill reports by the report import. Thirteen more robots,
+The paper's robot is read from its Cap2Skill reports by the report import. Fourteen more robots,
 written down from public sources (``tests/retrieval/robots``), run the paper's nine
 capabilities and specs, as the robot this retrieval is judged on does: a TurtleBot 4 with Nav2,
 PAL TIAGo (a mobile manipulator with Nav2, SLAM Toolbox, MoveIt and ros2_control), a UR5e arm,
@@ -23,8 +23,9 @@ scans), a Robotnik RB-KAIROS+ (a mecanum base with a UR arm, everything under ``
 KUKA KMR iiwa on a research stack (a Java bridge's own topics, two scanners merged into one,
 an arm planned through a vendor action), a TurtleBot3 with an OpenMANIPULATOR-X on ROBOTIS's
 own Humble stack (Cartographer, Nav2, MoveIt) and a Toyota HSR on Toyota's own Jazzy stack
-(its navigation, planner services and names, 597 interfaces). The last eight were labelled by
-someone who saw no ranking of them. Only the capabilities a robot can serve are labelled; the label files say why
+(its navigation, planner services and names, 597 interfaces) and a Hiwonder JetRover on the
+vendor's image (a servo bus arm behind its own kinematics node, ``/controller/cmd_vel``,
+``/odom_raw``). The last nine were labelled by someone who saw no ranking of them. Only the capabilities a robot can serve are labelled; the label files say why
 the others are left out.
 """
 
@@ -61,6 +62,7 @@ WRITTEN = (
     "kmriiwa",
     "tb3manip",
     "hsr",
+    "jetrover",
 )
 """The robots of ``tests/retrieval/robots``: graphs written from public sources."""
 
