@@ -9,7 +9,7 @@ A capability can need more interfaces than ``k`` (the MR-1's mapping needs six);
 needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
 the *attainable* count, ``min(needs, k)`` summed over the capabilities.
 
-The paper's robot is read from its Cap2Skill reports by the report import. Fourteen more robots,
+The paper's robot is read from its Cap2Skill reports by the report import. Sixteen more robots,
 written down from public sources (``tests/retrieval/robots``), run the paper's nine
 capabilities and specs, as the robot this retrieval is judged on does: a TurtleBot 4 with Nav2,
 PAL TIAGo (a mobile manipulator with Nav2, SLAM Toolbox, MoveIt and ros2_control), a UR5e arm,
@@ -25,7 +25,10 @@ an arm planned through a vendor action), a TurtleBot3 with an OpenMANIPULATOR-X 
 own Humble stack (Cartographer, Nav2, MoveIt) and a Toyota HSR on Toyota's own Jazzy stack
 (its navigation, planner services and names, 597 interfaces) and a Hiwonder JetRover on the
 vendor's image (a servo bus arm behind its own kinematics node, ``/controller/cmd_vel``,
-``/odom_raw``). The last nine were labelled by someone who saw no ranking of them. Only the capabilities a robot can serve are labelled; the label files say why
+``/odom_raw``), a Boston Dynamics Spot with its arm (the spot_ros2 driver, a Velodyne,
+Cartographer and Nav2; it must stand up before it moves) and an OMRON LD-250 with a TM12X arm
+(Nav2, SLAM Toolbox, MoveIt). The last eleven were labelled by someone who saw no ranking of
+them. Only the capabilities a robot can serve are labelled; the label files say why
 the others are left out.
 """
 
@@ -63,6 +66,8 @@ WRITTEN = (
     "tb3manip",
     "hsr",
     "jetrover",
+    "spot",
+    "omronmoma",
 )
 """The robots of ``tests/retrieval/robots``: graphs written from public sources."""
 
