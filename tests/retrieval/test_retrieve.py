@@ -327,13 +327,17 @@ def test_a_cancel_set_before_ranking_embeds_nothing() -> None:
     assert embedded == []
 
 
+def topics(type_name: str, *names: str) -> list[Interface]:
+    """Topics of one type."""
+    return [Interface(name=n, kind="topic", type_name=type_name) for n in names]
+
+
 def test_among_equal_scores_the_plainer_name_wins_not_the_alphabet() -> None:
     # A MuR620: front and back scanners see half the room each, the merged /scan all of it.
     # Their words the query knows are the same, so their scores are equal.
-    scans = [
-        Interface(name=f"/mur620a/{leaf}", kind="topic", type_name="sensor_msgs/msg/LaserScan")
-        for leaf in ("b_scan", "f_scan", "scan")
-    ]
+    scans = topics(
+        "sensor_msgs/msg/LaserScan", "/mur620a/b_scan", "/mur620a/f_scan", "/mur620a/scan"
+    )
     inventory = Inventory(resource=Resource(name="mur620"), interfaces=scans)
     capability = provided(
         "getDistanceToNearestObject",
@@ -352,14 +356,8 @@ def test_a_scan_that_merges_its_neighbours_has_their_evidence_and_goes_first() -
     # in another namespace is not a part of the merged cloud.
     inventory = Inventory(
         resource=Resource(name="kmriiwa"),
-        interfaces=[
-            Interface(name=n, kind="topic", type_name="sensor_msgs/msg/LaserScan")
-            for n in ("/scan", "/scan_2", "/scan_concatenated")
-        ]
-        + [
-            Interface(name=n, kind="topic", type_name="sensor_msgs/msg/PointCloud2")
-            for n in ("/camera/pointcloud", "/pc_concatenated")
-        ],
+        interfaces=topics("sensor_msgs/msg/LaserScan", "/scan", "/scan_2", "/scan_concatenated")
+        + topics("sensor_msgs/msg/PointCloud2", "/camera/pointcloud", "/pc_concatenated"),
     )
     capability = provided(
         "getDistanceToNearestObject",
@@ -379,17 +377,13 @@ def test_a_map_under_its_conventional_name_outranks_variants_that_share_words_by
     # A costmap in its own namespace is not a variant of /map: its words keep their weight.
     inventory = Inventory(
         resource=Resource(name="hsr"),
-        interfaces=[
-            Interface(name=n, kind="topic", type_name="nav_msgs/msg/OccupancyGrid")
-            for n in ("/map", "/dynamic_obstacle_map", "/static_distance_map")
-        ]
-        + [
-            Interface(
-                name="/global_costmap/obstacle_costmap",
-                kind="topic",
-                type_name="nav_msgs/msg/OccupancyGrid",
-            )
-        ],
+        interfaces=topics(
+            "nav_msgs/msg/OccupancyGrid",
+            "/map",
+            "/dynamic_obstacle_map",
+            "/static_distance_map",
+            "/global_costmap/obstacle_costmap",
+        ),
     )
     capability = provided(
         "mapping",
