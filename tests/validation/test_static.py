@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from skillwright.capability import Capability, load_capability
+from skillwright.generation.author import _unset_output
 from skillwright.generation.model import InterfaceRef
 from skillwright.generation.skeleton import build_skeleton
 from skillwright.interfaces.load import load_inventory
@@ -985,3 +986,38 @@ def test_list_methods_of_an_array_of_messages_are_not_taken_for_fields(
     assert len(found) == 1
     assert "has no field 'push' in request.goal_constraints (fields: " in found[0]
     assert "append" not in found[0]
+
+
+@pytest.mark.parametrize(
+    ("store", "error"),
+    [
+        ("        self.out_distance = 0.0", True),  # ev51-ev57 cap2skill move-forward
+        ("        self.out_distance = -1", True),
+        ("        self.out_distance = self._travelled()", False),
+        ("        self.out_distance = 0.0\n        self.out_distance += self._travelled()", False),
+    ],
+)
+def test_an_output_only_ever_set_to_a_number_written_out_is_an_error_at_its_getter(
+    move_forward: tuple[Capability, SkillSpec], store: str, error: bool
+) -> None:
+    source = GOOD.replace("        self.out_distance = self._travelled()", store)
+    found = [f for f in run(source, move_forward).findings if f.check == "outputs"]
+    if not error:
+        assert found == []
+        return
+    (finding,) = found
+    assert finding.severity == "error"
+    assert finding.message.startswith("output outDistance is only ever set to ")
+    # generation takes it as an output never set: the repair goes on from the end of execute
+    assert _unset_output(finding) == "out_distance"
+
+
+def test_an_output_the_model_asserts_may_be_set_to_that_number(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # outLinearVelocity = 0.0 is an Assurance: the skill reports the stop it promised
+    source = GOOD.replace(
+        "        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x",
+        "        self.out_linear_velocity = 0.0",
+    )
+    assert [f for f in run(source, move_forward).findings if f.check == "outputs"] == []

@@ -1356,9 +1356,15 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
     writes: set[str] = set()
     idle: dict[str, tuple[str, str]] = {}
     """attribute -> (method, local) for a copy (``local = self.attr``) nothing then reads."""
+    stored: dict[str, list[ast.expr | None]] = {}
+    """attribute -> each value a state or helper stores in it (``None``: not a plain store);
+    resetting, which clears the outputs, is left out."""
     for method in cls.body:
         if not isinstance(method, ast.FunctionDef) or method.name in {*getters, "__init__"}:
             continue
+        if method.name != "resetting":
+            for attr, value in _self_stores(method):
+                stored.setdefault(attr, []).append(value)
         copies = _idle_copies(method)
         for inner in ast.walk(method):
             if (
@@ -1402,6 +1408,74 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 f"returns what __init__ put there; store the value it reports{about} in "
                 f"self.{attr} before execute ends",
             )
+        elif (
+            kind == "skill_output"
+            and _measured(capability, name)
+            and _only_constants(stored.get(attr, []))
+        ):
+            values = ", ".join(dict.fromkeys(ast.unparse(v) for v in stored[attr] if v))
+            ctx.add(
+                "outputs",
+                "error",
+                where,
+                f"output {name} is only ever set to {values}: no method assigns self.{attr} "
+                f"a measured value, so the skill reports a fixed number whatever happened; "
+                f"store what it measures{about} in self.{attr} before execute ends",
+            )
+
+
+def _self_stores(method: ast.FunctionDef) -> list[tuple[str, ast.expr | None]]:
+    """Each ``self.<attr>`` the method stores into, with the value of a plain assignment
+    (``None`` for ``+=``, a loop or ``with`` target, an unpacking)."""
+    out: list[tuple[str, ast.expr | None]] = []
+    for node in ast.walk(method):
+        value: ast.expr | None = None
+        if isinstance(node, ast.Assign):
+            targets, value = list(node.targets), node.value
+        elif isinstance(node, ast.AnnAssign):
+            targets, value = [node.target], node.value
+        elif isinstance(node, ast.AugAssign | ast.For):
+            targets = [node.target]
+        elif isinstance(node, ast.With):
+            targets = [i.optional_vars for i in node.items if i.optional_vars is not None]
+        else:
+            continue
+        for target in targets:
+            direct = _self_attribute(target)
+            if direct is not None:
+                out.append((direct, value))
+                continue
+            out += [(a, None) for n in ast.walk(target) if (a := _self_attribute(n)) is not None]
+    return out
+
+
+def _self_attribute(node: ast.AST) -> str | None:
+    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+        return node.attr if node.value.id == "self" else None
+    return None
+
+
+def _measured(capability: Capability, name: str) -> bool:
+    """Whether output ``name`` is a quantity the skill measures: it has a unit, and the
+    model asserts no value for it (``outLinearVelocity = 0.0``, Assurance)."""
+    for parameter in capability.outputs:
+        if parameter.name == name and len(parameter.components) == 1:
+            element = parameter.element
+            return bool(element.unit) and element.value is None
+    return False
+
+
+def _only_constants(values: list[ast.expr | None]) -> bool:
+    """Whether there are stores and every one is a number written out (``0.0``, ``-1``)."""
+
+    def constant(value: ast.expr | None) -> bool:
+        if isinstance(value, ast.UnaryOp) and isinstance(value.op, ast.USub | ast.UAdd):
+            value = value.operand
+        return isinstance(value, ast.Constant) and (
+            value.value is None or isinstance(value.value, int | float)
+        )
+
+    return bool(values) and all(constant(v) for v in values)
 
 
 def _idle_copies(method: ast.FunctionDef) -> dict[int, str]:
