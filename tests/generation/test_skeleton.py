@@ -155,19 +155,12 @@ def test_move_forward_skeleton_carries_iris_types_limits_and_handles() -> None:
 
 def test_subscriptions_use_the_qos_the_publishers_offer() -> None:
     capability, spec = shipped("collision-avoidance")
-    scan = InterfaceRef(
-        name="/scan",
-        kind="topic",
-        type_name="sensor_msgs/msg/LaserScan",
-        role="subscribe",
-        qos="sensor_data",
-    )
-    grid = InterfaceRef(
-        name="/map",
-        kind="topic",
-        type_name="nav_msgs/msg/OccupancyGrid",
-        role="subscribe",
-        qos="latched",
+    scan, grid = (
+        InterfaceRef(name=name, kind="topic", type_name=type_name, role="subscribe", qos=qos)
+        for name, type_name, qos in (
+            ("/scan", "sensor_msgs/msg/LaserScan", "sensor_data"),
+            ("/map", "nav_msgs/msg/OccupancyGrid", "latched"),
+        )
     )
     code = build_skeleton(capability, spec, [CMD_VEL, scan, grid, ODOM]).code
     assert "from rclpy.qos import DurabilityPolicy, QoSProfile, qos_profile_sensor_data" in code

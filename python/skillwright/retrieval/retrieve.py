@@ -306,20 +306,26 @@ def _merges(pool: Sequence[Interface]) -> dict[int, list[int]]:
     parts. A merged stream sees what each part sees, so it has at least the evidence of the
     best of them; its longer name (the KMR iiwa's ``/scan_concatenated`` beside ``/scan`` and
     ``/scan_2``) costs it a little of every word's weight."""
-    merged = [i for i, interface in enumerate(pool) if merges(interface)]
+    merged = {i for i, interface in enumerate(pool) if merges(interface)}
     out: dict[int, list[int]] = {}
-    for i in merged:
-        namespace = pool[i].name.rsplit("/", 1)[0]
-        parts = [
-            j
-            for j, other in enumerate(pool)
-            if other.type_name == pool[i].type_name
-            and other.name.rsplit("/", 1)[0] == namespace
-            and j not in merged
-        ]
+    for i in sorted(merged):
+        parts = [j for j in _neighbours(pool, i) if j not in merged]
         if parts:
             out[i] = parts
     return out
+
+
+def _neighbours(pool: Sequence[Interface], i: int) -> list[int]:
+    """The other topics of ``pool[i]``'s type in its namespace."""
+    namespace = pool[i].name.rsplit("/", 1)[0]
+    return [
+        j
+        for j, other in enumerate(pool)
+        if j != i
+        and other.kind == "topic"
+        and other.type_name == pool[i].type_name
+        and other.name.rsplit("/", 1)[0] == namespace
+    ]
 
 
 def _variants(pool: Sequence[Interface], roles: Sequence[str | None]) -> dict[int, list[int]]:
@@ -333,15 +339,7 @@ def _variants(pool: Sequence[Interface], roles: Sequence[str | None]) -> dict[in
     for i, interface in enumerate(pool):
         if not conventional(interface) or unreached(interface, roles[i]):
             continue
-        namespace = interface.name.rsplit("/", 1)[0]
-        variants = [
-            j
-            for j, other in enumerate(pool)
-            if j != i
-            and other.kind == "topic"
-            and other.type_name == interface.type_name
-            and other.name.rsplit("/", 1)[0] == namespace
-        ]
+        variants = _neighbours(pool, i)
         if variants:
             out[i] = variants
     return out

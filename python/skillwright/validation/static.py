@@ -35,6 +35,7 @@ from skillwright.validation.model import (
 from skillwright.validation.names import (
     COMPOUND_STATEMENTS,
     check_names,
+    self_attribute,
     simple_statements,
 )
 from skillwright.validation.positions import check_filtered_positions
@@ -1441,18 +1442,12 @@ def _self_stores(method: ast.FunctionDef) -> list[tuple[str, ast.expr | None]]:
         else:
             continue
         for target in targets:
-            direct = _self_attribute(target)
+            direct = self_attribute(target)
             if direct is not None:
                 out.append((direct, value))
                 continue
-            out += [(a, None) for n in ast.walk(target) if (a := _self_attribute(n)) is not None]
+            out += [(a, None) for n in ast.walk(target) if (a := self_attribute(n)) is not None]
     return out
-
-
-def _self_attribute(node: ast.AST) -> str | None:
-    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
-        return node.attr if node.value.id == "self" else None
-    return None
 
 
 def _measured(capability: Capability, name: str) -> bool:

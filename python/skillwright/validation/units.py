@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from skillwright.capability.model import Capability
 from skillwright.generation.names import snake_case
 from skillwright.validation.model import Finding
+from skillwright.validation.names import self_attribute
 from skillwright.validation.syntax import error_at, statement_holding
 
 __all__ = ["check_angle_units"]
@@ -197,11 +198,10 @@ class _Reader:
     ) -> None:
         if isinstance(target, ast.Name):
             self.names[target.id] = unit
-        elif _is_self_attribute(target):
-            assert isinstance(target, ast.Attribute)
-            self.stored.setdefault(target.attr, []).append(unit)
-            if target.attr in self.declared and unit is not None:
-                self.stores.append((statement, target.attr, value, unit))
+        elif (attribute := self_attribute(target)) is not None:
+            self.stored.setdefault(attribute, []).append(unit)
+            if attribute in self.declared and unit is not None:
+                self.stores.append((statement, attribute, value, unit))
         elif isinstance(target, ast.Tuple | ast.List):
             for element in target.elts:
                 if isinstance(element, ast.Name):
@@ -239,7 +239,7 @@ class _Reader:
         return None
 
     def _attribute(self, node: ast.Attribute) -> _Unit | None:
-        if _is_self_attribute(node):
+        if self_attribute(node) is not None:
             return self.declared.get(node.attr) or self.attributes.get(node.attr)
         if node.attr in _SCAN_ANGLES:
             return _Unit(RAD, f"a scan's {node.attr} is in radians")
@@ -270,7 +270,7 @@ class _Reader:
             self._mix(node, pairs)
             kinds = {u.unit for _a, u in pairs if u is not None}
             return next((u for _a, u in pairs if u is not None), None) if len(kinds) == 1 else None
-        if isinstance(function, ast.Attribute) and _is_self_attribute(function):
+        if isinstance(function, ast.Attribute) and self_attribute(function) is not None:
             return self.returns.get(function.attr)
         if isinstance(function, ast.Attribute):
             self.unit(function.value)
@@ -360,14 +360,6 @@ def _function_name(function: ast.expr) -> str | None:
     if isinstance(function, ast.Name):
         return function.id
     return None
-
-
-def _is_self_attribute(node: ast.expr) -> bool:
-    return (
-        isinstance(node, ast.Attribute)
-        and isinstance(node.value, ast.Name)
-        and node.value.id == "self"
-    )
 
 
 def _loaded(target: ast.expr) -> ast.expr:
