@@ -90,7 +90,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return rank
 
     def no_spec(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:
-        return [h.name for h in rank_interfaces(inventory, cap, None, k=k, embed=embed)]
+        return [h.name for h in rank_interfaces(inventory, cap, None, k=k)]
 
     def paper(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:
         return paper_ranking(embed, inventory, cap, k)
@@ -113,7 +113,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         ("hybrid 0.1, words only (no type semantics)", ours(words_only, True)),
         ("lexical + type semantics (default)", ours(Ranking(), False)),
         ("hybrid 0.1 + type semantics (--dense)", ours(Ranking(), True)),
-        ("hybrid default, capability only (no spec)", no_spec),
+        ("lexical default, capability only (no spec)", no_spec),
     ]
 
     labelled = {name: load_set(name) for name in sets}
@@ -165,7 +165,6 @@ def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
         print(f"unknown set(s) {', '.join(unknown)}; choose from {', '.join(SETS)}")
         return 2
     registry = load_registry()
-    embedder = load_embedder_for_bench(registry)
     started = time.perf_counter()
     generator = load_generator(registry, model_id)
     load_seconds = time.perf_counter() - started
@@ -178,9 +177,7 @@ def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
     labelled = {name: load_set(name) for name in sets}
     for name, labelled_set in labelled.items():
         for case in labelled_set.cases:
-            hits = rank_interfaces(
-                labelled_set.inventory, case.capability, case.spec, k=DEPTH, embed=embedder
-            )
+            hits = rank_interfaces(labelled_set.inventory, case.capability, case.spec, k=DEPTH)
             first[(name, case.capability.iri)] = hits
             for spent in (cold, cached):
                 cpu = time.process_time()
@@ -216,8 +213,8 @@ def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
     print(f"{'method':48}" + "".join(f"{name:>12}" for name in sets))
     print(f"{'needs':48}" + "".join(f"{labelled[n].need_count:>12}" for n in sets))
     for label, table in (
-        ("hybrid default (first stage)", first),
-        (f"hybrid default + re-rank by {model_id}", second),
+        ("lexical default (first stage)", first),
+        (f"lexical default + re-rank by {model_id}", second),
     ):
         cells = [recall_cell(labelled[name], from_table(table, name)) for name in sets]
         print(f"{label:48}" + "".join(f"{c:>12}" for c in cells))
@@ -235,13 +232,6 @@ def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
 def _found(needs: Sequence[tuple[str, ...]], hits: Sequence[Hit]) -> int:
     names = {h.name for h in hits}
     return sum(any(n in names for n in need) for need in needs)
-
-
-def load_embedder_for_bench(registry: Any) -> Callable[[Sequence[str]], Any]:
-    """The default embedding model's embed function."""
-    from skillwright.llm.embeddings import load_embedder
-
-    return load_embedder(registry).embed  # type: ignore[no-any-return]
 
 
 def _none(inventory: Inventory, cap: Capability, spec: SkillSpec, k: int) -> list[str]:
