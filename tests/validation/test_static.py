@@ -1021,3 +1021,18 @@ def test_an_output_the_model_asserts_may_be_set_to_that_number(
         "        self.out_linear_velocity = 0.0",
     )
     assert [f for f in run(source, move_forward).findings if f.check == "outputs"] == []
+
+
+def test_a_command_built_and_never_published_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace("            self.cmd_vel_publisher.publish(command)\n", "")
+    (finding,) = [f for f in run(source, move_forward).findings if f.check == "unsent"]
+    assert finding.severity == "error"
+    assert finding.message.startswith("command, a Twist message built on line ")
+    assert finding.message.endswith(
+        "publish it with self.cmd_vel_publisher.publish(command) once it is complete"
+    )
+    assert finding.replacement == (
+        "command.linear.x = speed\nself.cmd_vel_publisher.publish(command)"
+    )

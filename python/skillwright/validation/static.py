@@ -42,6 +42,7 @@ from skillwright.validation.positions import check_filtered_positions
 from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
 from skillwright.validation.units import check_angle_units
+from skillwright.validation.unsent import check_unsent
 
 __all__ = ["check_skill", "local_name"]
 
@@ -1745,6 +1746,7 @@ def check_skill(
         ctx.findings += check_stops(cls)
         ctx.findings += check_filtered_positions(cls)
         ctx.findings += check_angle_units(cls, capability)
+        ctx.findings += check_unsent(cls)
         ctx.findings += check_first_messages(cls, methods)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)

@@ -1,0 +1,231 @@
+"""Commands built and never sent (check ``unsent``).
+
+MR-1 set-velocity (ev59) built ``command = Twist()``, set its linear and angular speed, waited
+for the odometry to show them and stored ``command.linear.x`` as an output: nothing ever
+published the command, so the base never moved and the wait gave up. The run saw a timeout;
+this check says why before anything runs.
+
+A local variable is flagged when it is assigned a message the class publishes (the type a
+``create_publisher`` of the class names), an action goal (``NavigateToPose.Goal()`` for an
+``ActionClient`` of the class) or a service request (``Trigger.Request()`` for a
+``create_client``), and the method never uses it whole: every use reads or sets one of its
+fields, none publishes it, sends it, passes it to a call, stores it or returns it, and the
+method sends nothing else through the handles that take it (a left-over message beside one
+that is sent is dead code, not a command lost; an empty ``Twist()`` published to stop does
+not count). Such a message only ever leaves the method in pieces, so whatever it was built
+to command does not happen.
+
+When one publisher of the class publishes that type, the fix publishes the message once it
+is complete: after the last plain statement that sets one of its fields, before a branch or
+loop that touches it (no fix when such a loop or branch sets its first fields: what to
+publish is decided in there).
+"""
+
+from __future__ import annotations
+
+import ast
+from collections import defaultdict
+from collections.abc import Iterator
+
+from skillwright.validation.model import Finding
+from skillwright.validation.names import self_attribute
+from skillwright.validation.syntax import error_at
+
+__all__ = ["check_unsent"]
+
+_SIMPLE = (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Expr)
+
+
+def check_unsent(cls: ast.ClassDef) -> list[Finding]:
+    """Findings (check ``unsent``) for messages, goals and requests a method builds and never
+    sends or passes on."""
+    publishers, goals, requests = _interfaces(cls)
+    findings = []
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        whole = _used_whole(method)
+        sending = _senders_called(method)
+        reported: set[str] = set()
+        for block, index, name, built in _built(method):
+            if name in whole or name in reported:
+                continue
+            if built in publishers:
+                what, senders = f"a {built} message", publishers[built]
+                how = "publishes it"
+            elif built in goals:
+                what, senders = f"a {built}", goals[built]
+                how = "sends it"
+            elif built in requests:
+                what, senders = f"a {built}", requests[built]
+                how = "calls the service with it"
+            else:
+                continue
+            if sending.intersection(senders):
+                continue  # it sends something else there: the message is only left over
+            reported.add(name)
+            findings.append(_finding(block, index, name, what, how, built, senders))
+    return findings
+
+
+def _interfaces(
+    cls: ast.ClassDef,
+) -> tuple[dict[str, list[str]], dict[str, list[str]], dict[str, list[str]]]:
+    """(message type -> publishers, ``T.Goal`` -> action clients, ``T.Request`` -> service
+    clients) of the handles the class makes, each handle as ``self.name``."""
+    publishers: dict[str, list[str]] = defaultdict(list)
+    goals: dict[str, list[str]] = defaultdict(list)
+    requests: dict[str, list[str]] = defaultdict(list)
+    for node in ast.walk(cls):
+        if not (
+            isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and (handle := self_attribute(node.targets[0])) is not None
+            and isinstance(node.value, ast.Call)
+        ):
+            continue
+        call = node.value
+        called = call.func.attr if isinstance(call.func, ast.Attribute) else None
+        called = call.func.id if isinstance(call.func, ast.Name) else called
+        # ActionClient(node, ActionType, name): the type comes second
+        position = 1 if called == "ActionClient" else 0
+        keyword = "action_type" if called == "ActionClient" else "msg_type"
+        if called == "create_client":
+            keyword = "srv_type"
+        kind = _type_name(_argument(call, position, keyword))
+        if kind is None:
+            continue
+        if called == "create_publisher":
+            publishers[kind].append(f"self.{handle}")
+        elif called == "ActionClient":
+            goals[f"{kind}.Goal"].append(f"self.{handle}")
+        elif called == "create_client":
+            requests[f"{kind}.Request"].append(f"self.{handle}")
+    return publishers, goals, requests
+
+
+def _argument(call: ast.Call, position: int, keyword: str) -> ast.expr | None:
+    if len(call.args) > position:
+        return call.args[position]
+    return next((k.value for k in call.keywords if k.arg == keyword), None)
+
+
+def _type_name(node: ast.expr | None) -> str | None:
+    """``Twist`` for ``Twist`` and ``geometry_msgs.msg.Twist``; ``NavigateToPose.Goal`` for
+    ``NavigateToPose.Goal`` (a type and its part, as the skill writes them)."""
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        if node.attr in {"Goal", "Request"}:
+            owner = _type_name(node.value)
+            return f"{owner}.{node.attr}" if owner is not None else None
+        return node.attr
+    return None
+
+
+def _built(method: ast.FunctionDef) -> Iterator[tuple[list[ast.stmt], int, str, str]]:
+    """(block, index in it, local name, type) of each ``name = Type(...)`` in ``method``."""
+    for node in ast.walk(method):
+        for field in ("body", "orelse", "finalbody"):
+            block = getattr(node, field, None)
+            if not isinstance(block, list):
+                continue
+            for index, statement in enumerate(block):
+                if (
+                    isinstance(statement, ast.Assign)
+                    and len(statement.targets) == 1
+                    and isinstance(statement.targets[0], ast.Name)
+                    and isinstance(statement.value, ast.Call)
+                    and (built := _type_name(statement.value.func)) is not None
+                ):
+                    yield block, index, statement.targets[0].id, built
+
+
+def _senders_called(method: ast.FunctionDef) -> set[str]:
+    """The handles (``self.name``) whose methods ``method`` calls: a publisher it publishes
+    on (other than an empty message, ``Twist()``, which stops), a client it sends a goal or a
+    request with."""
+    return {
+        f"self.{handle}"
+        for node in ast.walk(method)
+        if isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and (handle := self_attribute(node.func.value)) is not None
+        and not (node.func.attr == "publish" and all(map(_empty, node.args)))
+    }
+
+
+def _empty(node: ast.expr) -> bool:
+    return isinstance(node, ast.Call) and not node.args and not node.keywords
+
+
+def _used_whole(method: ast.FunctionDef) -> set[str]:
+    """Local names ``method`` reads as a whole value anywhere (not only as the object of a
+    field it reads or sets)."""
+    parts = {
+        id(node.value)
+        for node in ast.walk(method)
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+    }
+    return {
+        node.id
+        for node in ast.walk(method)
+        if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load) and id(node) not in parts
+    }
+
+
+def _finding(
+    block: list[ast.stmt],
+    index: int,
+    name: str,
+    what: str,
+    how: str,
+    built: str,
+    senders: list[str],
+) -> Finding:
+    handles = " or ".join(dict.fromkeys(senders))
+    message = (
+        f"{name}, {what} built on line {block[index].lineno}, is never sent: nothing {how} "
+        "or passes it on (only its fields are set or read), so what it commands never "
+        "reaches the robot"
+    )
+    if built.endswith(".Goal"):
+        return error_at("unsent", block[index], f"{message}; send it with {handles}")
+    if built.endswith(".Request"):
+        return error_at("unsent", block[index], f"{message}; call {handles} with it")
+    fix = f"{senders[0]}.publish({name})"
+    statement = _complete(block, index, name)
+    if len(set(senders)) == 1 and statement is not None:
+        return error_at(
+            "unsent",
+            statement,
+            f"{message}; publish it with {fix} once it is complete",
+            f"{ast.unparse(statement)}\n{fix}",
+        )
+    return error_at("unsent", block[index], f"{message}; publish it with {handles}")
+
+
+def _complete(block: list[ast.stmt], index: int, name: str) -> ast.stmt | None:
+    """The statement after which the message ``block[index]`` builds is complete: the last
+    plain statement setting one of its fields before anything else happens to it (a branch or
+    loop that touches it, or a new value for the name). ``None`` when a loop or branch sets
+    its first fields: what to publish is decided in there."""
+    last = block[index]
+    for later in block[index + 1 :]:
+        names = [n for n in ast.walk(later) if isinstance(n, ast.Name) and n.id == name]
+        if not names:
+            continue
+        sets = any(_sets_field(node, name) for node in ast.walk(later))
+        if not isinstance(later, _SIMPLE) or any(isinstance(n.ctx, ast.Store) for n in names):
+            return None if sets and last is block[index] else last
+        if sets:
+            last = later
+    return last
+
+
+def _sets_field(node: ast.AST, name: str) -> bool:
+    """Whether ``node`` stores into a field of the local ``name``."""
+    if not isinstance(node, ast.Attribute) or not isinstance(node.ctx, ast.Store):
+        return False
+    root: ast.expr = node
+    while isinstance(root, ast.Attribute | ast.Subscript):
+        root = root.value
+    return isinstance(root, ast.Name) and root.id == name
