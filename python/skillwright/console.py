@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from functools import cache
 from typing import TYPE_CHECKING
 
@@ -9,7 +10,7 @@ if TYPE_CHECKING:
     from pydantic import BaseModel
     from rich.console import Console
 
-__all__ = ["err_console", "human_size", "out_console", "print_model_json"]
+__all__ = ["err_console", "human_size", "out_console", "print_model_json", "warn"]
 
 
 @cache
@@ -27,6 +28,12 @@ def err_console() -> Console:
     from rich.console import Console
 
     return Console(stderr=True, highlight=False, emoji=False)
+
+
+def warn(warnings: Iterable[str]) -> None:
+    """Prints each warning on stderr as ``warning: ...``, its text taken literally."""
+    for warning in warnings:
+        err_console().print(f"warning: {warning}", markup=False, soft_wrap=True)
 
 
 def print_model_json(model: BaseModel) -> None:

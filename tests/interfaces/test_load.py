@@ -9,7 +9,7 @@ from typing import Any
 import pytest
 
 from skillwright.errors import FileFormatError, InputFileNotFoundError, OperationCancelledError
-from skillwright.interfaces.load import load_inventory
+from skillwright.interfaces.load import load_inventory, read_warnings
 from tests.conftest import SHIPPED_CAPABILITIES
 
 RECORDING = SHIPPED_CAPABILITIES / "recordings" / "mr1"
@@ -80,3 +80,23 @@ def test_a_cancelled_inventory_is_not_validated(
 
 def test_without_a_cancel_the_same_source_loads_in_full() -> None:
     assert load_inventory(RECORDING, cancel=threading.Event()).interfaces
+
+
+def cut_recording(tmp_path: Path) -> Path:
+    """The shipped MR-1 recording without its last 20 KB, as a copy stopped early leaves it."""
+    [recording] = RECORDING.glob("*.mcap")
+    data = recording.read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[: len(data) - 20_000])
+    return cut
+
+
+def test_a_recording_cut_short_is_said_with_what_it_costs(tmp_path: Path) -> None:
+    cut = cut_recording(tmp_path)
+    [warning] = read_warnings(load_inventory(cut))
+    assert warning.startswith(f"{cut}: read only up to byte ")
+    assert warning.endswith("interfaces recorded after it are missing")
+
+
+def test_a_whole_recording_has_no_read_warnings() -> None:
+    assert read_warnings(load_inventory(RECORDING)) == []

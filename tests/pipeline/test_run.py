@@ -31,6 +31,7 @@ from skillwright.pipeline.events import (
 )
 from tests.conftest import SHIPPED_CAPABILITIES
 from tests.fixtures.scripted import MethodScript
+from tests.interfaces.test_load import cut_recording
 from tests.llm.conftest import write_models_toml
 from tests.pipeline.conftest import RECORDING, SET_VELOCITY, stems, use_model
 
@@ -413,3 +414,10 @@ def test_a_limit_the_capability_never_states_is_a_note_of_the_run(
     [note] = [n for n in record.notes if "asks for a limit" in n]
     assert "maximum possible velocity" in note
     assert "the capability setVelocity does not give" in note
+
+
+def test_a_recording_cut_short_is_a_note_of_the_run(tmp_path: Path) -> None:
+    cut = cut_recording(tmp_path)
+    record = run_generation(request(tmp_path / "out", interfaces=cut, skeleton=True)).record
+    [note] = [n for n in record.notes if "read only up to byte" in n]
+    assert note.startswith(f"{cut}: ")

@@ -15,6 +15,7 @@ from skillwright.cli import main
 from skillwright.console import err_console, out_console
 from skillwright.interfaces.inventory import InfrastructureFlag, Interface, Inventory, Resource
 from tests.conftest import REPO_ROOT, SHIPPED_CAPABILITIES
+from tests.interfaces.test_load import cut_recording
 
 MR1 = str(SHIPPED_CAPABILITIES / "recordings" / "mr1")
 ROTATE = ["--capability", str(SHIPPED_CAPABILITIES / "rotate.ttl")]
@@ -57,6 +58,14 @@ def test_lexical_ranking_prints_a_table_with_reasons_and_a_summary() -> None:
     assert "4 of 38 candidate(s); 39 infrastructure interface(s) left out (--all)" in out
     assert "ranking: lexical" in out
     assert "ranked 38 interface(s)" in err
+
+
+def test_a_recording_cut_short_is_warned_about_before_the_ranking(tmp_path: Path) -> None:
+    cut = cut_recording(tmp_path)
+    code, out, err = invoke(*ROTATE, "--interfaces", str(cut))
+    assert code == 0, err
+    assert f"warning: {cut}: read only up to byte " in err
+    assert table_names(out)
 
 
 def test_k_sets_the_number_of_hits() -> None:

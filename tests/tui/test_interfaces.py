@@ -15,6 +15,7 @@ from skillwright.errors import OperationCancelledError
 from skillwright.interfaces.load import load_inventory
 from skillwright.tui.screens.interfaces import InterfacesPane
 from tests.interfaces.sources.test_live import FILES, ROBOT, RecordedGraph
+from tests.interfaces.test_load import cut_recording
 from tests.tui.conftest import (
     Gate,
     Watch,
@@ -189,6 +190,17 @@ async def test_a_source_that_is_not_one_is_reported_in_words(workspace: Path) ->
         assert "not a skillwright inventory" in _status(app) or "report" in _status(app)
         assert any("notes.inventory.json" in n for n in notifications(app))
         assert app.loaded.inventory is None
+
+
+async def test_a_recording_cut_short_loads_what_it_holds_and_warns(workspace: Path) -> None:
+    cut = cut_recording(workspace)
+    app = app_for(workspace)
+    async with running(app, (120, 40)) as pilot:
+        await pilot.press("f4")
+        app.query_one(InterfacesPane).load(cut)
+        pane = await _loaded(pilot, app)
+        assert "/cmd_vel" in _names(pane)
+        assert any("read only up to byte" in n for n in notifications(app))
 
 
 async def test_the_live_graph_without_ros2_says_how_to_get_it(workspace: Path) -> None:

@@ -9,6 +9,7 @@ from click.testing import CliRunner
 
 from skillwright.cli import main
 from tests.conftest import SHIPPED_CAPABILITIES
+from tests.interfaces.test_load import cut_recording
 
 RECORDING = SHIPPED_CAPABILITIES / "recordings" / "mr1"
 GOOD = SHIPPED_CAPABILITIES / "skills" / "navigate_to_point.py"
@@ -32,6 +33,14 @@ def test_example_skill_passes_against_the_real_recording() -> None:
     result = CliRunner().invoke(main, args(GOOD), terminal_width=200)
     assert result.exit_code == 0, result.output
     assert "passed, 0 error(s), 0 warning(s)" in result.stdout
+
+
+def test_a_recording_cut_short_is_warned_about(tmp_path: Path) -> None:
+    cut = cut_recording(tmp_path)
+    arguments = args(GOOD)
+    arguments[arguments.index(str(RECORDING))] = str(cut)
+    result = CliRunner().invoke(main, arguments, terminal_width=200)
+    assert f"warning: {cut}: read only up to byte " in result.stderr
 
 
 def test_findings_are_printed_compiler_style_and_exit_1(tmp_path: Path) -> None:

@@ -279,23 +279,15 @@ def render_summary(inventory: Inventory, console: Console) -> None:
 def _warn_partial(inventory: Inventory, console: Console, notes: list[str]) -> None:
     from rich.markup import escape
 
+    from skillwright.interfaces.load import read_warnings
     from skillwright.interfaces.sources.live import NOT_SETTLED
 
     def say(label: str, text: str) -> None:
         console.print(f"[yellow]{label}:[/yellow] {escape(text)}", soft_wrap=True)
 
+    for warning in read_warnings(inventory):
+        say("warning", warning)
     for source in inventory.sources:
-        for file in source.files:
-            if file.read_method == "unreadable" and file.stopped_at is not None:
-                say("warning", f"skipped {file.stopped_at.message}")
-            elif file.stopped_at is not None:
-                say(
-                    "warning",
-                    f"{file.path}: read only up to byte {file.stopped_at.offset}: "
-                    f"{file.stopped_at.message}",
-                )
-            for damage in file.damaged:
-                say("warning", f"{file.path}: byte {damage.offset}: {damage.message}")
         for note in source.notes:
             say("warning" if note.startswith(NOT_SETTLED) else "note", note)
     for note in notes:

@@ -52,10 +52,11 @@ def show(source: Path, kind: str | None, show_all: bool, as_json: bool) -> None:
     retrieval leaves it out. An interface without a stored description shows the rules
     engine's, which is what retrieval uses for it.
     """
-    from skillwright.console import out_console
-    from skillwright.interfaces.load import load_inventory
+    from skillwright.console import out_console, warn
+    from skillwright.interfaces.load import load_inventory, read_warnings
 
     loaded = load_inventory(source)
+    warn(read_warnings(loaded))
     entries = [
         i
         for i in loaded.interfaces
@@ -185,14 +186,15 @@ def describe(
     .json, else to -o FILE. The llm engine caches each answer by the interface's content
     and the model, so a re-run only asks about what changed.
     """
-    from skillwright.console import err_console, out_console
+    from skillwright.console import err_console, out_console, warn
     from skillwright.errors import InvalidArgumentError
     from skillwright.fileio import write_atomic
-    from skillwright.interfaces.load import load_inventory
+    from skillwright.interfaces.load import load_inventory, read_warnings
 
     if model_id is not None and engine != "llm":
         raise InvalidArgumentError("--model chooses the model of the llm engine; add --engine llm")
     loaded = load_inventory(source)
+    warn(read_warnings(loaded))
     target = output
     if target is None:
         if not _is_saved_inventory(source):

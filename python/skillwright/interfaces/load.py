@@ -19,7 +19,7 @@ from skillwright.interfaces.inventory import Inventory
 if TYPE_CHECKING:
     from skillwright.interfaces.sources.bag import ReadMode
 
-__all__ = ["discover_path", "is_json_file", "load_inventory"]
+__all__ = ["discover_path", "is_json_file", "load_inventory", "read_warnings"]
 
 _BOM = b"\xef\xbb\xbf"
 
@@ -121,3 +121,22 @@ def load_inventory(source: str | Path, *, cancel: threading.Event | None = None)
     """The inventory from a saved inventory or a reference-tool report (JSON, told apart by
     content), an ``.mcap`` file or a rosbag2 folder; ``cancel`` as for :func:`discover_path`."""
     return discover_path(source, cancel=cancel)
+
+
+def read_warnings(inventory: Inventory) -> list[str]:
+    """What reading the inventory's recordings lost, one sentence per file or damaged spot:
+    a file skipped, read only up to a byte, or with a damaged record passed over. Every
+    command that takes a source says these, so that an interface missing because its
+    recording was cut short is not mistaken for one the robot does not have."""
+    warnings = []
+    for source in inventory.sources:
+        for file in source.files:
+            if file.read_method == "unreadable" and file.stopped_at is not None:
+                warnings.append(f"skipped {file.stopped_at.message}")
+            elif file.stopped_at is not None:
+                warnings.append(
+                    f"{file.path}: read only up to byte {file.stopped_at.offset}: "
+                    f"{file.stopped_at.message}; interfaces recorded after it are missing"
+                )
+            warnings += [f"{file.path}: byte {d.offset}: {d.message}" for d in file.damaged]
+    return warnings

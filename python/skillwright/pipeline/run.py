@@ -813,7 +813,7 @@ def run_generation(
     from skillwright.capability.reader import load_capability
     from skillwright.generation.output import write_outputs
     from skillwright.generation.skeleton import build_skeleton, unstated_limits
-    from skillwright.interfaces.load import load_inventory
+    from skillwright.interfaces.load import load_inventory, read_warnings
     from skillwright.spec.loader import load_spec
     from skillwright.validation.catalog import catalog_from_inventory
     from skillwright.validation.static import check_skill
@@ -830,6 +830,7 @@ def run_generation(
         inventory = load_inventory(request.interfaces)
         _known_names(inventory, request.pinned, "pinned")
         _known_names(inventory, request.dropped, "dropped")
+        notes += read_warnings(inventory)
         notes += load.warnings
         notes += unstated_limits(load.capability, spec)
         s.append(f"{load.capability.name}, {spec.name}, {len(inventory.interfaces)} interfaces")

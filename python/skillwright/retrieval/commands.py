@@ -92,9 +92,9 @@ def retrieve(
     are shown.
     """
     from skillwright.capability.reader import load_capability
-    from skillwright.console import err_console
+    from skillwright.console import err_console, warn
     from skillwright.errors import InvalidArgumentError
-    from skillwright.interfaces.load import load_inventory
+    from skillwright.interfaces.load import load_inventory, read_warnings
     from skillwright.retrieval.rerank import DEPTH
     from skillwright.retrieval.retrieve import candidates, rank_interfaces
     from skillwright.spec.loader import load_spec
@@ -102,6 +102,7 @@ def retrieve(
     capability = load_capability(capability_file, capability_iri=capability_iri).capability
     spec = load_spec(spec_file) if spec_file is not None else None
     inventory = load_inventory(source)
+    warn(read_warnings(inventory))
     pool = candidates(inventory, include_infrastructure)
     if not pool:
         hint = "" if include_infrastructure else "; --all ranks infrastructure interfaces too"

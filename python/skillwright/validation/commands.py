@@ -75,10 +75,13 @@ def check(
     skill_spec = load_spec(spec_file)
     catalog = None
     if source is not None:
-        from skillwright.interfaces.load import load_inventory
+        from skillwright.console import warn
+        from skillwright.interfaces.load import load_inventory, read_warnings
         from skillwright.validation.catalog import catalog_from_inventory
 
-        catalog = catalog_from_inventory(load_inventory(source))
+        inventory = load_inventory(source)
+        warn(read_warnings(inventory))
+        catalog = catalog_from_inventory(inventory)
     report = check_skill(
         source_text,
         capability=capability,

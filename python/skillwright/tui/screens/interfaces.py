@@ -207,6 +207,10 @@ class InterfacesPane(Pane):
             self.post_message(InventoryLoaded(target, inventory))
 
     def on_inventory_loaded(self, message: InventoryLoaded) -> None:
+        from skillwright.interfaces.load import read_warnings
+
+        for warning in read_warnings(message.inventory):
+            self.notify(warning, title="Interfaces", severity="warning", markup=False)
         self.sw.update_session(interfaces=self.sw.workspace.relative(message.source))
         self.sw.loaded.inventory_source = message.source
         self.sw.loaded.inventory = message.inventory
