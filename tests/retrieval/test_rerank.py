@@ -120,6 +120,28 @@ def test_valid_answers_are_cached_so_a_second_run_asks_nothing(tmp_path: Path) -
     assert (other.asked, other.cached) == (8, 0)
 
 
+@pytest.mark.parametrize(
+    ("answer", "why"),
+    [
+        (('{"reason": "It goes on and on', "length"), "80-token limit"),
+        ({"reason": "Fine.", "needed": "maybe"}, "invalid answer (needed"),
+    ],
+    ids=["cut off", "invalid"],
+)
+def test_an_unusable_answer_is_cached_too(tmp_path: Path, answer: Any, why: str) -> None:
+    # at temperature 0 the same question gets the same answer: asking again costs 10 s
+    # per question on 2 cores for the same 'no verdict' (20 of 280 in the bench's run)
+    cache = EnrichmentCache(tmp_path / "rerank.sqlite")
+    _, _, hits = first_stage()
+    rerank(ScriptedModel({hits[0].name: answer}), cache=cache)
+    again = rerank(ScriptedModel({hits[0].name: NEEDED}), cache=cache)
+    assert (again.asked, again.cached) == (0, 8)
+    assert again.hits[0].name == hits[0].name
+    assert again.hits[0].needed is None
+    assert why in (again.hits[0].judgement or "")
+    assert len(again.notes) == 1
+
+
 def test_a_cancel_stops_before_the_next_question() -> None:
     capability, spec, hits = first_stage()
     cancel = threading.Event()

@@ -302,12 +302,13 @@ class Reranker:
         from skillwright.llm.base import GenerationOptions
 
         key = self.cache_key(prompt)
-        if self.cache is not None:
-            stored = self.cache.get(key)
-            answer = None if stored is None else _parse(stored)
-            if isinstance(answer, _Answer):
-                result.cached += 1
-                return Judgement(interface.name, answer.needed, answer.reason, cached=True)
+        stored = None if self.cache is None else _stored(self.cache.get(key))
+        if isinstance(stored, _Answer):
+            result.cached += 1
+            return Judgement(interface.name, stored.needed, stored.reason, cached=True)
+        if isinstance(stored, str):
+            result.cached += 1
+            return self._no_verdict(interface, stored, result)
         options = GenerationOptions(
             max_tokens=self.max_tokens,
             temperature=0.0,
@@ -323,19 +324,39 @@ class Reranker:
             raise_if_cancelled(cancel, "re-ranking the interfaces")
         result.asked += 1
         if stream.finish_reason == "length":
-            why = f"stopped at the {self.max_tokens}-token limit before finishing its answer"
-            return self._no_verdict(interface, why, result)
-        answer = _parse(text)
+            answer: _Answer | str = (
+                f"stopped at the {self.max_tokens}-token limit before finishing its answer"
+            )
+        else:
+            answer = _parse(text)
+        if self.cache is not None:
+            # At temperature 0 the same prompt gets the same answer: one the model cannot
+            # finish or gets wrong is kept too, so that asking again costs nothing either.
+            document = {"no_verdict": answer} if isinstance(answer, str) else answer.model_dump()
+            self.cache.put(key, self.generator.model_id, json.dumps(document))
         if isinstance(answer, str):
             return self._no_verdict(interface, answer, result)
-        if self.cache is not None:
-            self.cache.put(key, self.generator.model_id, answer.model_dump_json())
         return Judgement(interface.name, answer.needed, answer.reason)
 
     def _no_verdict(self, interface: Interface, why: str, result: Reranking) -> Judgement:
         note = f"{interface.name}: model {self.generator.model_id!r} {why}; its place is kept"
         result.notes.append(note)
         return Judgement(interface.name, None, f"no verdict: the model {why}")
+
+
+def _stored(text: str | None) -> _Answer | str | None:
+    """A cached answer, the reason a cached question got no verdict, or ``None`` (nothing
+    usable stored)."""
+    if text is None:
+        return None
+    try:
+        document = json.loads(text)
+    except json.JSONDecodeError:
+        return None
+    if isinstance(document, dict) and isinstance(document.get("no_verdict"), str):
+        return str(document["no_verdict"])
+    answer = _parse(text)
+    return answer if isinstance(answer, _Answer) else None
 
 
 def _parse(text: str) -> _Answer | str:
