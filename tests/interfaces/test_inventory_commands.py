@@ -11,6 +11,7 @@ from click.testing import CliRunner
 from skillwright.cli import main
 from skillwright.interfaces.inventory import Inventory
 from tests.conftest import SHIPPED_CAPABILITIES
+from tests.interfaces.test_load import cut_recording
 
 RECORDING = SHIPPED_CAPABILITIES / "recordings" / "mr1"
 
@@ -30,6 +31,14 @@ def saved(tmp_path: Path) -> Path:
 
 def _row(output: str, name: str) -> str:
     return next(line for line in output.splitlines() if line.startswith(name + " "))
+
+
+def test_show_warns_when_the_recording_was_read_only_in_part(tmp_path: Path) -> None:
+    cut = cut_recording(tmp_path)
+    result = CliRunner().invoke(main, ["inventory", "show", str(cut)])
+    assert result.exit_code == 0, result.output
+    assert f"warning: {cut}: read only up to byte " in result.stderr
+    assert "/cmd_vel" in result.stdout
 
 
 def test_show_lists_control_interfaces_with_short_descriptions() -> None:
