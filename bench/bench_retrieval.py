@@ -22,7 +22,8 @@ several runs, best of three rounds. Run: ``python bench/bench_retrieval.py``; ne
 
 ``--rerank MODEL`` measures the second stage instead (:mod:`skillwright.retrieval.rerank`):
 the local generation model MODEL judges the default ranking's first 8 hits for every
-capability of ``--sets`` (default: the Go2 and the TurtleBot 4, the weakest), and recall@1/4/8
+capability of ``--sets`` (default: the HSR, the KMR iiwa, the Go2 and the Spot, the sets with
+the most needs found at k=8 but not at k=4, which is all it can win), and recall@1/4/8
 with and without it is printed with the seconds per capability, cold (an empty answer cache)
 and cached (the same questions again). It needs the model's file installed, so ``make bench``
 does not run it.
@@ -58,7 +59,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--rerank", metavar="MODEL", help="measure re-ranking with this model")
     parser.add_argument(
-        "--sets", default="go2,tb4", help="labelled sets for --rerank (comma-separated)"
+        "--sets",
+        default="hsr,kmriiwa,go2,spot",
+        help="labelled sets for --rerank (comma-separated)",
     )
     args = parser.parse_args(argv)
     os.environ["SKILLWRIGHT_CACHE_DIR"] = tempfile.mkdtemp(prefix="skillwright-bench-")
@@ -155,6 +158,7 @@ def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
     its seconds per capability, cold and cached (the answer cache starts empty)."""
     from tests.retrieval.labelled import SETS, load_set
 
+    from skillwright.errors import SkillwrightError
     from skillwright.llm import load_generator
     from skillwright.llm.config import load_registry
     from skillwright.retrieval.rerank import DEPTH, Reranker, default_cache
@@ -166,7 +170,11 @@ def rerank_comparison(model_id: str, sets: Sequence[str]) -> int:
         return 2
     registry = load_registry()
     started = time.perf_counter()
-    generator = load_generator(registry, model_id)
+    try:
+        generator = load_generator(registry, model_id)
+    except SkillwrightError as error:  # an unknown id or a model not installed
+        print(f"error: {error}")
+        return 2
     load_seconds = time.perf_counter() - started
     reranker = Reranker(generator, cache=default_cache())
     first: dict[tuple[str, str], list[Hit]] = {}
