@@ -24,7 +24,7 @@ import copy
 
 from skillwright.validation.loops import callback_attributes
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import error_at, skips_its_end
+from skillwright.validation.syntax import blocks, error_at, skips_its_end
 
 __all__ = ["check_stale_conditions"]
 
@@ -194,9 +194,4 @@ def _reads_the_skill(value: ast.expr) -> bool:
 
 
 def _block_of(root: ast.AST, statement: ast.stmt) -> list[ast.stmt] | None:
-    for node in ast.walk(root):
-        for field in ("body", "orelse", "finalbody"):
-            block = getattr(node, field, None)
-            if isinstance(block, list) and any(s is statement for s in block):
-                return block
-    return None
+    return next((b for b in blocks(root) if any(s is statement for s in b)), None)

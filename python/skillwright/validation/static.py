@@ -1465,11 +1465,7 @@ def _only_constants(values: list[ast.expr | None]) -> bool:
     """Whether there are stores and every one is a number written out (``0.0``, ``-1``)."""
 
     def constant(value: ast.expr | None) -> bool:
-        if isinstance(value, ast.UnaryOp) and isinstance(value.op, ast.USub | ast.UAdd):
-            value = value.operand
-        return isinstance(value, ast.Constant) and (
-            value.value is None or isinstance(value.value, int | float)
-        )
+        return _is_number(value) or (isinstance(value, ast.Constant) and value.value is None)
 
     return bool(values) and all(constant(v) for v in values)
 

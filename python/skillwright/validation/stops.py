@@ -19,7 +19,7 @@ from __future__ import annotations
 import ast
 
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import error_at, self_method
+from skillwright.validation.syntax import blocks, error_at, self_method
 
 __all__ = ["check_stops"]
 
@@ -33,7 +33,7 @@ def check_stops(cls: ast.ClassDef) -> list[Finding]:
     stoppers = {m.name: p for m in methods if (p := _stopper(m)) is not None}
     findings = []
     for method in methods:
-        for block in _blocks(method):
+        for block in blocks(method):
             for index, statement in enumerate(block):
                 if isinstance(statement, ast.While):
                     findings += _stopping(statement, block[:index], stoppers)
@@ -48,16 +48,6 @@ def _stopper(method: ast.FunctionDef) -> str | None:
     if len(publishers) != 1 or not all(_zero(call) for _, call in calls):
         return None
     return publishers.pop()
-
-
-def _blocks(root: ast.AST) -> list[list[ast.stmt]]:
-    out = []
-    for node in ast.walk(root):
-        for field in ("body", "orelse", "finalbody"):
-            block = getattr(node, field, None)
-            if isinstance(block, list) and block and isinstance(block[0], ast.stmt):
-                out.append(block)
-    return out
 
 
 def _stopping(loop: ast.While, before: list[ast.stmt], stoppers: dict[str, str]) -> list[Finding]:

@@ -6,7 +6,7 @@ import ast
 
 from skillwright.validation.model import Finding
 
-__all__ = ["error_at", "self_method", "skips_its_end", "statement_holding"]
+__all__ = ["blocks", "error_at", "self_method", "skips_its_end", "statement_holding"]
 
 
 def error_at(
@@ -22,6 +22,18 @@ def error_at(
         message=message,
         replacement=replacement,
     )
+
+
+def blocks(root: ast.AST) -> list[list[ast.stmt]]:
+    """Every statement list under ``root``: bodies, ``else`` and ``finally`` blocks, handlers'
+    bodies."""
+    out = []
+    for node in ast.walk(root):
+        for field in ("body", "orelse", "finalbody"):
+            block = getattr(node, field, None)
+            if isinstance(block, list) and block and isinstance(block[0], ast.stmt):
+                out.append(block)
+    return out
 
 
 def statement_holding(root: ast.AST, node: ast.AST) -> ast.stmt | None:

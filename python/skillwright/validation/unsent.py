@@ -28,12 +28,10 @@ from collections import defaultdict
 from collections.abc import Iterator
 
 from skillwright.validation.model import Finding
-from skillwright.validation.names import self_attribute
-from skillwright.validation.syntax import error_at
+from skillwright.validation.names import COMPOUND_STATEMENTS, self_attribute
+from skillwright.validation.syntax import blocks, error_at
 
 __all__ = ["check_unsent"]
-
-_SIMPLE = (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Expr)
 
 
 def check_unsent(cls: ast.ClassDef) -> list[Finding]:
@@ -123,20 +121,16 @@ def _type_name(node: ast.expr | None) -> str | None:
 
 def _built(method: ast.FunctionDef) -> Iterator[tuple[list[ast.stmt], int, str, str]]:
     """(block, index in it, local name, type) of each ``name = Type(...)`` in ``method``."""
-    for node in ast.walk(method):
-        for field in ("body", "orelse", "finalbody"):
-            block = getattr(node, field, None)
-            if not isinstance(block, list):
-                continue
-            for index, statement in enumerate(block):
-                if (
-                    isinstance(statement, ast.Assign)
-                    and len(statement.targets) == 1
-                    and isinstance(statement.targets[0], ast.Name)
-                    and isinstance(statement.value, ast.Call)
-                    and (built := _type_name(statement.value.func)) is not None
-                ):
-                    yield block, index, statement.targets[0].id, built
+    for block in blocks(method):
+        for index, statement in enumerate(block):
+            if (
+                isinstance(statement, ast.Assign)
+                and len(statement.targets) == 1
+                and isinstance(statement.targets[0], ast.Name)
+                and isinstance(statement.value, ast.Call)
+                and (built := _type_name(statement.value.func)) is not None
+            ):
+                yield block, index, statement.targets[0].id, built
 
 
 def _senders_called(method: ast.FunctionDef) -> set[str]:
@@ -214,7 +208,8 @@ def _complete(block: list[ast.stmt], index: int, name: str) -> ast.stmt | None:
         if not names:
             continue
         sets = any(_sets_field(node, name) for node in ast.walk(later))
-        if not isinstance(later, _SIMPLE) or any(isinstance(n.ctx, ast.Store) for n in names):
+        renamed = any(isinstance(n.ctx, ast.Store) for n in names)
+        if isinstance(later, COMPOUND_STATEMENTS) or renamed:
             return None if sets and last is block[index] else last
         if sets:
             last = later
