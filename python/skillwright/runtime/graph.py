@@ -406,6 +406,10 @@ class GraphHost:
         """The robot's topics of ``type_name``, sorted."""
         return sorted(name for name, topic in self._topics.items() if topic.type_name == type_name)
 
+    def scripted(self, topic: str) -> bool:
+        """Whether the scenario's script publishes ``topic``."""
+        return topic in self._topics and topic in self._scenario.topics
+
     def provided(self, topic: str) -> bool:
         """Whether the scenario's script or the replayed recording publishes ``topic``."""
         info = self._topics.get(topic)

@@ -164,3 +164,38 @@ def test_a_wall_nearer_than_the_scanner_can_measure_reads_minus_inf(
     [first, *_] = _scans(graph, 0.05)
     assert first["ranges"][180] == -math.inf  # 3 cm to the wall ahead
     assert first["ranges"][270] == pytest.approx(3.0)
+
+
+def _poses(graph: GraphHost, until: float) -> list[dict[str, Any]]:
+    pose = endpoint(graph, "subscription", "/pose", "geometry_msgs/msg/PoseWithCovarianceStamped")
+    return [d["data"] for _, d in deliveries_until(graph, until) if d["id"] == pose]
+
+
+def test_the_recorded_map_pose_is_taken_over_and_follows_the_base(
+    mr1_inventory: Inventory,
+) -> None:
+    graph = _world(mr1_inventory, start=(1.0, 2.0, 0.0))  # the MR-1's recording has /pose
+    cmd = endpoint(graph, "publisher", "/cmd_vel", "geometry_msgs/msg/Twist")
+    [first, *_] = _poses(graph, 0.05)
+    assert first["header"]["frame_id"] == "map"
+    assert first["pose"]["pose"]["position"]["x"] == pytest.approx(1.0)
+    assert first["pose"]["pose"]["position"]["y"] == pytest.approx(2.0)
+    for step in range(40):  # turn for 2 s at 0.5 rad/s, then 0.5 s until the command times out
+        graph.child_publish(cmd, {"angular": {"z": 0.5}}, 1, "execute")
+        deliveries_until(graph, 0.05 + (step + 1) * 0.05)
+    turned = _poses(graph, 3.0)[-1]["pose"]["pose"]["orientation"]
+    assert 2 * math.atan2(turned["z"], turned["w"]) == pytest.approx(1.25, abs=0.1)
+
+
+def test_a_scripted_map_pose_is_left_to_the_script(mr1_inventory: Inventory) -> None:
+    graph, _ = make_graph(
+        mr1_inventory,
+        topics={
+            "/pose": {
+                "rate_hz": 10.0,
+                "message": {"header": {"frame_id": "scripted"}, "pose": {"pose": {}}},
+            }
+        },
+    )
+    graph.attach_world(KinematicWorld())
+    assert {p["header"]["frame_id"] for p in _poses(graph, 1.0)} == {"scripted"}

@@ -1,9 +1,10 @@
 """A kinematic world: a mobile base that follows its velocity command, Nav2-style
 navigation, and an arm whose tool goes where MoveIt is asked to move it.
 
-No physics, no collisions, no sensors beyond odometry and transforms: the base's velocity
-approaches the commanded one within acceleration limits and stops when commands stop
-coming (like a base driver's command timeout); its pose integrates that velocity. It is
+No physics, no collisions, no sensors beyond odometry, the map pose, transforms and scans:
+the base's velocity approaches the commanded one within acceleration limits and stops when
+commands stop coming (like a base driver's command timeout); its pose integrates that
+velocity. It is
 enough to run motion skills to completion without MuJoCo, and it is the reference
 implementation of the world plug-in API (:mod:`skillwright.runtime`).
 
@@ -17,6 +18,11 @@ What it takes over, where the robot has them:
   first position constraint to the constraint's point (in its header frame) at
   ``arm_speed``, then publishes that frame -> link on ``tf_topic``; targets beyond
   ``arm_reach`` fail with MoveIt's NO_IK_SOLUTION.
+* ``pose_topics`` (``geometry_msgs/msg/PoseWithCovarianceStamped``; by default every one
+  the scenario's script does not publish): the base's pose in the map frame, as a
+  localisation (AMCL, SLAM Toolbox) gives it, with each odometry message. A recorded one is
+  taken over too: replayed, it stood still while the base turned, and a skill that rightly
+  read its heading from the map pose never saw it change.
 * ``scan_topics`` (``sensor_msgs/msg/LaserScan``; by default every one that neither the
   recording nor the scenario publishes): a 360-degree scan from the base's pose of the
   walls of a ``room`` (width along x, depth along y) centred on the start, at
@@ -42,6 +48,7 @@ if TYPE_CHECKING:
 __all__ = ["KinematicWorld"]
 
 _STEP = 0.01
+_POSE = "geometry_msgs/msg/PoseWithCovarianceStamped"
 _MOVEIT_SUCCESS = 1  # moveit_msgs/msg/MoveItErrorCodes.SUCCESS
 _MOVEIT_NO_IK_SOLUTION = -31  # moveit_msgs/msg/MoveItErrorCodes.NO_IK_SOLUTION
 
@@ -111,6 +118,7 @@ class KinematicWorld:
         arm_home: tuple[float, float, float] | list[float] = (0.4, 0.0, 0.3),
         arm_speed: float = 0.2,
         arm_reach: float | None = 0.85,
+        pose_topics: list[str] | None = None,
         scan_topics: list[str] | None = None,
         room: tuple[float, float] | list[float] = (8.0, 6.0),
         scan_rate_hz: float = 10.0,
@@ -141,6 +149,7 @@ class KinematicWorld:
         self.arm_home = tuple(float(v) for v in arm_home)
         self.arm_speed = arm_speed
         self.arm_reach = arm_reach
+        self.pose_topics = pose_topics
         self.scan_topics = scan_topics
         self.room = (float(room[0]), float(room[1]))
         self.scan_period = 1.0 / scan_rate_hz
@@ -168,6 +177,13 @@ class KinematicWorld:
             host.own_topic(self.odom_topic)
         if self._publishes_tf:
             host.own_topic(self.tf_topic)
+        poses = host.topics(_POSE)
+        if self.pose_topics is None:
+            self._poses = [topic for topic in poses if not host.scripted(topic)]
+        else:
+            self._poses = [topic for topic in self.pose_topics if topic in poses]
+        for topic in self._poses:
+            host.own_topic(topic)
         scans = host.topics("sensor_msgs/msg/LaserScan")
         if self.scan_topics is None:
             self._scans = [topic for topic in scans if not host.provided(topic)]
@@ -190,7 +206,7 @@ class KinematicWorld:
 
     def next_event(self) -> float | None:
         events = [self._next_scan] if self._scans else []
-        if self._publishes_odom or self._publishes_tf:
+        if self._publishes_odom or self._publishes_tf or self._poses:
             events.append(self._next_publish)
         return min(events, default=None)
 
@@ -200,7 +216,8 @@ class KinematicWorld:
             self._step(step)
             self._time += step
         self._time = max(self._time, until)
-        if until >= self._next_publish - 1e-9 and (self._publishes_odom or self._publishes_tf):
+        publishes = self._publishes_odom or self._publishes_tf or self._poses
+        if until >= self._next_publish - 1e-9 and publishes:
             self._publish()
             while self._next_publish <= until + 1e-9:
                 self._next_publish += self.period
@@ -399,6 +416,13 @@ class KinematicWorld:
                 "angular": {"x": 0.0, "y": 0.0, "z": self._wz},
             }
             host.publish(self.odom_topic, odom)
+        for topic in self._poses:
+            if not host.wants(topic):
+                continue
+            pose = host.message(_POSE)
+            pose["header"] = {"stamp": stamp, "frame_id": self.map_frame}
+            pose["pose"]["pose"] = self._pose()
+            host.publish(topic, pose)
         if self._publishes_tf:
             identity = {"translation": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": _quaternion(0.0)}
             transforms = [
