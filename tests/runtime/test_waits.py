@@ -109,10 +109,108 @@ def test_a_wait_for_what_never_happens_is_told_a_longer_wait_is_not_the_fix(
     assert finding.message.startswith(
         "execute raised RuntimeError: the base did not cover 1 m within 1 s; given 8 s "
         "instead of 1 s in the same run, execute still gave up there, so a longer wait is "
-        "not the fix: the robot was moving when it gave up, yet what it waits for did not "
-        "come true"
+        "not the fix: watched on every pass, `self.messages[-1].pose.pose.position.x - "
+        "start < 1.0` moved further from holding from the first pass on "
+        "(`self.messages[-1].pose.pose.position.x - start` went from 0 to -"
     )
+    assert finding.message.endswith("check the direction (the sign) of what the skill commands")
     assert GAVE_UP_NOTE not in finding.message  # "its timeout was too short" would mislead
+
+
+def turn(tolerance: float, *, seconds: float | None) -> str:
+    """A state that turns the base 1 rad at 0.8 rad/s, checking every 0.05 s (0.04 rad)
+    whether it is within ``tolerance``, giving up after ``seconds`` (never: ``None``)."""
+    give_up = (
+        "            if time.monotonic() > deadline:\n"
+        f"                raise RuntimeError('the turn was not done within {seconds:g} s')\n"
+        if seconds is not None
+        else ""
+    )
+    return HEAD.format(
+        imports="import math\nfrom geometry_msgs.msg import Twist\n"
+        "from nav_msgs.msg import Odometry\n",
+        body=(
+            "        cmd = self.node.create_publisher(Twist, '/cmd_vel', 10)\n"
+            "        self.node.create_subscription(Odometry, '/odom', self.messages.append, 10)\n"
+            "        while not self.messages:\n"
+            "            time.sleep(0.05)\n"
+            "        def yaw():\n"
+            "            q = self.messages[-1].pose.pose.orientation\n"
+            "            return 2 * math.atan2(q.z, q.w)\n"
+            "        target = yaw() + 1.0\n"
+            f"        deadline = time.monotonic() + {seconds or 0}\n"
+            "        remaining = target - yaw()\n"
+            f"        while abs(remaining) > {tolerance}:\n"
+            f"{give_up}"
+            "            move = Twist()\n"
+            "            move.angular.z = 0.8\n"
+            "            cmd.publish(move)\n"
+            "            time.sleep(0.05)\n"
+            "            remaining = math.atan2(math.sin(target - yaw()), math.cos(target - yaw()))\n"
+            "        cmd.publish(Twist())\n"
+        ),
+    )
+
+
+def test_a_turn_that_steps_over_its_goal_is_told_so_not_to_wait_longer(
+    inventory: Inventory,
+) -> None:
+    source = turn(0.001, seconds=1.0)  # 0.04 rad a pass never lands within 0.001 rad
+    runs = Runs(inventory)
+    first = runs(source)
+
+    report = probe_waits(first, source, runs, SCENARIO.deadlines.state)
+
+    assert len(runs.sources) == 2
+    assert "_skillwright_compare(remaining" in runs.sources[1]
+    [finding] = [f for f in report.findings if f.check == "run.exception"]
+    assert "so a longer wait is not the fix: watched on every pass, `remaining` went past " in (
+        finding.message
+    )
+    assert "from one pass to the next, more than the 0.002 wide band" in finding.message
+    assert not [f for f in report.findings if f.check == "run.short_wait"]
+
+
+def test_a_loop_that_runs_into_the_deadline_is_watched_in_a_second_run(
+    inventory: Inventory,
+) -> None:
+    source = turn(0.001, seconds=None)
+    runs = Runs(inventory)
+    first = runs(source)
+    [timeout] = [f for f in first.findings if f.check == "run.timeout"]
+
+    report = probe_waits(first, source, runs, SCENARIO.deadlines.state)
+
+    assert len(runs.sources) == 2
+    [finding] = [f for f in report.findings if f.check == "run.timeout"]
+    assert finding.message.startswith(
+        f"{timeout.message}; watched on every pass in a second run, `remaining` went past zero"
+    )
+    assert finding.line == timeout.line
+
+
+def test_a_loop_that_never_reads_the_robot_again_is_told_so(inventory: Inventory) -> None:
+    source = turn(0.05, seconds=None)
+    update = next(line for line in source.splitlines(keepends=True) if "remaining = math" in line)
+    source = source.replace(update, "            pass\n")  # cap2skill rotate in ev49
+    runs = Runs(inventory)
+
+    report = probe_waits(runs(source), source, runs, SCENARIO.deadlines.state)
+
+    [finding] = [f for f in report.findings if f.check == "run.timeout"]
+    said = finding.message.split("; watched on every pass in a second run, ", 1)[1]
+    assert said.startswith("`remaining` was 1 on every one of its ")
+    assert said.endswith("read the robot's state again on every pass")
+
+
+def test_a_loop_that_ends_in_time_is_not_run_again(inventory: Inventory) -> None:
+    source = turn(0.05, seconds=None)  # 0.04 rad a pass lands within 0.05 rad
+    runs = Runs(inventory)
+    first = runs(source)
+    assert first.passed
+
+    assert probe_waits(first, source, runs, SCENARIO.deadlines.state) is first
+    assert len(runs.sources) == 1
 
 
 def test_a_wait_with_nothing_moving_the_robot_is_told_to_check_its_commands(

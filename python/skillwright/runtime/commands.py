@@ -156,8 +156,10 @@ def run(
     calls and logs is traced; problems are reported at their line in SKILL_FILE. A state
     whose wait gave up ("within 2 s") runs once more with the wait allowed longer, to tell
     a timeout too short for the motion (the finding gives a measured one) from a wait for
-    what never happens. Exit status 0 when the run finds no error, 1 when it does, 2 for bad input,
-    130 when interrupted.
+    what never happens; then, and for a loop that ran into the state's deadline, the
+    comparison the loop waits on is logged on every pass of that second run, to say why it
+    never held (it steps over its goal, never changes, or moves away). Exit status 0 when
+    the run finds no error, 1 when it does, 2 for bad input, 130 when interrupted.
     """
     from skillwright.console import err_console, out_console, print_model_json
     from skillwright.errors import GenerationCancelledError

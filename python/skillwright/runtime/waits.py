@@ -19,6 +19,13 @@ scenario runs once more with the wait allowed most of the state's deadline:
   motion: cap2skill rotate never read its heading again), or nothing moving it (MR-1 rotate
   published zero velocity inside its loop).
 
+The second run also logs the comparison the wait tests on every pass
+(:mod:`skillwright.validation.watch`), and when it gives up again, what those values show
+takes the place of the general advice: the robot stepped over its goal between two checks,
+the value never changed, or it moved away from the goal. A state that ran into the state
+deadline in such a loop (no timeout of its own) runs once more with the watch for the same
+reason.
+
 MR-1 and cap2skill rotate (ev49) allowed a turn 2 s, MR-1 navigate-to-point gave Nav2 5 s;
 the 1.5B model kept those numbers through every repair that said they were too short.
 """
@@ -26,12 +33,15 @@ the 1.5B model kept those numbers through every repair that said they were too s
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 from skillwright.errors import OperationCancelledError, SkillwrightError
 from skillwright.runtime.report import RunReport
 from skillwright.runtime.session import GAVE_UP_NOTE, gave_up
+from skillwright.runtime.typesys import is_zero_motion
 from skillwright.validation.model import Finding
 from skillwright.validation.timeouts import fixes, rounded_up, timeout_site, with_seconds
+from skillwright.validation.watch import diagnose, samples, watch_at, watched
 
 __all__ = ["MARGIN", "PROBE_SHARE", "probe_waits"]
 
@@ -50,6 +60,9 @@ def probe_waits(
     findings = list(report.findings)
     added: list[Finding] = []
     for index, finding in enumerate(report.findings):
+        if finding.check == "run.timeout":
+            findings[index] = _watched_timeout(finding, code, run)
+            continue
         parsed = gave_up(finding.message) if finding.check == "run.exception" else None
         if parsed is None:
             continue
@@ -59,17 +72,27 @@ def probe_waits(
         site = timeout_site(code, finding.line, finding.stack, seconds)
         if site is None:
             continue
+        longer = with_seconds(code, site, probe_seconds)
+        watch = watch_at(longer, finding.line, finding.stack)
         try:
-            probe = run(with_seconds(code, site, probe_seconds))
+            probe = run(watched(longer, watch) if watch is not None else longer)
         except OperationCancelledError:
             raise
         except SkillwrightError:
             continue  # the second run is advice: the first run's finding stands as it is
         if _gave_up_again(probe, finding.line):
+            moving = GAVE_UP_NOTE in finding.message
+            seen = (
+                diagnose(watch, _samples(probe, state), moving=moving)
+                if watch is not None
+                else None
+            )
             why = (
-                "the robot was moving when it gave up, yet what it waits for did not come "
+                f"watched on every pass, {seen}"
+                if seen is not None
+                else "the robot was moving when it gave up, yet what it waits for did not come "
                 "true: check that the condition reads the robot's state again on every pass"
-                if GAVE_UP_NOTE in finding.message
+                if moving
                 else "no goal was running and no velocity other than zero went out in its "
                 "last second, so nothing brings about what it waits for: check what it "
                 "commands while it waits"
@@ -108,6 +131,60 @@ def probe_waits(
         return report
     ordered = sorted([*findings, *added], key=lambda f: (f.line, f.check, f.message))
     return report.model_copy(update={"findings": ordered})
+
+
+def _watched_timeout(finding: Finding, code: str, run: Callable[[str], RunReport]) -> Finding:
+    """``finding`` (a state that ran into the deadline in a loop), with what the loop's
+    condition did on every pass of a second run, when that says why it never held."""
+    state = finding.message.split(" ", 1)[0]
+    watch = watch_at(code, finding.line, finding.stack)
+    if watch is None:
+        return finding
+    try:
+        probe = run(watched(code, watch))
+    except OperationCancelledError:
+        raise
+    except SkillwrightError:
+        return finding
+    seen = diagnose(watch, _samples(probe, state), moving=_moved(probe, state))
+    if seen is None:
+        return finding
+    return finding.model_copy(
+        update={"message": f"{finding.message}; watched on every pass in a second run, {seen}"}
+    )
+
+
+def _samples(probe: RunReport, state: str) -> list[tuple[float, float, float]]:
+    """What the watched comparison logged in ``state`` of the probe's normal episode."""
+    return samples(_normal_events(probe), state)
+
+
+def _moved(probe: RunReport, state: str) -> bool:
+    """Whether ``state`` moved the robot in the probe's normal episode: a goal sent, or a
+    velocity command other than zero in its last second."""
+    events = [e for e in _normal_events(probe) if e.get("state") == state]
+    if any(e.get("kind") == "goal" for e in events):
+        return True
+    since = float(events[-1].get("t", 0.0)) - 1.0 if events else 0.0
+    for event in events:
+        if float(event.get("t", 0.0)) < since:
+            continue
+        message = event.get("message")
+        if (
+            event.get("kind") == "publish"
+            and isinstance(message, dict)
+            and {"linear", "angular", "twist"} & set(message)
+            and not is_zero_motion(message)
+        ):
+            return True
+    return False
+
+
+def _normal_events(probe: RunReport) -> list[dict[str, Any]]:
+    for episode in probe.trace.episodes:
+        if episode.name == "normal":
+            return episode.events
+    return []
 
 
 def _gave_up_again(probe: RunReport, line: int) -> bool:

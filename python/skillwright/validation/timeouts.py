@@ -28,7 +28,16 @@ from dataclasses import dataclass
 
 from skillwright.validation.syntax import statement_holding
 
-__all__ = ["TimeoutSite", "fixes", "rounded_up", "timeout_site", "with_seconds"]
+__all__ = [
+    "TimeoutSite",
+    "bound_arguments",
+    "call_of",
+    "fixes",
+    "function_at",
+    "rounded_up",
+    "timeout_site",
+    "with_seconds",
+]
 
 _UNITS = r"(?=\s?(?:s|sec|secs|second|seconds)\b)"
 
@@ -53,7 +62,7 @@ def timeout_site(code: str, line: int, stack: Sequence[int], seconds: float) -> 
     except SyntaxError:
         return None
     functions = [n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)]
-    inner = _function_at(functions, line)
+    inner = function_at(functions, line)
     if inner is None:
         return None
     statement = _deepest_statement(inner, line)
@@ -65,17 +74,17 @@ def timeout_site(code: str, line: int, stack: Sequence[int], seconds: float) -> 
     for outer in reversed(stack):
         if not parameters:
             break
-        caller = _function_at(functions, outer)
-        call = _call_of(caller, function.name, outer) if caller is not None else None
+        caller = function_at(functions, outer)
+        call = call_of(caller, function.name, outer) if caller is not None else None
         if caller is None or call is None:
             break
-        arguments, defaults = _bound(function, call, parameters)
+        arguments, defaults = bound_arguments(function, call, parameters)
         numbers += [d for d in defaults if isinstance(d, ast.Constant) and _equal(d, seconds)]
         found, parameters = _traced(caller, arguments, outer, seconds)
         numbers += found
         function = caller
     if not numbers:
-        framed = [f for f in (_function_at(functions, n) for n in (*stack, line)) if f]
+        framed = [f for f in (function_at(functions, n) for n in (*stack, line)) if f]
         anywhere = {id(n): n for f in framed for n in _numbers(f.body, seconds)}
         numbers = list(anywhere.values()) if len(anywhere) == 1 else []
     spans = sorted({(n.lineno, n.col_offset, n.end_col_offset or n.col_offset) for n in numbers})
@@ -145,7 +154,7 @@ def _number_text(old: str, seconds: float) -> str:
     return repr(float(seconds))
 
 
-def _function_at(functions: Sequence[ast.FunctionDef], line: int) -> ast.FunctionDef | None:
+def function_at(functions: Sequence[ast.FunctionDef], line: int) -> ast.FunctionDef | None:
     holding = [f for f in functions if f.lineno <= line <= (f.end_lineno or f.lineno)]
     return max(holding, key=lambda f: f.lineno) if holding else None
 
@@ -263,7 +272,7 @@ def _numbers_outside_lambdas(root: ast.AST, seconds: float) -> list[ast.Constant
     return out
 
 
-def _call_of(function: ast.FunctionDef, name: str, line: int) -> ast.Call | None:
+def call_of(function: ast.FunctionDef, name: str, line: int) -> ast.Call | None:
     """The call of ``name`` (``self.name(...)`` or ``name(...)``) spanning ``line``."""
     for node in ast.walk(function):
         if not isinstance(node, ast.Call) or not node.lineno <= line <= (node.end_lineno or 0):
@@ -276,7 +285,7 @@ def _call_of(function: ast.FunctionDef, name: str, line: int) -> ast.Call | None
     return None
 
 
-def _bound(
+def bound_arguments(
     function: ast.FunctionDef, call: ast.Call, parameters: set[str]
 ) -> tuple[list[ast.expr], list[ast.expr]]:
     """The arguments ``call`` passes for ``parameters`` of ``function``, and the defaults of
