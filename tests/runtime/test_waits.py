@@ -167,7 +167,7 @@ def test_a_turn_that_steps_over_its_goal_is_told_so_not_to_wait_longer(
     assert "so a longer wait is not the fix: watched on every pass, `remaining` went past " in (
         finding.message
     )
-    assert "from one pass to the next, more than the 0.002 wide band" in finding.message
+    assert "from one reading to the next, more than the 0.002 wide band" in finding.message
     assert not [f for f in report.findings if f.check == "run.short_wait"]
 
 

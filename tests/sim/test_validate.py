@@ -11,6 +11,7 @@ from skillwright.interfaces.inventory import Inventory
 from skillwright.sim.scenario import scenarios_for
 from skillwright.sim.validate import validate_skill
 from tests.sim.mutants import MUTANTS as BEHAVIOUR_MUTANTS
+from tests.sim.mutants import SKILLS
 
 HERE = Path(__file__).parent
 SKILL = HERE / "skills" / "move_forward.py"
@@ -165,3 +166,28 @@ def test_a_cancelled_validation_leaves_no_files_behind(
             cancel=cancel,
         )
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_turn_that_overshoots_in_mujoco_is_watched_and_told_why(
+    tmp_path: Path, mr1_capabilities: dict[str, Capability], mr1_inventory: Inventory
+) -> None:
+    # Full speed to the end, no turning back and a band of 1 mrad: the turn goes past its
+    # target and on, until the state's deadline.
+    text = (SKILLS / "rotate.py").read_text(encoding="utf-8")
+    edits = (
+        ("TOLERANCE = 0.01", "TOLERANCE = 0.001"),
+        ("max(0.05, min(rate, abs(self.remaining) * 2.0))", "rate"),
+        ("if self.remaining * direction < 0.0:", "if False:"),
+    )
+    for old, new in edits:
+        assert old in text
+        text = text.replace(old, new)
+    skill = tmp_path / "rotate.py"
+    skill.write_text(text, encoding="utf-8")
+
+    report = validate_skill(skill, mr1_capabilities["rotate"], mr1_inventory, only=["quarter_left"])
+
+    [timeout] = [f for f in report.findings if f.check == "run.timeout"]
+    said = timeout.message.split("; watched on every pass in a second run, ", 1)[1]
+    assert said.startswith("`self.remaining` went past zero once")
+    assert "so the robot steps over its goal between two checks" in said

@@ -44,7 +44,7 @@ from skillwright.sim.world import MujocoWorld, Noise, WorldConfig
 from skillwright.validation.model import Finding
 
 if TYPE_CHECKING:
-    from skillwright.runtime.report import RunProgress
+    from skillwright.runtime.report import RunProgress, RunReport
     from skillwright.runtime.scenario import RunScenario
 
 __all__ = ["runtime_scenario", "validate_skill"]
@@ -280,13 +280,15 @@ def _run_scenario(
     findings: list[Finding],
 ) -> ScenarioReport:
     from skillwright.runtime.run import run_skill
+    from skillwright.runtime.waits import probe_waits
 
     worlds = _Worlds(setup, scenario)
+    settings = runtime_scenario(scenario)
     cpu_started = time.process_time()
     run = run_skill(
         setup.skill,
         setup.inventory,
-        scenario=runtime_scenario(scenario),
+        scenario=settings,
         world=worlds,
         source=setup.source,
         recording=setup.recording,
@@ -294,6 +296,23 @@ def _run_scenario(
         cancel=setup.cancel,
         children=setup.children,
     )
+
+    def again(source: str) -> RunReport:
+        return run_skill(
+            setup.skill,
+            setup.inventory,
+            scenario=settings,
+            world=_Worlds(setup, scenario),
+            source=source,
+            recording=setup.recording,
+            cancel=setup.cancel,
+            children=setup.children,
+        )
+
+    # A wait that gave up in MuJoCo runs once more, as in the run stage: MR-1 rotate turned
+    # past its heading here, and "its timeout was too short" sent the repair the wrong way.
+    code = setup.source if setup.source is not None else setup.skill.read_text(encoding="utf-8")
+    run = probe_waits(run, code, again, settings.deadlines.state)
     findings.extend(run.findings)
     report = ScenarioReport(
         host_cpu_seconds=time.process_time() - cpu_started,

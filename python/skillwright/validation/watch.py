@@ -184,7 +184,7 @@ def diagnose(
             return (
                 f"`{name}` went past zero {times} (first at {seen[crossed[0]][0]:.1f} s) "
                 f"without ever being within {band:.4g} of it: it changed by up to "
-                f"{step:.3g} from one pass to the next, more than the {2 * band:.3g} wide "
+                f"{step:.3g} from one reading to the next, more than the {2 * band:.3g} wide "
                 "band the wait needs it in, so the robot steps over its goal between two "
                 f"checks. Also end the wait once the goal is passed (`{name}` changed sign), "
                 "or slow down close to it"
@@ -235,7 +235,8 @@ def _crossings(raw: Sequence[float]) -> list[int]:
     an angle wrapped into [-pi, pi] makes when it passes pi)."""
     steps = [abs(raw[j] - raw[j - 1]) for j in range(1, len(raw))]
     changes = [j for j in range(1, len(raw)) if raw[j] * raw[j - 1] < 0]
-    same = [steps[j - 1] for j in range(1, len(raw)) if raw[j] * raw[j - 1] > 0]
+    # passes between two readings of a slower topic (a 5 Hz map pose) see no change
+    same = [steps[j - 1] for j in range(1, len(raw)) if raw[j] * raw[j - 1] > 0 and steps[j - 1]]
     if not same:
         return changes
     usual = statistics.median(same)
