@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from skillwright.interfaces.inventory import Interface
-from skillwright.retrieval.documents import interface_role
+from skillwright.retrieval.documents import describe, interface_role, interface_terms
 
 
 def test_a_twist_topic_is_a_command_whatever_its_name() -> None:
@@ -22,3 +22,17 @@ def test_the_request_topic_of_a_topic_api_is_a_command_and_its_response_a_measur
     assert role("/arm_request") == "command"
     assert role("/api/motion/response") == "measure"
     assert role("/requested_speed") == "measure"
+
+
+def test_a_point_clouds_points_are_cloud_not_the_point_a_capability_moves_to() -> None:
+    def terms(name: str, type_name: str) -> dict[str, float]:
+        interface = Interface(name=name, kind="topic", type_name=type_name)
+        return interface_terms(interface, describe(interface))
+
+    for name in ("/depth_cam/depth/points", "/velodyne_points", "/camera/PointsFiltered"):
+        cloud = terms(name, "sensor_msgs/msg/PointCloud2")
+        assert "point" not in cloud
+        assert "position" not in cloud
+        assert cloud["cloud"] > 0
+    goal = terms("/clicked_point", "geometry_msgs/msg/PointStamped")
+    assert goal["point"] > 0  # elsewhere a point is still a point

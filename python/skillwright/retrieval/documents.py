@@ -79,6 +79,14 @@ def interface_text(interface: Interface, description: Description) -> str:
     return f"{interface.kind} {interface.name} ({short_type}). {description.text()}"
 
 
+_CLOUD_TYPE = re.compile(r"PointCloud2?")
+_CLOUD_POINTS = re.compile(r"(?<![a-z])[Pp]oints?(?![a-z])")
+"""A point cloud's points are its measured samples: "points" in its name (``/depth/points``,
+``/velodyne_points``) and "Point" in its type say cloud, not the point a capability moves
+to, so they count as "cloud" (JetRover's ``/depth_cam/depth/points`` came first for
+move-to-point's "goal point")."""
+
+
 def interface_terms(interface: Interface, description: Description) -> dict[str, float]:
     """Weighted lexical terms of the interface."""
     terms: defaultdict[str, float] = defaultdict(float)
@@ -87,13 +95,19 @@ def interface_terms(interface: Interface, description: Description) -> dict[str,
         for term, weight in weighted_tokens(text):
             terms[term] += weight * TERM_WEIGHTS[part]
 
-    add(interface.name, "name")
     package, _, rest = interface.type_name.partition("/")
-    add(rest.rsplit("/", 1)[-1], "type")
+    short_type = rest.rsplit("/", 1)[-1]
+    cloud = _CLOUD_TYPE.fullmatch(short_type) is not None
+
+    def own(text: str) -> str:
+        return _CLOUD_POINTS.sub("cloud", text) if cloud else text
+
+    add(own(interface.name), "name")
+    add(own(short_type), "type")
     add(package, "package")
     for path in field_paths(interface, depth=2):
         add(path.rsplit(".", 1)[-1], "field")
-    add(description.purpose + " " + " ".join(description.tasks), "description")
+    add(own(description.purpose + " " + " ".join(description.tasks)), "description")
     role = interface_role(interface)
     if role is not None:
         add(role, "role")
