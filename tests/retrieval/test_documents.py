@@ -29,8 +29,13 @@ def test_a_point_clouds_points_are_cloud_not_the_point_a_capability_moves_to() -
         interface = Interface(name=name, kind="topic", type_name=type_name)
         return interface_terms(interface, describe(interface))
 
-    for name in ("/depth_cam/depth/points", "/velodyne_points", "/camera/PointsFiltered"):
-        cloud = terms(name, "sensor_msgs/msg/PointCloud2")
+    for name, type_name in (
+        ("/depth_cam/depth/points", "sensor_msgs/msg/PointCloud2"),
+        ("/velodyne_points", "sensor_msgs/msg/PointCloud"),
+        ("/camera/PointsFiltered", "sensor_msgs/msg/PointCloud2"),
+        ("/velodyne_points_encoded", "point_cloud_interfaces/msg/CompressedPointCloud2"),
+    ):
+        cloud = terms(name, type_name)
         assert "point" not in cloud
         assert "position" not in cloud
         assert cloud["cloud"] > 0

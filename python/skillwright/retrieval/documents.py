@@ -79,12 +79,18 @@ def interface_text(interface: Interface, description: Description) -> str:
     return f"{interface.kind} {interface.name} ({short_type}). {description.text()}"
 
 
-_CLOUD_TYPE = re.compile(r"PointCloud2?")
-_CLOUD_POINTS = re.compile(r"(?<![a-z])[Pp]oints?(?![a-z])")
+_CLOUD_TYPE = re.compile(r"\w*PointCloud2?")
+_CLOUD_POINTS = re.compile(r"(?:(?<![A-Za-z])p|P)oints?(?![a-z])")
 """A point cloud's points are its measured samples: "points" in its name (``/depth/points``,
 ``/velodyne_points``) and "Point" in its type say cloud, not the point a capability moves
 to, so they count as "cloud" (JetRover's ``/depth_cam/depth/points`` came first for
 move-to-point's "goal point")."""
+
+
+def _cloud(point: re.Match[str]) -> str:
+    """ "cloud" in the case of the word it replaces, so that a type's words stay apart
+    (``CompressedPointCloud2``: compressed, cloud, cloud2)."""
+    return "Cloud" if point[0].startswith("P") else "cloud"
 
 
 def interface_terms(interface: Interface, description: Description) -> dict[str, float]:
@@ -100,11 +106,11 @@ def interface_terms(interface: Interface, description: Description) -> dict[str,
     cloud = _CLOUD_TYPE.fullmatch(short_type) is not None
 
     def own(text: str) -> str:
-        return _CLOUD_POINTS.sub("cloud", text) if cloud else text
+        return _CLOUD_POINTS.sub(_cloud, text) if cloud else text
 
     add(own(interface.name), "name")
     add(own(short_type), "type")
-    add(package, "package")
+    add(own(package), "package")
     for path in field_paths(interface, depth=2):
         add(path.rsplit(".", 1)[-1], "field")
     add(own(description.purpose + " " + " ".join(description.tasks)), "description")
