@@ -71,6 +71,7 @@ def test_a_costmap_is_auxiliary_while_the_map_of_the_same_type_is_direct() -> No
         "/planner_debug",
         "/cost_cloud",
         "/a200_0000/cost_cloud",
+        "/scan_matched_points2",
     ],
 )
 def test_a_costmaps_layers_and_what_is_republished_for_display_are_auxiliary(name: str) -> None:
@@ -80,6 +81,9 @@ def test_a_costmaps_layers_and_what_is_republished_for_display_are_auxiliary(nam
 @pytest.mark.parametrize("name", ["/scan", "/front_laser/scan", "/debugger_scan"])
 def test_a_scan_not_named_for_display_stays_direct(name: str) -> None:
     assert directness(interface(name, "sensor_msgs/msg/LaserScan")) == "direct"
+    assert directness(interface(f"{name}_matched_points", "sensor_msgs/msg/PointCloud2")) == (
+        "direct"
+    )
 
 
 @pytest.mark.parametrize(

@@ -36,7 +36,9 @@ not the base's command, and ``goal_pose`` is the pose RViz's goal tool hands the
 (the ``NavigateToPose`` action does the same with feedback, a result and a cancel); and a
 name with a ``visualization`` or ``debug`` part (SLAM Toolbox's
 ``/slam_toolbox/scan_visualization``) is a copy republished for display, not the sensor; so
-is the DWB controller's ``cost_cloud``, its trajectory scores as points.
+is the DWB controller's ``cost_cloud``, its trajectory scores as points, and Cartographer's
+``scan_matched_points2``, the points of one scan as its matcher placed them on the submap
+(the lidar's own cloud is the sensor).
 
 A sensor stream whose name says it merges others of its kind (``/scan_concatenated``,
 ``/scan_merged``) sees what each of them sees: :func:`merges` finds it, and retrieval gives it
@@ -115,6 +117,7 @@ _AUXILIARY = re.compile(
 
 _COSTMAP = re.compile(r"(^|/)[^/]*costmap[^/]*(/|$)")
 _DWB_COSTS = re.compile(r"(^|/)cost_cloud$")
+_SCAN_MATCHED = re.compile(r"(^|/)scan_matched_points2$")
 _NAV2_VELOCITY = re.compile(r"(^|/)cmd_vel_(nav|teleop)$")
 _TWIST = "geometry_msgs/msg/Twist"  # and TwistStamped
 _NAV2_GOAL = re.compile(r"(^|/)goal_pose$")
@@ -124,7 +127,7 @@ _DISPLAY = re.compile(r"(^|/|_)(visuali[sz]ation|debug)(/|_|$)")
 
 def directness(interface: Interface) -> Directness:
     """How directly the interface's type carries what a skill commands or measures."""
-    if any(p.search(interface.name) for p in (_COSTMAP, _DWB_COSTS, _DISPLAY)):
+    if any(p.search(interface.name) for p in (_COSTMAP, _DWB_COSTS, _SCAN_MATCHED, _DISPLAY)):
         return "auxiliary"
     if _NAV2_VELOCITY.search(interface.name) and interface.type_name.startswith(_TWIST):
         return "auxiliary"
