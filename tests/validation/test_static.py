@@ -657,10 +657,12 @@ def test_an_output_no_method_sets_is_an_error_once_every_state_is_written(
     assert never_set != GOOD
     (found,) = [f for f in run(never_set, move_forward).findings if f.check == "outputs"]
     assert found.message.startswith("output outDistance is never set")
-    # what to store, as the capability says it
+    # what to store, as the capability says it, and where the skill can read it
     assert found.message.endswith(
         "store the value it reports (float, m; abs(outDistance - inDistance) <= 0.02) in "
-        "self.out_distance before execute ends"
+        "self.out_distance before execute ends; the skill can read it from "
+        "self.odom_msg.pose.pose.position (the distance travelled: math.hypot of its change in "
+        "x and y since execute began)"
     )
     # A skeleton's states are still to be written: what they will set is not known yet.
     unwritten = never_set.replace(
@@ -1008,6 +1010,10 @@ def test_an_output_only_ever_set_to_a_number_written_out_is_an_error_at_its_gett
     (finding,) = found
     assert finding.severity == "error"
     assert finding.message.startswith("output outDistance is only ever set to ")
+    assert finding.message.endswith(
+        "; the skill can read it from self.odom_msg.pose.pose.position (the distance "
+        "travelled: math.hypot of its change in x and y since execute began)"
+    )
     # generation takes it as an output never set: the repair goes on from the end of execute
     assert _unset_output(finding) == "out_distance"
 

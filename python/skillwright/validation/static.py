@@ -39,6 +39,7 @@ from skillwright.validation.names import (
     simple_statements,
 )
 from skillwright.validation.positions import check_filtered_positions
+from skillwright.validation.sources import measuring_sources
 from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
 from skillwright.validation.units import check_angle_units
@@ -1408,7 +1409,7 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 where,
                 f"output {name} is never set: no method assigns self.{attr}, so the getter "
                 f"returns what __init__ put there; store the value it reports{about} in "
-                f"self.{attr} before execute ends",
+                f"self.{attr} before execute ends{_sources(cls, capability, name)}",
             )
         elif (
             kind == "skill_output"
@@ -1422,8 +1423,18 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 where,
                 f"output {name} is only ever set to {values}: no method assigns self.{attr} "
                 f"a measured value, so the skill reports a fixed number whatever happened; "
-                f"store what it measures{about} in self.{attr} before execute ends",
+                f"store what it measures{about} in self.{attr} before execute ends"
+                f"{_sources(cls, capability, name)}",
             )
+
+
+def _sources(cls: ast.ClassDef, capability: Capability, name: str) -> str:
+    """Where the skill can read what output ``name`` measures, as the end of a message."""
+    unit = next(
+        (p.element.unit for p in capability.outputs if p.name == name and p.element.unit), None
+    )
+    found = measuring_sources(cls, unit) if unit is not None and _measured(capability, name) else []
+    return f"; the skill can read it from {' or '.join(found)}" if found else ""
 
 
 def _self_stores(method: ast.FunctionDef) -> list[tuple[str, ast.expr | None]]:

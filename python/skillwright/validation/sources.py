@@ -1,0 +1,91 @@
+"""Where a skill can read the quantity an output reports, for the finding that it reports none.
+
+An output the capability measures (a distance in m, a heading in rad, a velocity in m/s) that
+a skill only ever sets to ``0.0`` reports a fixed number whatever the robot did. Told so, the
+1.5B model wrote ``self.out_distance = 0.0`` again in all four pairs that had it (ev61): it did
+not see which of its messages carries a distance. The skeleton keeps the latest message of each
+subscribed topic in an attribute declared in ``__init__`` (``self.odom_msg: Odometry | None``),
+so the finding can name the fields of those messages that carry a quantity of the output's
+unit, by what the message types are (an ``Odometry``'s position and twist, a ``LaserScan``'s
+ranges and beam angles), and how a skill gets the usual quantity out of them.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from skillwright.validation.names import self_attribute
+
+__all__ = ["measuring_sources"]
+
+_LENGTH = frozenset({"m", "mm", "cm"})
+_SPEED = frozenset({"m/s"})
+_TURN_RATE = frozenset({"rad/s", "°/s", "deg/s"})
+_ANGLE = frozenset({"rad", "°", "deg", "degree", "degrees"})
+_TIME = frozenset({"s"})
+
+_FIELDS: dict[str, list[tuple[frozenset[str], str]]] = {
+    "Odometry": [
+        (
+            _LENGTH,
+            "{a}.pose.pose.position (the distance travelled: math.hypot of its change in x "
+            "and y since execute began)",
+        ),
+        (_SPEED, "{a}.twist.twist.linear.x (the measured forward speed)"),
+        (_TURN_RATE, "{a}.twist.twist.angular.z (the measured yaw rate)"),
+        (_ANGLE, "{a}.pose.pose.orientation (the heading: 2 * math.atan2(z, w) on flat ground)"),
+    ],
+    "PoseWithCovarianceStamped": [
+        (_LENGTH, "{a}.pose.pose.position (the position in the map)"),
+        (_ANGLE, "{a}.pose.pose.orientation (the heading: 2 * math.atan2(z, w) on flat ground)"),
+    ],
+    "PoseStamped": [
+        (_LENGTH, "{a}.pose.position (the position)"),
+        (_ANGLE, "{a}.pose.orientation (the heading: 2 * math.atan2(z, w) on flat ground)"),
+    ],
+    "LaserScan": [
+        (
+            _LENGTH,
+            "{a}.ranges (the nearest obstacle: the smallest range between range_min and range_max)",
+        ),
+        (
+            _ANGLE,
+            "{a}.angle_min + i * {a}.angle_increment (the direction of range i, in radians)",
+        ),
+    ],
+}
+"""Message type -> (the units a field carries, where and how a skill reads it)."""
+
+
+def measuring_sources(cls: ast.ClassDef, unit: str) -> list[str]:
+    """Where the skill ``cls`` can read a quantity in ``unit``: fields of the latest messages
+    its ``__init__`` declares (``self.odom_msg: Odometry | None``), and the clock for a
+    duration; empty when it keeps nothing that carries one."""
+    out = []
+    for attribute, type_name in _latest_messages(cls):
+        for units, text in _FIELDS.get(type_name, []):
+            if unit in units:
+                out.append(text.format(a=f"self.{attribute}"))
+    if unit in _TIME:
+        out.append("time.monotonic() (how long it took: its value at the end minus at the start)")
+    return out
+
+
+def _latest_messages(cls: ast.ClassDef) -> list[tuple[str, str]]:
+    """(attribute, message type) of each ``self.<attribute>: <Type> | None`` in ``__init__``."""
+    init = next(
+        (n for n in cls.body if isinstance(n, ast.FunctionDef) and n.name == "__init__"), None
+    )
+    if init is None:
+        return []
+    found = []
+    for node in ast.walk(init):
+        if not isinstance(node, ast.AnnAssign):
+            continue
+        attribute = self_attribute(node.target)
+        annotation = node.annotation
+        if isinstance(annotation, ast.BinOp) and isinstance(annotation.op, ast.BitOr):
+            annotation = annotation.left
+        if attribute is not None and isinstance(annotation, ast.Name):
+            found.append((attribute, annotation.id))
+    return found

@@ -1,0 +1,57 @@
+"""Where a skill can read the quantity an output reports."""
+
+from __future__ import annotations
+
+import ast
+import textwrap
+
+import pytest
+
+from skillwright.validation.sources import measuring_sources
+
+SKILL = textwrap.dedent(
+    """
+    class Skill:
+        def __init__(self) -> None:
+            self.cmd_vel_publisher = None
+            self.odom_msg: Odometry | None = None
+            self.scan_msg: LaserScan | None = None
+            self.goal_msg: Optional[PoseStamped] = None
+            self.count: int = 0
+    """
+)
+
+
+def sources(unit: str, source: str = SKILL) -> list[str]:
+    [cls] = [n for n in ast.parse(source).body if isinstance(n, ast.ClassDef)]
+    return measuring_sources(cls, unit)
+
+
+def test_each_latest_message_offers_the_fields_of_the_outputs_unit() -> None:
+    assert sources("m") == [
+        "self.odom_msg.pose.pose.position (the distance travelled: math.hypot of its change "
+        "in x and y since execute began)",
+        "self.scan_msg.ranges (the nearest obstacle: the smallest range between range_min and "
+        "range_max)",
+    ]
+    assert sources("m/s") == ["self.odom_msg.twist.twist.linear.x (the measured forward speed)"]
+    assert sources("rad/s") == ["self.odom_msg.twist.twist.angular.z (the measured yaw rate)"]
+    assert [s.split(" (")[0] for s in sources("°")] == [
+        "self.odom_msg.pose.pose.orientation",
+        "self.scan_msg.angle_min + i * self.scan_msg.angle_increment",
+    ]
+
+
+def test_a_duration_is_read_from_the_clock() -> None:
+    assert sources("s") == [
+        "time.monotonic() (how long it took: its value at the end minus at the start)"
+    ]
+
+
+@pytest.mark.parametrize("unit", ["kg", "N", ""])
+def test_a_unit_no_message_carries_offers_nothing(unit: str) -> None:
+    assert sources(unit) == []
+
+
+def test_a_skill_without_latest_messages_offers_nothing() -> None:
+    assert sources("m", "class Skill:\n    def execute(self):\n        pass\n") == []
