@@ -34,6 +34,7 @@ __all__ = [
     "call_of",
     "fixes",
     "function_at",
+    "functions_of",
     "rounded_up",
     "timeout_site",
     "with_seconds",
@@ -57,11 +58,9 @@ class TimeoutSite:
 def timeout_site(code: str, line: int, stack: Sequence[int], seconds: float) -> TimeoutSite | None:
     """Where the wait that raised at ``line`` (``stack``: the lines of the calls that led
     there, outermost first) takes its ``seconds`` from; ``None`` when no number is found."""
-    try:
-        tree = ast.parse(code)
-    except SyntaxError:
+    functions = functions_of(code)
+    if functions is None:
         return None
-    functions = [n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)]
     inner = function_at(functions, line)
     if inner is None:
         return None
@@ -152,6 +151,15 @@ def _number_text(old: str, seconds: float) -> str:
     if seconds.is_integer() and not any(c in old for c in ".eE"):
         return str(int(seconds))
     return repr(float(seconds))
+
+
+def functions_of(code: str) -> list[ast.FunctionDef] | None:
+    """Every function definition in ``code``; ``None`` when it does not parse."""
+    try:
+        tree = ast.parse(code)
+    except SyntaxError:
+        return None
+    return [n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)]
 
 
 def function_at(functions: Sequence[ast.FunctionDef], line: int) -> ast.FunctionDef | None:

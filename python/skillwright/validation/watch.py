@@ -27,7 +27,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from skillwright.validation.timeouts import bound_arguments, call_of, function_at
+from skillwright.validation.timeouts import bound_arguments, call_of, function_at, functions_of
 
 __all__ = ["LOGGER", "Watch", "diagnose", "samples", "watch_at", "watched"]
 
@@ -72,11 +72,9 @@ def watch_at(code: str, line: int, stack: Sequence[int] = ()) -> Watch | None:
     ``if ...: break`` in that loop's body, or the comparison a callable parameter that the
     condition calls was given (``self._wait_until(lambda: abs(error) < 0.01, ...)``).
     ``None`` when the wait tests something else, or a comparison spread over lines."""
-    try:
-        tree = ast.parse(code)
-    except SyntaxError:
+    functions = functions_of(code)
+    if functions is None:
         return None
-    functions = [n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)]
     function = function_at(functions, line)
     if function is None:
         return None
