@@ -2,7 +2,8 @@
 
 Each one plants a behavioural mistake in one of the nine skills of ``capabilities/skills``
 — a wrong sign, an input it ignores, a stop that does not stop, a speed over the limit, a
-drive into the obstacle, an output it makes up — and names the scenario that shows it and
+drive into the obstacle, an output it makes up, a turn the other way round to the same
+heading — and names the scenario that shows it and
 the oracles meant for that kind of mistake. ``bench/behaviour_catch_rate.py`` runs them
 all and prints the catch rate; ``test_mutants.py`` checks that every edit still applies.
 """
@@ -25,6 +26,7 @@ KINDS = (
     "made-up output",
     "out of its range",
     "keeps invalid readings",
+    "the other way round",
 )
 
 
@@ -136,6 +138,22 @@ MUTANTS: tuple[BehaviourMutant, ...] = (
             ("direction = 1.0 if self.in_angle >= 0.0 else -1.0", "direction = -1.0"),
         ),
         ("truth:headingTarget", "constraint:headingTarget"),
+    ),
+    BehaviourMutant(
+        "rotate",
+        "the other way round",
+        "long_way_clockwise",
+        (
+            (
+                "self.remaining = self.in_angle - turned",
+                "self.remaining = math.remainder(self.in_angle, 2.0 * math.pi) - turned",
+            ),
+            (
+                "direction = 1.0 if self.in_angle >= 0.0 else -1.0",
+                "direction = 1.0 if math.remainder(self.in_angle, 2.0 * math.pi) >= 0.0 else -1.0",
+            ),
+        ),
+        ("asked:inAngle",),
     ),
     BehaviourMutant(
         "rotate",

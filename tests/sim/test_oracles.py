@@ -273,6 +273,45 @@ def test_the_resource_heading_is_taken_when_execute_begins(
     assert wrong["constraint:headingTarget"].passed is False
 
 
+def _turning(start: float, turned: float) -> GroundTruth:
+    """The base turns on the spot by ``turned`` (not wrapped) during execute (1 s to 4 s)."""
+    truth = GroundTruth()
+    for k in range(301):
+        t = k * 0.02
+        share = min(max((t - 1.0) / 3.0, 0.0), 1.0)
+        yaw = math.remainder(start + share * turned, 2 * math.pi)
+        truth.add(Sample(t, 0.0, 0.0, yaw, 0.0, 0.0, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    return truth
+
+
+@pytest.mark.parametrize(
+    ("turned", "passed", "said"),
+    [
+        (-4.0, True, "turned -4 rad during execute for inAngle -4 (within 0.03)"),
+        (2 * math.pi - 4.0, False, "turned 2.283 rad during execute for inAngle -4, the other way"),
+    ],
+)
+def test_a_turn_asked_for_is_measured_the_way_round_it_went(
+    mr1_capabilities: dict[str, Capability], turned: float, passed: bool, said: str
+) -> None:
+    scenario = Scenario(
+        name="s",
+        inputs={"inAngle": -4.0, "inAngularVelocity": 1.0},
+        ground_truth={"inAngle": "turned", "outHeading": "heading"},
+    )
+    reported = {"outHeading": (1.0 - 4.0) % (2 * math.pi), "outAngularVelocity": 0.0}
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["rotate"], scenario, _run(reported), _turning(1.0, turned), "completed"
+        )
+    )
+    # either way round, the heading is the one asked for
+    assert verdicts["truth:headingTarget"].passed is True
+    asked = verdicts["asked:inAngle"]
+    assert asked.passed is passed
+    assert asked.message.startswith(said)
+
+
 def test_oracles_the_scenario_skips_are_left_out(mr1_capabilities: dict[str, Capability]) -> None:
     scenario = MOVE.model_copy(update={"skip": ["contact", "limit"]})
     verdicts = judge(mr1_capabilities["move-forward"], scenario, _run({}), _truth(1.5), "completed")

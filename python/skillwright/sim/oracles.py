@@ -199,7 +199,7 @@ def _elements(capability: Capability, direction: str) -> list[tuple[DataElement,
 
 
 _DEGREES = ("deg", "°", "degree")
-_ANGLES = ("heading", "nearest_obstacle_bearing", "angular_velocity")
+_ANGLES = ("heading", "nearest_obstacle_bearing", "angular_velocity", "turned")
 
 
 def measure(
@@ -235,6 +235,8 @@ def _measure(quantity: str, truth: GroundTruth, start: float, end: float) -> Val
         return truth.displacement(start, end)
     if quantity == "path_length":
         return truth.path_length(start, end)
+    if quantity == "turned":
+        return truth.turned(start, end)
     if quantity == "command_duration":
         return truth.command_duration(start, end)
     if quantity in ("nearest_obstacle_distance", "nearest_obstacle_bearing"):
@@ -405,6 +407,41 @@ def _judge(
         time=context.exec_end,
         state="execute",
     )
+
+
+def _asked_verdicts(context: _Context) -> list[Verdict]:
+    """Inputs the scenario binds to a motion (``inAngle: turned``): the simulator's measure of
+    it over execute equals what the input asked for. MR-1 rotate's constraint holds for a
+    skill that reaches (heading + inAngle) mod 2 pi either way round; asked for -4.0 rad, the
+    ev63 skill turned +2.28."""
+    verdicts = []
+    for element, _parameter in _elements(context.capability, "input"):
+        quantity = context.scenario.ground_truth.get(element.name)
+        asked = as_value(context.scenario.inputs.get(element.name))
+        if quantity is None or not isinstance(asked, float):
+            continue
+        unit = element.unit
+        seen = measure(quantity, context.truth, context.exec_start, context.exec_end, unit)
+        if not isinstance(seen, float):
+            continue
+        tolerance = _tolerance_for(context, element.name, unit)
+        passed = abs(seen - asked) <= tolerance
+        how = "" if passed or seen * asked > 0 else ", the other way round"
+        verdicts.append(
+            Verdict(
+                oracle=f"asked:{element.name}",
+                kind="requirement",
+                check=f"{quantity} = {element.name}",
+                passed=passed,
+                message=f"{quantity} {seen:.4g} {unit or ''} during execute for {element.name} "
+                f"{asked:g}{how} (within {tolerance:g})",
+                measured={"measured": seen, "asked": asked},
+                tolerance=tolerance,
+                time=context.exec_end,
+                state="execute",
+            )
+        )
+    return verdicts
 
 
 def _assured_verdicts(context: _Context) -> list[Verdict]:
@@ -872,6 +909,7 @@ def judge(
     verdicts = [_outcome_verdict(context, expected)]
     if run.ended == expected == "completed":
         verdicts += _constraint_verdicts(context)
+        verdicts += _asked_verdicts(context)
         verdicts += _output_verdicts(context)
         moving = _promises_motion(capability)
         if moving is None:

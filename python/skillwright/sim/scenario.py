@@ -12,6 +12,10 @@ A scenario file (YAML) names the capability it is for and lists one or more scen
         duration: 20                 # virtual seconds the run may take at most
         ground_truth: {outDistance: travelled_distance}
 
+An input bound under ``ground_truth`` (``inAngle: turned``) is a motion the skill is asked
+for: the simulator's measure of it over execute must equal the input, so a rotate skill that
+reaches the target heading the other way round fails.
+
 Inputs a scenario leaves out, the ground truth of outputs it does not bind, and whole
 scenarios for capabilities without a file are derived from the capability model (its
 parameters' units, names and comments). Every error names the file and line.
@@ -54,6 +58,8 @@ QUANTITIES: dict[str, str] = {
     "start of execute; negative when it went backwards [m]",
     "displacement": "straight-line distance the base moved during execute, in any direction [m]",
     "path_length": "length of the path the base drove during execute [m]",
+    "turned": "how far the base turned during execute, counter-clockwise positive, not "
+    "wrapped [rad]",
     "command_duration": "how long the skill's velocity commands kept the base moving [s]",
     "nearest_obstacle_distance": "range of the nearest return of the last scan, without noise [m]",
     "nearest_obstacle_bearing": "bearing of that return in the lidar frame, in [-pi, pi] [rad]",
@@ -142,7 +148,9 @@ class Scenario(_Model):
     )
     ground_truth: dict[str, str] = Field(
         default_factory=dict,
-        description="Output name -> what the simulator measures for it (see QUANTITIES).",
+        description="Output name -> what the simulator measures for it (see QUANTITIES); "
+        "input name -> the motion that input asks for (`inAngle: turned`), which the "
+        "simulator's measure must then equal.",
     )
     tolerances: dict[str, float] = Field(
         default_factory=dict,
@@ -423,10 +431,12 @@ def _check_against(path: Path, parsed: ScenarioFile, capability: Capability) -> 
                     f"{name!r}; its inputs are {', '.join(sorted(inputs)) or 'none'}"
                 )
         for name, quantity in scenario.ground_truth.items():
-            if name not in outputs:
+            if name not in outputs and name not in inputs:
                 raise FileFormatError(
                     f"{_where(path, text, (*at, 'ground_truth', name))}: {capability.name} has no "
-                    f"output {name!r}; its outputs are {', '.join(sorted(outputs)) or 'none'}"
+                    f"output or input {name!r}; its outputs are "
+                    f"{', '.join(sorted(outputs)) or 'none'}, its inputs "
+                    f"{', '.join(sorted(inputs)) or 'none'}"
                 )
             if quantity not in QUANTITIES:
                 raise FileFormatError(

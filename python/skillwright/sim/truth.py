@@ -170,6 +170,12 @@ class GroundTruth:
         a, b = self.at(t0), self.at(t1)
         return (b.x - a.x) * math.cos(a.yaw) + (b.y - a.y) * math.sin(a.yaw)
 
+    def turned(self, t0: float, t1: float) -> float:
+        """How far the base turned between two times, counter-clockwise positive, not
+        wrapped: three quarters of a turn clockwise is -4.71, not +1.57 [rad]."""
+        samples = self.between(t0, t1)
+        return sum(wrap_pi(b.yaw - a.yaw) for a, b in itertools.pairwise(samples))
+
     def path_length(self, t0: float, t1: float) -> float:
         """Length of the path the base drove between two times [m]."""
         samples = self.between(t0, t1)
