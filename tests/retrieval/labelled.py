@@ -9,7 +9,7 @@ A capability can need more interfaces than ``k`` (the MR-1's mapping needs six);
 needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
 the *attainable* count, ``min(needs, k)`` summed over the capabilities.
 
-The paper's robot is read from its Cap2Skill reports by the report import. Sixteen more robots,
+The paper's robot is read from its Cap2Skill reports by the report import. Eighteen more robots,
 written down from public sources (``tests/retrieval/robots``), run the paper's nine
 capabilities and specs, as the robot this retrieval is judged on does: a TurtleBot 4 with Nav2,
 PAL TIAGo (a mobile manipulator with Nav2, SLAM Toolbox, MoveIt and ros2_control), a UR5e arm,
@@ -26,9 +26,11 @@ own Humble stack (Cartographer, Nav2, MoveIt) and a Toyota HSR on Toyota's own J
 (its navigation, planner services and names, 597 interfaces) and a Hiwonder JetRover on the
 vendor's image (a servo bus arm behind its own kinematics node, ``/controller/cmd_vel``,
 ``/odom_raw``), a Boston Dynamics Spot with its arm (the spot_ros2 driver, a Velodyne,
-Cartographer and Nav2; it must stand up before it moves) and an OMRON LD-250 with a TM12X arm
-(Nav2, SLAM Toolbox, MoveIt). The last eleven were labelled by someone who saw no ranking of
-them. Only the capabilities a robot can serve are labelled; the label files say why
+Cartographer and Nav2; it must stand up before it moves), an OMRON LD-250 with a TM12X arm
+(Nav2, SLAM Toolbox, MoveIt), an AgileX Scout 2.0 with a PiPER arm (the vendor's own driver
+names, SLAM Toolbox, Nav2, an Ouster) and a Husarion Panther with a UR5e (the base under
+``/panther``, UR's driver and MoveIt at the root, 616 interfaces). The last thirteen were
+labelled by someone who saw no ranking of them. Only the capabilities a robot can serve are labelled; the label files say why
 the others are left out.
 """
 
@@ -68,6 +70,8 @@ WRITTEN = (
     "jetrover",
     "spot",
     "omronmoma",
+    "scoutpiper",
+    "panther",
 )
 """The robots of ``tests/retrieval/robots``: graphs written from public sources."""
 

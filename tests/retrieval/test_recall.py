@@ -69,7 +69,8 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
 
 # (set, k, needs found at least). Needs: mr1 22, cap2skill 18 (both settings), tb4 16,
 # tiago 19, ur5e 2, go2 16, rosbotxl 19, husky 19, stretch3 26, locobot 19, mur620 19, rbkairos
-# 19, kmriiwa 21, tb3manip 20, hsr 22, jetrover 20, spot 27, omronmoma 20. At k=4 the MR-1's mapping
+# 19, kmriiwa 21, tb3manip 20, hsr 22, jetrover 20, spot 27, omronmoma 20, scoutpiper 20,
+# panther 20. At k=4 the MR-1's mapping
 # needs 6 interfaces, so 20 of its 22 needs are attainable (the Stretch's mapping 5, so 25 of
 # 26); every need of the other robots is. Before facets and coverage (pooled query, relevance order) the lexical numbers at k=4 were 14, 15 and 16;
 # before the type semantics (words only) mr1 18, tb4 13, tiago 12, ur5e 2, go2 10. The
@@ -108,7 +109,11 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
 # LD-250 with a TM12X arm 9/19/19 of 20. A point cloud's "points" then stopped counting as
 # the point a capability moves to: HSR 7/14/17 -> 7/15/19, JetRover 7/18/18 -> 8/18/18, Go2
 # 5/13/15 -> 6/13/15, the others as they were; and Cartographer's scan_matched_points2 (its
-# matcher's copy of one scan) auxiliary: Spot 7/14/15 -> 7/15/18.
+# matcher's copy of one scan) auxiliary: Spot 7/14/15 -> 7/15/18. Then two more, blind, with
+# those rules: an AgileX Scout 2.0 with a PiPER arm (the vendor's driver names, SLAM Toolbox,
+# Nav2, an Ouster) 9/20/20 of 20, and a Husarion Panther with a UR5e (everything of the base
+# under /panther, 616 interfaces) 9/19/19 of 20; its miss is the arm's hard stop, UR's
+# /dashboard_client/stop.
 LEXICAL_FLOORS = [
     ("mr1", 1, 9),
     ("mr1", 4, 20),
@@ -165,6 +170,12 @@ LEXICAL_FLOORS = [
     ("omronmoma", 1, 9),
     ("omronmoma", 4, 19),
     ("omronmoma", 8, 19),
+    ("scoutpiper", 1, 9),
+    ("scoutpiper", 4, 20),
+    ("scoutpiper", 8, 20),
+    ("panther", 1, 9),
+    ("panther", 4, 19),
+    ("panther", 8, 19),
 ]
 
 HYBRID_FLOORS = [
