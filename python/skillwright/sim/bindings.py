@@ -12,12 +12,12 @@ of the recording itself when the inventory was made from one (see :func:`recorde
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from skillwright.interfaces.inventory import Interface, Inventory
+from skillwright.interfaces.roles import TWIST_TYPES, command_topic
 
 __all__ = [
     "ACTION_TYPES",
@@ -43,7 +43,6 @@ SERVICE_TYPES: dict[str, str] = {
     "slam_toolbox/srv/SaveMap": "slam_save_map",
     "moveit_msgs/srv/GetPositionFK": "compute_fk",
 }
-_TWIST_TYPES = ("geometry_msgs/msg/Twist", "geometry_msgs/msg/TwistStamped")
 _COMMON_RATES = (0.2, 0.5, 1, 2, 5, 10, 15, 20, 25, 30, 40, 50, 60, 100, 200, 250, 500, 1000)
 DEFAULT_RATES = {
     "odometry": 50.0,
@@ -151,34 +150,15 @@ def _rate(interface: Interface) -> float | None:
     return None if interface.traffic is None else interface.traffic.rate_hz
 
 
-_COMMAND_NAMES: tuple[Callable[[str], bool], ...] = (
-    lambda s: s == "cmd_vel",
-    lambda s: s.startswith("cmd_vel") and "nav" not in s,
-    lambda s: "cmd" in s and "nav" not in s,
-    lambda s: "cmd" in s,
-)
-"""Tests of a Twist topic's last name part, best first (Nav2's ``cmd_vel_nav`` comes last:
-the velocity smoother turns it into ``cmd_vel``)."""
-
-
-def _command_topic(candidates: list[Interface]) -> Interface | None:
-    """The base's velocity command among the Twist topics: ``cmd_vel`` by name first."""
-    for test in _COMMAND_NAMES:
-        found = [c for c in candidates if test(_segment(c.name))]
-        if found:
-            return min(found, key=lambda c: (len(c.name), c.name))
-    return None
-
-
 def bind_interfaces(inventory: Inventory) -> Bindings:
     """Find the interfaces the world serves in ``inventory``."""
     topics = [i for i in inventory.interfaces if i.kind == "topic"]
     bindings = Bindings()
-    twists = [t for t in topics if t.type_name in _TWIST_TYPES]
-    command = _command_topic(twists)
+    twists = {t.name: t for t in topics if t.type_name in TWIST_TYPES}
+    command = command_topic(twists)
     if command is not None:
-        bindings.command_topic = command.name
-        bindings.command_stamped = command.type_name.endswith("TwistStamped")
+        bindings.command_topic = command
+        bindings.command_stamped = twists[command].type_name.endswith("TwistStamped")
     else:
         bindings.notes.append(
             "no velocity command topic (a Twist named like cmd_vel): skills cannot move the base"

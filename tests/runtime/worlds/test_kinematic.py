@@ -199,3 +199,24 @@ def test_a_scripted_map_pose_is_left_to_the_script(mr1_inventory: Inventory) -> 
     )
     graph.attach_world(KinematicWorld())
     assert {p["header"]["frame_id"] for p in _poses(graph, 1.0)} == {"scripted"}
+
+
+def test_a_robot_with_its_own_names_is_driven_on_them() -> None:
+    # A Husarion Panther: the command is /panther/cmd_vel, the odometry
+    # /panther/odometry/{wheels,filtered}; a fixed /cmd_vel left it standing.
+    from skillwright.runtime.recorder import Recorder
+    from skillwright.runtime.scenario import RunScenario
+    from skillwright.runtime.typesys import TypeRegistry
+    from tests.retrieval.robots import robot_inventory
+
+    inventory = robot_inventory("panther")
+    graph = GraphHost(inventory, TypeRegistry(inventory), Recorder(), RunScenario())
+    graph.attach_world(KinematicWorld())
+    odom = endpoint(graph, "subscription", "/panther/odometry/filtered", "nav_msgs/msg/Odometry")
+    cmd = endpoint(graph, "publisher", "/panther/cmd_vel", "geometry_msgs/msg/Twist")
+    for step in range(20):
+        graph.child_publish(cmd, {"linear": {"x": 0.5}}, 1, "execute")
+        deliveries_until(graph, (step + 1) * 0.05)
+    moving = _last(deliveries_until(graph, 1.02), odom)
+    assert moving["twist"]["twist"]["linear"]["x"] == pytest.approx(0.5)
+    assert moving["pose"]["pose"]["position"]["x"] > 0.3

@@ -10,9 +10,13 @@ implementation of the world plug-in API (:mod:`skillwright.runtime`).
 
 What it takes over, where the robot has them:
 
-* ``odom_topic`` (``nav_msgs/msg/Odometry``) and ``tf_topic`` (``map -> odom -> base``)
-  at ``rate_hz``; the velocity command on ``cmd_topic`` drives the base.
-* ``navigate_action`` (``nav2_msgs/action/NavigateToPose``): drives straight to the goal
+* ``odom_topic`` (``nav_msgs/msg/Odometry``; by default every one the robot has) and
+  ``tf_topic`` (``map -> odom -> base``; by default the robot's ``tf``) at ``rate_hz``; the
+  velocity command on ``cmd_topic`` drives the base (by default the robot's Twist topic named
+  like a command, as the simulation binds it: ``/panther/cmd_vel`` on a Husarion Panther,
+  where a fixed ``/cmd_vel`` left the base standing and every motion skill failed its run).
+* ``navigate_action`` (``nav2_msgs/action/NavigateToPose``; by default the robot's action of
+  that type, and likewise the next one): drives straight to the goal
   at ``nav_speed``, turning on the way, with feedback twice a second.
 * ``move_group_action`` (``moveit_msgs/action/MoveGroup``): moves the link of the goal's
   first position constraint to the constraint's point (in its header frame) at
@@ -40,6 +44,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from skillwright.interfaces.roles import TWIST_TYPES, command_topic
 from skillwright.runtime.api import ActionGoal
 
 if TYPE_CHECKING:
@@ -48,6 +53,10 @@ if TYPE_CHECKING:
 __all__ = ["KinematicWorld"]
 
 _STEP = 0.01
+_ODOMETRY = "nav_msgs/msg/Odometry"
+_TF = "tf2_msgs/msg/TFMessage"
+_NAVIGATE = "nav2_msgs/action/NavigateToPose"
+_MOVE_GROUP = "moveit_msgs/action/MoveGroup"
 _POSE = "geometry_msgs/msg/PoseWithCovarianceStamped"
 _MOVEIT_SUCCESS = 1  # moveit_msgs/msg/MoveItErrorCodes.SUCCESS
 _MOVEIT_NO_IK_SOLUTION = -31  # moveit_msgs/msg/MoveItErrorCodes.NO_IK_SOLUTION
@@ -98,9 +107,9 @@ class KinematicWorld:
     def __init__(
         self,
         *,
-        cmd_topic: str = "/cmd_vel",
-        odom_topic: str = "/odom",
-        tf_topic: str = "/tf",
+        cmd_topic: str | None = None,
+        odom_topic: str | None = None,
+        tf_topic: str | None = None,
         map_frame: str = "map",
         odom_frame: str = "odom",
         base_frame: str = "base_link",
@@ -109,11 +118,11 @@ class KinematicWorld:
         linear_acceleration: float = 1.5,
         angular_acceleration: float = 3.0,
         command_timeout: float = 0.5,
-        navigate_action: str = "/navigate_to_pose",
+        navigate_action: str | None = None,
         nav_speed: float = 0.5,
         nav_yaw_rate: float = 1.0,
         nav_tolerance: float = 0.05,
-        move_group_action: str = "/move_action",
+        move_group_action: str | None = None,
         arm_base_frame: str = "arm_base_link",
         arm_home: tuple[float, float, float] | list[float] = (0.4, 0.0, 0.3),
         arm_speed: float = 0.2,
@@ -171,12 +180,18 @@ class KinematicWorld:
         self._navigation: _Navigation | None = None
         self._arm: dict[tuple[str, str], tuple[float, float, float]] = {}
         self._arm_motion: _ArmMotion | None = None
-        self._publishes_odom = host.type_of(self.odom_topic) == "nav_msgs/msg/Odometry"
-        self._publishes_tf = host.type_of(self.tf_topic) == "tf2_msgs/msg/TFMessage"
-        if self._publishes_odom:
-            host.own_topic(self.odom_topic)
-        if self._publishes_tf:
-            host.own_topic(self.tf_topic)
+        self._cmd = self.cmd_topic or command_topic(
+            name for type_name in TWIST_TYPES for name in host.topics(type_name)
+        )
+        self._odoms = [self.odom_topic] if self.odom_topic is not None else host.topics(_ODOMETRY)
+        self._odoms = [t for t in self._odoms if host.type_of(t) == _ODOMETRY]
+        tfs = [t for t in host.topics(_TF) if t.rsplit("/", 1)[-1] == "tf"]
+        self._tf = self.tf_topic or min(tfs, key=len, default=None)
+        self._publishes_tf = self._tf is not None and host.type_of(self._tf) == _TF
+        for topic in self._odoms:
+            host.own_topic(topic)
+        if self._tf is not None and self._publishes_tf:
+            host.own_topic(self._tf)
         poses = host.topics(_POSE)
         if self.pose_topics is None:
             self._poses = [topic for topic in poses if not host.scripted(topic)]
@@ -192,21 +207,18 @@ class KinematicWorld:
         for topic in self._scans:
             host.own_topic(topic)
         self._next_scan = host.now
-        if host.type_of(self.cmd_topic) in {
-            "geometry_msgs/msg/Twist",
-            "geometry_msgs/msg/TwistStamped",
-        }:
-            host.on_publish(self.cmd_topic, self._on_command)
-        if host.type_of(self.navigate_action) == "nav2_msgs/action/NavigateToPose":
-            host.serve_action(
-                self.navigate_action, _Handler(self._navigate, self._cancel_navigation)
-            )
-        if host.type_of(self.move_group_action) == "moveit_msgs/action/MoveGroup":
-            host.serve_action(self.move_group_action, _Handler(self._move_arm, self._cancel_arm))
+        if self._cmd is not None and host.type_of(self._cmd) in TWIST_TYPES:
+            host.on_publish(self._cmd, self._on_command)
+        navigate = self.navigate_action or _action_of(host, _NAVIGATE)
+        if navigate is not None and host.type_of(navigate) == _NAVIGATE:
+            host.serve_action(navigate, _Handler(self._navigate, self._cancel_navigation))
+        move_group = self.move_group_action or _action_of(host, _MOVE_GROUP)
+        if move_group is not None and host.type_of(move_group) == _MOVE_GROUP:
+            host.serve_action(move_group, _Handler(self._move_arm, self._cancel_arm))
 
     def next_event(self) -> float | None:
         events = [self._next_scan] if self._scans else []
-        if self._publishes_odom or self._publishes_tf or self._poses:
+        if self._odoms or self._publishes_tf or self._poses:
             events.append(self._next_publish)
         return min(events, default=None)
 
@@ -216,7 +228,7 @@ class KinematicWorld:
             self._step(step)
             self._time += step
         self._time = max(self._time, until)
-        publishes = self._publishes_odom or self._publishes_tf or self._poses
+        publishes = self._odoms or self._publishes_tf or self._poses
         if until >= self._next_publish - 1e-9 and publishes:
             self._publish()
             while self._next_publish <= until + 1e-9:
@@ -406,8 +418,8 @@ class KinematicWorld:
     def _publish(self) -> None:
         host = self._require_host()
         stamp = host.stamp()
-        if self._publishes_odom:
-            odom = host.message("nav_msgs/msg/Odometry")
+        for topic in self._odoms:
+            odom = host.message(_ODOMETRY)
             odom["header"] = {"stamp": stamp, "frame_id": self.odom_frame}
             odom["child_frame_id"] = self.base_frame
             odom["pose"]["pose"] = self._pose()
@@ -415,7 +427,7 @@ class KinematicWorld:
                 "linear": {"x": self._vx, "y": self._vy, "z": 0.0},
                 "angular": {"x": 0.0, "y": 0.0, "z": self._wz},
             }
-            host.publish(self.odom_topic, odom)
+            host.publish(topic, odom)
         for topic in self._poses:
             if not host.wants(topic):
                 continue
@@ -423,7 +435,7 @@ class KinematicWorld:
             pose["header"] = {"stamp": stamp, "frame_id": self.map_frame}
             pose["pose"]["pose"] = self._pose()
             host.publish(topic, pose)
-        if self._publishes_tf:
+        if self._tf is not None and self._publishes_tf:
             identity = {"translation": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": _quaternion(0.0)}
             transforms = [
                 {
@@ -451,7 +463,7 @@ class KinematicWorld:
                         },
                     }
                 )
-            host.publish(self.tf_topic, {"transforms": transforms})
+            host.publish(self._tf, {"transforms": transforms})
 
     # --- laser scans ---------------------------------------------------------------
 
@@ -512,3 +524,11 @@ class _Handler:
     def __init__(self, on_goal: Any, on_cancel: Any) -> None:
         self.on_goal = on_goal
         self.on_cancel = on_cancel
+
+
+def _action_of(host: GraphHost, type_name: str) -> str | None:
+    """The robot's action of ``type_name`` (the shortest name when there are several)."""
+    found = [
+        i.name for i in host.inventory.interfaces if i.kind == "action" and i.type_name == type_name
+    ]
+    return min(found, key=lambda n: (len(n), n), default=None)
