@@ -920,6 +920,46 @@ def test_a_made_up_constant_naming_a_limit_of_the_skill_is_that_limit(
     )
 
 
+def test_a_message_published_on_the_wrong_handle_goes_to_the_one_of_its_type(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # a Panther's model published its Twist on the arm's Float64MultiArray controller topic
+    source = (
+        GOOD.replace(
+            '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n',
+            '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n'
+            "        self.arm_publisher = self.node.create_publisher(\n"
+            '            Float64MultiArray, "/forward_velocity_controller/commands", 10\n'
+            "        )\n",
+        )
+        .replace(
+            "            self.cmd_vel_publisher.publish(command)",
+            "            self.arm_publisher.publish(command)",
+        )
+        .replace(
+            "from geometry_msgs.msg import Twist",
+            "from geometry_msgs.msg import Twist\nfrom std_msgs.msg import Float64MultiArray",
+        )
+    )
+    report = check_on_mr1(source, move_forward)
+    (found,) = [f for f in report.findings if "takes a" in f.message]
+    assert found.message == (
+        "self.arm_publisher.publish takes a std_msgs/msg/Float64MultiArray, not a "
+        "geometry_msgs/msg/Twist; self.cmd_vel_publisher takes a geometry_msgs/msg/Twist: "
+        "publish it there"
+    )
+    assert found.replacement == "self.cmd_vel_publisher.publish(command)"
+    # a subscription of the type is not somewhere to publish
+    no_publisher = source.replace(
+        'self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)',
+        'self.cmd_vel_publisher = self.node.create_subscription(Twist, "/cmd_vel", print, 10)',
+    )
+    (unfixed,) = [
+        f for f in check_on_mr1(no_publisher, move_forward).findings if "takes a" in f.message
+    ]
+    assert unfixed.replacement is None
+
+
 def test_a_message_of_another_type_handed_to_a_handle_is_an_error_and_wrapped_when_it_fits() -> (
     None
 ):

@@ -1053,6 +1053,12 @@ def _twist_with_vectors(
 
 _TAKES = {"publish": "", "send_goal_async": ".Goal", "call_async": ".Request"}
 """What a handle's method takes, as the suffix of the handle's type."""
+_MADE_BY = {
+    "publish": "create_publisher",
+    "send_goal_async": "ActionClient",
+    "call_async": "create_client",
+}
+"""The call that makes a handle with that method."""
 
 
 def _handle_types(cls: ast.ClassDef, imports: dict[str, str]) -> dict[str, str]:
@@ -1099,6 +1105,11 @@ def _check_arguments(
     PoseStamped as a NavigateToPose goal). When the expected message has a field of the
     given type, the finding carries the statement that wraps it in one."""
     handles = _handle_types(cls, imports)
+    makers = {
+        ast.unparse(n.targets[0]): _call_name(n.value)
+        for n in ast.walk(cls)
+        if isinstance(n, ast.Assign) and len(n.targets) == 1 and isinstance(n.value, ast.Call)
+    }
     classes = {type_name: name for name, type_name in imports.items()}
     statement_of = simple_statements(cls)
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
@@ -1121,12 +1132,25 @@ def _check_arguments(
             message = f"{ast.unparse(call.func)} takes a {expected}, not a {given}"
             made = _wrapping(catalog, classes, expected, given, call.args[0])
             replacement = None
+            statement = statement_of.get(id(call))
+            text = ast.unparse(statement) if statement is not None else ""
+            fitting = [
+                h
+                for h, type_name in handles.items()
+                if attr in _TAKES
+                and type_name + _TAKES[attr] == given
+                and makers.get(h) == _MADE_BY[attr]
+            ]
             if made is not None:
                 message += f": put it in one, {made}"
-                statement = statement_of.get(id(call))
-                text = ast.unparse(statement) if statement is not None else ""
                 if text.count(ast.unparse(call.args[0])) == 1:
                     replacement = text.replace(ast.unparse(call.args[0]), made)
+            elif len(fitting) == 1:
+                # the message is right and the handle wrong: on a Panther the model published
+                # its Twist on the arm's Float64MultiArray controller topic beside /panther/cmd_vel
+                message += f"; {fitting[0]} takes a {given}: {attr} it there"
+                if text.count(f"{receiver}.{attr}(") == 1:
+                    replacement = text.replace(f"{receiver}.{attr}(", f"{fitting[0]}.{attr}(")
             ctx.add("grounding", "error", call.args[0], message, replacement)
 
 
