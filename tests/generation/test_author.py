@@ -624,8 +624,10 @@ def test_an_error_left_after_the_checks_fix_is_what_the_repair_is_told(case: _Ca
     checked = case.validate
 
     def validate(code: str, skeleton: Skeleton) -> list[Finding]:
-        # A second check objects to the statement the first one suggested.
-        found = checked(code, skeleton)
+        # A second check objects to the statement the first one suggested. (While starting
+        # does not wait, execute's read of the odometry is the same missing wait seen from
+        # execute; this test follows the one in starting.)
+        found = [f for f in checked(code, skeleton) if "reads its fields" not in f.message]
         lines = code.splitlines()
         for number, line in enumerate(lines, 1):
             if line.endswith('2.0, "odom_msg")') and "wait_for_message" not in code:

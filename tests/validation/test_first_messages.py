@@ -95,3 +95,27 @@ def test_a_guard_that_does_more_than_give_up_is_left_alone(
         "            return\n"
     )
     assert _waits(_execute_starting_with(guard, starting_waits=False), move_forward) == []
+
+
+def test_reading_a_first_message_nothing_waited_for_gets_the_wait_before_it(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # a Panther set-velocity read the odometry in execute after a starting that waited for
+    # nothing: AttributeError on a robot that is fine
+    read = "        speed = self.odom_msg.twist.twist.linear.x\n"
+    source = _execute_starting_with(read, starting_waits=False)
+    [finding] = _waits(source, move_forward)
+    assert source.splitlines()[finding.line - 1] == read.rstrip("\n")
+    assert "nothing waited for it before execute reads its fields here" in finding.message
+    assert finding.replacement == f"{WAIT}\nspeed = self.odom_msg.twist.twist.linear.x"
+    # waited for in starting, read under a test of it, or in a wait's own condition: fine
+    assert _waits(_execute_starting_with(read, starting_waits=True), move_forward) == []
+    for safe in (
+        "        if self.odom_msg is not None:\n    " + read,
+        "        speed = self.odom_msg and self.odom_msg.twist.twist.linear.x\n",
+        "        self._wait_until(lambda: self.odom_msg.twist.twist.linear.x > 0, 2.0, 'v')\n",
+    ):
+        found = _waits(_execute_starting_with(safe, starting_waits=False), move_forward)
+        assert [
+            f for f in found if f.line == source.splitlines().index(read.rstrip("\n")) + 1
+        ] == []

@@ -1,4 +1,5 @@
-"""Giving up on a subscription's first message without waiting for it (check ``waits``).
+"""Giving up on a subscription's first message, or reading it, without waiting for it (check
+``waits``).
 
 The skeleton keeps a subscription's latest message in ``self.X_msg``, which is ``None`` until
 the first message arrives. PySkillUp runs a state right after the one before it, so a state
@@ -6,6 +7,11 @@ that tests ``if self.X_msg is None: raise ...`` before anything waited for that 
 up on a robot that is fine: the subscription was made a moment ago. Small models write this
 guard often (and the sandboxed run finds it, one slow run later). Where the guard only
 raises, the finding carries the wait that should take its place.
+
+A state that reads a field of such a message (``self.odom_msg.twist.twist.linear.x``) before
+anything waited for it raises AttributeError the same way; a Panther set-velocity did, in
+execute, after a starting that made the subscription and waited for nothing. The finding puts
+the wait before the statement that reads it.
 
 A message counts as waited for once a state on the normal path (``starting``, ``execute``,
 ``completing``) before the guard waited for it: a ``_wait_until`` or a loop whose condition
@@ -61,6 +67,28 @@ def _waits_for(
     return False
 
 
+def _reads_field(statement: ast.stmt, attribute: str) -> bool:
+    """Whether ``statement`` reads a field of ``self.<attribute>`` (``self.odom_msg.pose``)
+    outside lambdas and outside a test of that message (``if self.odom_msg is not None``,
+    ``self.odom_msg and self.odom_msg.pose``)."""
+    guarded = any(
+        isinstance(n, ast.If | ast.IfExp | ast.While | ast.BoolOp)
+        and _mentions(n.test if isinstance(n, ast.If | ast.IfExp | ast.While) else n, attribute)
+        for n in ast.walk(statement)
+    )
+    if guarded:
+        return False
+    pending: list[ast.AST] = [statement]
+    while pending:
+        node = pending.pop()
+        if isinstance(node, ast.Lambda | ast.FunctionDef):
+            continue
+        if isinstance(node, ast.Attribute) and self_attribute(node.value) == attribute:
+            return True
+        pending.extend(ast.iter_child_nodes(node))
+    return False
+
+
 def _tested(test: ast.expr, aliases: Mapping[str, str]) -> str | None:
     """The latest-message attribute ``test`` finds missing: ``X is None`` or ``not X``, with
     X ``self.<attribute>`` or a local variable set from it."""
@@ -87,12 +115,15 @@ def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef
     latest = _latest_messages(cls)
     methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
     waited: set[str] = set()
+    reported: set[str] = set()
     findings = []
     for state in _NORMAL_PATH:
         method = states.get(state)
         if method is None:
             continue
         aliases: dict[str, str] = {}
+        # messages a guard before here tested, leaving the state when they were missing
+        checked: set[str] = set()
         for statement in method.body:
             attribute = _tested(statement.test, aliases) if isinstance(statement, ast.If) else None
             gives_up = (
@@ -116,6 +147,26 @@ def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef
                     )
                 )
                 waited.add(attribute)
+            if (
+                isinstance(statement, ast.If)
+                and statement.body
+                and isinstance(statement.body[-1], ast.Return | ast.Raise)
+            ):
+                checked |= {a for a in latest if _mentions(statement.test, a)}
+            for read in sorted(latest - waited - reported - checked):
+                if _reads_field(statement, read) and not _waits_for(statement, read, methods):
+                    wait = f'self._wait_until(lambda: self.{read} is not None, 2.0, "{read}")'
+                    findings.append(
+                        waits_error(
+                            statement,
+                            f"self.{read} stays None until the first message arrives, and "
+                            f"nothing waited for it before {state} reads its fields here: on "
+                            "a robot that is fine the state raises AttributeError when it runs "
+                            f"before the first message. Wait for it first: {wait}",
+                            "\n".join([wait, ast.unparse(statement)]),
+                        )
+                    )
+                    reported.add(read)
             if (
                 isinstance(statement, ast.Assign)
                 and len(statement.targets) == 1
