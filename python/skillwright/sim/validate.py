@@ -284,35 +284,33 @@ def _run_scenario(
 
     worlds = _Worlds(setup, scenario)
     settings = runtime_scenario(scenario)
-    cpu_started = time.process_time()
-    run = run_skill(
-        setup.skill,
-        setup.inventory,
-        scenario=settings,
-        world=worlds,
-        source=setup.source,
-        recording=setup.recording,
-        on_progress=progress,
-        cancel=setup.cancel,
-        children=setup.children,
-    )
 
-    def again(source: str) -> RunReport:
+    def run_in(
+        made: _Worlds, source: str | None, on_progress: Callable[[RunProgress], None] | None
+    ) -> RunReport:
         return run_skill(
             setup.skill,
             setup.inventory,
             scenario=settings,
-            world=_Worlds(setup, scenario),
+            world=made,
             source=source,
             recording=setup.recording,
+            on_progress=on_progress,
             cancel=setup.cancel,
             children=setup.children,
         )
 
+    cpu_started = time.process_time()
+    run = run_in(worlds, setup.source, progress)
     # A wait that gave up in MuJoCo runs once more, as in the run stage: MR-1 rotate turned
     # past its heading here, and "its timeout was too short" sent the repair the wrong way.
     code = setup.source if setup.source is not None else setup.skill.read_text(encoding="utf-8")
-    run = probe_waits(run, code, again, settings.deadlines.state)
+    run = probe_waits(
+        run,
+        code,
+        lambda source: run_in(_Worlds(setup, scenario), source, None),
+        settings.deadlines.state,
+    )
     findings.extend(run.findings)
     report = ScenarioReport(
         host_cpu_seconds=time.process_time() - cpu_started,

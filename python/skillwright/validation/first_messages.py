@@ -67,16 +67,21 @@ def _waits_for(
     return False
 
 
+def _wait_for(attribute: str) -> str:
+    """The skeleton's wait for the first message into ``self.<attribute>``."""
+    return f'self._wait_until(lambda: self.{attribute} is not None, 2.0, "{attribute}")'
+
+
 def _reads_field(statement: ast.stmt, attribute: str) -> bool:
     """Whether ``statement`` reads a field of ``self.<attribute>`` (``self.odom_msg.pose``)
     outside lambdas and outside a test of that message (``if self.odom_msg is not None``,
     ``self.odom_msg and self.odom_msg.pose``)."""
-    guarded = any(
-        isinstance(n, ast.If | ast.IfExp | ast.While | ast.BoolOp)
-        and _mentions(n.test if isinstance(n, ast.If | ast.IfExp | ast.While) else n, attribute)
+    tests = [
+        n.test if isinstance(n, ast.If | ast.IfExp | ast.While) else n
         for n in ast.walk(statement)
-    )
-    if guarded:
+        if isinstance(n, ast.If | ast.IfExp | ast.While | ast.BoolOp)
+    ]
+    if any(_mentions(test, attribute) for test in tests):
         return False
     pending: list[ast.AST] = [statement]
     while pending:
@@ -132,7 +137,7 @@ def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef
                 and all(isinstance(s, ast.Raise) for s in statement.body)
             )
             if gives_up and attribute in latest and attribute not in waited:
-                wait = f'self._wait_until(lambda: self.{attribute} is not None, 2.0, "{attribute}")'
+                wait = _wait_for(attribute)
                 again = [
                     f"{local} = self.{attribute}" for local, a in aliases.items() if a == attribute
                 ]
@@ -155,7 +160,7 @@ def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef
                 checked |= {a for a in latest if _mentions(statement.test, a)}
             for read in sorted(latest - waited - reported - checked):
                 if _reads_field(statement, read) and not _waits_for(statement, read, methods):
-                    wait = f'self._wait_until(lambda: self.{read} is not None, 2.0, "{read}")'
+                    wait = _wait_for(read)
                     findings.append(
                         waits_error(
                             statement,

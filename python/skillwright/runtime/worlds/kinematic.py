@@ -41,6 +41,7 @@ Every option can be set from a scenario's ``world_options``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -58,6 +59,7 @@ _TF = "tf2_msgs/msg/TFMessage"
 _NAVIGATE = "nav2_msgs/action/NavigateToPose"
 _MOVE_GROUP = "moveit_msgs/action/MoveGroup"
 _POSE = "geometry_msgs/msg/PoseWithCovarianceStamped"
+_SCAN = "sensor_msgs/msg/LaserScan"
 _MOVEIT_SUCCESS = 1  # moveit_msgs/msg/MoveItErrorCodes.SUCCESS
 _MOVEIT_NO_IK_SOLUTION = -31  # moveit_msgs/msg/MoveItErrorCodes.NO_IK_SOLUTION
 
@@ -183,29 +185,15 @@ class KinematicWorld:
         self._cmd = self.cmd_topic or command_topic(
             name for type_name in TWIST_TYPES for name in host.topics(type_name)
         )
-        self._odoms = [self.odom_topic] if self.odom_topic is not None else host.topics(_ODOMETRY)
-        self._odoms = [t for t in self._odoms if host.type_of(t) == _ODOMETRY]
+        odometry = None if self.odom_topic is None else [self.odom_topic]
+        self._odoms = _taken(host, _ODOMETRY, odometry, lambda _topic: True)
         tfs = [t for t in host.topics(_TF) if t.rsplit("/", 1)[-1] == "tf"]
-        self._tf = self.tf_topic or min(tfs, key=len, default=None)
-        self._publishes_tf = self._tf is not None and host.type_of(self._tf) == _TF
-        for topic in self._odoms:
-            host.own_topic(topic)
-        if self._tf is not None and self._publishes_tf:
+        tf = self.tf_topic or min(tfs, key=len, default=None)
+        self._tf = tf if tf is not None and host.type_of(tf) == _TF else None
+        if self._tf is not None:
             host.own_topic(self._tf)
-        poses = host.topics(_POSE)
-        if self.pose_topics is None:
-            self._poses = [topic for topic in poses if not host.scripted(topic)]
-        else:
-            self._poses = [topic for topic in self.pose_topics if topic in poses]
-        for topic in self._poses:
-            host.own_topic(topic)
-        scans = host.topics("sensor_msgs/msg/LaserScan")
-        if self.scan_topics is None:
-            self._scans = [topic for topic in scans if not host.provided(topic)]
-        else:
-            self._scans = [topic for topic in self.scan_topics if topic in scans]
-        for topic in self._scans:
-            host.own_topic(topic)
+        self._poses = _taken(host, _POSE, self.pose_topics, lambda t: not host.scripted(t))
+        self._scans = _taken(host, _SCAN, self.scan_topics, lambda t: not host.provided(t))
         self._next_scan = host.now
         if self._cmd is not None and host.type_of(self._cmd) in TWIST_TYPES:
             host.on_publish(self._cmd, self._on_command)
@@ -218,7 +206,7 @@ class KinematicWorld:
 
     def next_event(self) -> float | None:
         events = [self._next_scan] if self._scans else []
-        if self._odoms or self._publishes_tf or self._poses:
+        if self._odoms or self._tf or self._poses:
             events.append(self._next_publish)
         return min(events, default=None)
 
@@ -228,7 +216,7 @@ class KinematicWorld:
             self._step(step)
             self._time += step
         self._time = max(self._time, until)
-        publishes = self._odoms or self._publishes_tf or self._poses
+        publishes = self._odoms or self._tf or self._poses
         if until >= self._next_publish - 1e-9 and publishes:
             self._publish()
             while self._next_publish <= until + 1e-9:
@@ -435,7 +423,7 @@ class KinematicWorld:
             pose["header"] = {"stamp": stamp, "frame_id": self.map_frame}
             pose["pose"]["pose"] = self._pose()
             host.publish(topic, pose)
-        if self._tf is not None and self._publishes_tf:
+        if self._tf is not None:
             identity = {"translation": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": _quaternion(0.0)}
             transforms = [
                 {
@@ -479,7 +467,7 @@ class KinematicWorld:
             for i in range(self.scan_beams)
         ]
         for topic in wanted:
-            scan = host.message("sensor_msgs/msg/LaserScan")
+            scan = host.message(_SCAN)
             scan["header"] = {"stamp": host.stamp(), "frame_id": self.base_frame}
             scan["angle_min"] = -math.pi
             scan["angle_max"] = math.pi - increment
@@ -532,3 +520,18 @@ def _action_of(host: GraphHost, type_name: str) -> str | None:
         i.name for i in host.inventory.interfaces if i.kind == "action" and i.type_name == type_name
     ]
     return min(found, key=lambda n: (len(n), n), default=None)
+
+
+def _taken(
+    host: GraphHost, type_name: str, chosen: list[str] | None, keep: Callable[[str], bool]
+) -> list[str]:
+    """The robot's topics of ``type_name`` the world publishes from now on: the ``chosen``
+    ones (a world option) the robot has, else every one ``keep`` accepts."""
+    present = host.topics(type_name)
+    if chosen is not None:
+        topics = [t for t in chosen if t in present]
+    else:
+        topics = [t for t in present if keep(t)]
+    for topic in topics:
+        host.own_topic(topic)
+    return topics
