@@ -9,8 +9,10 @@ Labelled sets (``tests/retrieval/labels``): the MR-1 (our nine capabilities and 
 recording, 41 candidates, 22 needs) and the paper's robot (the paper's nine capability
 models and specs against its full interface report, 107 interfaces of which our rules
 keep 37 after leaving out infrastructure, and against the 33 the paper's filter kept; 18 needs),
-and five robots written down from public sources (``tests/retrieval/robots``: a TurtleBot 4, a
-TIAGo, a UR5e, a Go2 and a ROSbot XL with an arm) running the paper's capabilities. A need is
+and eighteen robots written down from public sources (``tests/retrieval/robots``: a TurtleBot 4,
+a TIAGo, a UR5e, a Go2, a ROSbot XL with an arm and thirteen more, see
+``tests/retrieval/labelled.py``) running the paper's capabilities, shown with their types' fields
+as a live graph shows them; one more table gives their recall with type names only. A need is
 an interface a correct skill needs, or a group of alternatives of which one is
 enough. "fit@4" counts the needs that k=4 can hold at all (the MR-1's mapping needs 6).
 
@@ -121,6 +123,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     labelled = {name: load_set(name) for name in sets}
     print_recall(labelled, methods)
+    print_fields_or_names(ours(Ranking(), False))
     print_other_body_hits(labelled, ours)
     leave_one_robot_out(labelled, ours)
 
@@ -274,6 +277,27 @@ def print_recall(labelled: dict[str, LabelledSet], methods: list[tuple[str, Rank
     for label, rank in methods:
         cells = [recall_cell(s, rank) for s in labelled.values()]
         print(f"{label:48}" + "".join(f"{c:>19}" for c in cells))
+
+
+def print_fields_or_names(rank: Ranker) -> None:
+    """The default's recall on each written robot with its types' fields, as a live graph
+    shows them, and with their names only, as a recording without schemas does."""
+    from tests.retrieval.labelled import WRITTEN, load_set
+
+    print("\nwritten robots, lexical default @1/4/8: with the fields of their types (a live")
+    print("graph; the tables above) and with type names only (a recording without schemas)")
+    print(f"{'robot':14}{'fields':>12}{'names only':>12}")
+    totals = {True: [0, 0, 0], False: [0, 0, 0]}
+    for name in WRITTEN:
+        cells = []
+        for live in (True, False):
+            cell = recall_cell(load_set(name, live=live), rank)
+            for index, found in enumerate(cell.split("/")):
+                totals[live][index] += int(found)
+            cells.append(cell.replace(" ", ""))
+        print(f"{name:14}{cells[0]:>12}{cells[1]:>12}")
+    sums = ["/".join(str(n) for n in totals[live]) for live in (True, False)]
+    print(f"{'all':14}{sums[0]:>12}{sums[1]:>12}")
 
 
 def print_other_body_hits(

@@ -152,13 +152,14 @@ def measure(labelled: LabelledSet, rank: Ranker, k: int) -> Recall:
 
 
 @cache
-def load_set(name: str) -> LabelledSet:
-    """One of :data:`SETS`; the Cap2Skill ones need ``../shared/data``."""
+def load_set(name: str, live: bool = True) -> LabelledSet:
+    """One of :data:`SETS`; the Cap2Skill ones need ``../shared/data``. A written robot shows
+    its types' fields as a live graph would (``live``), or names its types only."""
     label_file = "cap2skill.yaml" if name.startswith("cap2skill") else f"{name}.yaml"
     document = yaml.safe_load((LABELS / label_file).read_text(encoding="utf-8"))
     root = REPO_ROOT if name == "mr1" else SHARED / "data"
     if "robot_file" in document:
-        inventory = robot_inventory(document["robot_file"])
+        inventory = robot_inventory(document["robot_file"], live=live)
     elif name == "mr1":
         inventory = load_inventory(root / document["inventory"])
     elif name == "cap2skill":

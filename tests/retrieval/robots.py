@@ -20,10 +20,18 @@ that names types only. Infrastructure is flagged by the same rules as for any so
 A topic may be written ``{type: ..., publishers: n, subscribers: n}`` where the sources say
 who is at either end, as a live graph would show it (the Stretch's /cmd_vel that nothing
 reads).
+
+A live graph also shows the fields of every type, Nav2's, MoveIt's and the vendors' included,
+and those fields are words retrieval weighs (BackUp's ``distance_traveled``, MotionPlanRequest's
+``max_velocity_scaling_factor``). ``robots/definitions/<package>.yaml`` holds the field lists of
+the non-standard types the robots use, read from each package's sources for Humble and Jazzy
+(fields only, no comments); ``robot_inventory(name, live=True)`` fills them in as a live graph
+would have them, ``live=False`` leaves them unknown as a source naming types only does.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
@@ -35,12 +43,21 @@ from skillwright.interfaces.inventory import (
     Interface,
     InterfaceKind,
     Inventory,
+    MessageDefinition,
     Resource,
     Source,
 )
-from skillwright.interfaces.typestore import fill_missing_definitions
+from skillwright.interfaces.ros2msg import (
+    Block,
+    definition_from_text,
+    parse_blocks,
+    split_action,
+    split_service,
+)
+from skillwright.interfaces.typestore import TypeStore, fill_missing_definitions, store_texts
 
 ROBOTS = Path(__file__).resolve().parent / "robots"
+DEFINITIONS = ROBOTS / "definitions"
 
 _BEFORE_TYPE_DESCRIPTIONS = frozenset({"foxy", "galactic", "humble", "iron"})
 """Distributions whose nodes offer no ``get_type_description`` service."""
@@ -62,9 +79,77 @@ _LIFECYCLE_SERVICES = {
 }
 
 
+_PARTS = {"_Goal": 0, "_Result": 1, "_Feedback": 2, "_Request": 0, "_Response": 1}
+
+
 @cache
-def robot_inventory(name: str) -> Inventory:
-    """The inventory of ``robots/<name>.yaml``."""
+def written_texts(distro: str) -> dict[str, str]:
+    """The raw definitions of ``robots/definitions`` for a distribution (Humble's where a
+    type has no text of its own for ``distro``), by full type name."""
+    wanted = "jazzy" if distro not in _BEFORE_TYPE_DESCRIPTIONS else "humble"
+    texts: dict[str, str] = {}
+    for path in sorted(DEFINITIONS.glob("*.yaml")):
+        for type_name, value in (yaml.safe_load(path.read_text(encoding="utf-8")) or {}).items():
+            if isinstance(value, str):
+                texts[type_name] = value
+            elif wanted in value or "humble" in value:
+                texts[type_name] = value.get(wanted, value.get("humble"))
+            else:
+                texts[type_name] = next(iter(value.values()))
+    return texts
+
+
+@cache
+def _blocks(distro: str) -> dict[str, Block]:
+    """Every message block known for ``distro``: the offline store's and the written ones."""
+    blocks: dict[str, Block] = {}
+    for type_name, text in {**store_texts(distro), **written_texts(distro)}.items():
+        if "/msg/" in type_name:
+            blocks[type_name] = parse_blocks(type_name, text)[0]
+    return blocks
+
+
+@dataclass(frozen=True)
+class LiveStore(TypeStore):
+    """The offline store, then ``robots/definitions``: the types a live graph would show."""
+
+    def definition(self, type_name: str) -> MessageDefinition | None:
+        found = super().definition(type_name)
+        if found is not None:
+            return found
+        distro = self.distro or "humble"
+        base, suffix = type_name, ""
+        for part in _PARTS:
+            if type_name.endswith(part):
+                base, suffix = type_name.removesuffix(part), part
+        text = written_texts(distro).get(base)
+        if text is None:
+            return None
+        if suffix:
+            split = split_action(text) if "/action/" in base else split_service(text)
+            if split is None:
+                raise ValueError(f"{base}: its written definition has no `---` parts")
+            text = split[_PARTS[suffix]]
+        definition = definition_from_text(type_name, text, extra_dependencies=_blocks(distro))
+        # Retrieval reads two levels of fields: those of the packages written here must be
+        # known (a vendor's own nested package, Spot's bosdyn_api_msgs, may stay unknown).
+        top = definition.fields or ()
+        shallow = [*top, *(f for parent in top for f in parent.fields)]
+        written = {path.stem for path in DEFINITIONS.glob("*.yaml")}
+        unresolved = [
+            f.base_type
+            for f in shallow
+            if not f.resolved and f.base_type.split("/")[0] in written | {"std_msgs"}
+        ]
+        if unresolved:
+            raise ValueError(f"{type_name} ({distro}): {unresolved}")
+        return definition
+
+
+@cache
+def robot_inventory(name: str, live: bool = True) -> Inventory:
+    """The inventory of ``robots/<name>.yaml``; ``live`` fills the fields of the types
+    ``robots/definitions`` holds, as a live graph shows them."""
     path = ROBOTS / f"{name}.yaml"
     document = yaml.safe_load(path.read_text(encoding="utf-8"))
     distro = str(document["distro"])
@@ -107,7 +192,7 @@ def robot_inventory(name: str) -> Inventory:
             entries.items(), key=lambda item: (item[0][1], item[0][0])
         )
     ]
-    fill_missing_definitions(interfaces, distro)
+    fill_missing_definitions(interfaces, distro, LiveStore(distro) if live else None)
     return Inventory(
         resource=Resource(name=document["robot"], description=document["description"]),
         sources=[Source(kind="report", location=str(path), ros_distro=distro)],
