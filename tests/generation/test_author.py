@@ -846,3 +846,23 @@ def test_a_worked_examples_helper_copied_into_a_state_is_not_asked_for(case: _Ca
     ]
     assert "_cancel_dock_robot_goal" not in authored.code
     assert not [f for f in authored.findings if f.severity == "error"], authored.findings
+
+
+def test_an_output_finding_that_says_to_read_a_scan_by_hand_names_the_helper() -> None:
+    from skillwright.generation.author import _helper_hint
+
+    finding = Finding(
+        check="outputs",
+        severity="error",
+        line=1,
+        message="output outObstacleAngle is only ever set to 0.0: ...; the skill can read it "
+        "from self.scan_msg.angle_min + i * self.scan_msg.angle_increment (the direction of "
+        "range i, in radians)",
+    )
+    assert _helper_hint(finding, ["_wait_until", "_closest_reading"]) == (
+        "; self._closest_reading(self.scan_msg) returns (distance, bearing) of the nearest "
+        "valid reading"
+    )
+    assert _helper_hint(finding, ["_wait_until"]) == ""
+    other = finding.model_copy(update={"check": "units"})
+    assert _helper_hint(other, ["_closest_reading"]) == ""

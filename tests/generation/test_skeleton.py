@@ -209,6 +209,44 @@ def test_the_transform_tree_is_read_through_a_tf2_buffer_and_a_helper() -> None:
     ast.parse(code)
 
 
+SCAN = InterfaceRef(
+    name="/scan", kind="topic", type_name="sensor_msgs/msg/LaserScan", role="subscribe"
+)
+
+
+def test_a_scan_gets_the_nearest_reading_helper_and_math() -> None:
+    capability, spec = shipped("get-distance-to-nearest-object")
+    skeleton = build_skeleton(capability, spec, [SCAN])
+    assert "_closest_reading" in skeleton.helpers
+    assert "import math" in skeleton.code
+    assert (
+        "_closest_reading(scan) returns (distance, bearing)"
+        in helper_summaries([SCAN])["_closest_reading"]
+    )
+    assert "_closest_reading" not in skeleton_helpers([ODOM])
+    assert "import math" not in build_skeleton(capability, spec, [SCAN], helpers=[]).code
+
+
+@pytest.mark.parametrize(
+    ("ranges", "expected"),
+    [
+        ([2.0, 0.5, 1.0], (0.5, -1.0)),  # the middle beam of three, 1 rad apart
+        ([math.nan, 0.05, math.inf, 3.0], (3.0, 1.0)),  # NaN, below range_min, infinite
+        ([40.0, 0.5], (0.5, -1.0)),  # beyond range_max
+        ([math.nan, math.inf], (math.inf, 0.0)),  # nothing valid
+    ],
+)
+def test_the_nearest_reading_skips_invalid_ranges_and_gives_its_bearing(
+    ranges: list[float], expected: tuple[float, float]
+) -> None:
+    code = "\n".join(skeleton_helpers([SCAN])["_closest_reading"])
+    namespace: dict[str, object] = {"math": math}
+    exec(textwrap.dedent(code), namespace)
+    scan = type("Scan", (), {"ranges": ranges, "range_min": 0.1, "range_max": 30.0})()
+    scan.angle_min, scan.angle_increment = -2.0, 1.0
+    assert namespace["_closest_reading"](None, scan) == expected
+
+
 def test_waiting_helpers_the_behaviour_calls_stay_when_no_call_interface_is_left() -> None:
     capability, spec = shipped("get-distance-to-nearest-object")
     skeleton = build_skeleton(capability, spec, [ODOM], helpers=["_result_of"])

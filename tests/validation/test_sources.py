@@ -55,3 +55,13 @@ def test_a_unit_no_message_carries_offers_nothing(unit: str) -> None:
 
 def test_a_skill_without_latest_messages_offers_nothing() -> None:
     assert sources("m", "class Skill:\n    def execute(self):\n        pass\n") == []
+
+
+def test_a_skill_with_the_nearest_reading_helper_is_pointed_at_it() -> None:
+    helper = "    def _closest_reading(self, scan):\n        return 0.0, 0.0\n"
+    assert sources("m", SKILL + helper)[1:] == [
+        "self._closest_reading(self.scan_msg)[0] (the range of the nearest valid reading)"
+    ]
+    assert sources("rad", SKILL + helper)[1:] == [
+        "self._closest_reading(self.scan_msg)[1] (its bearing, in radians)"
+    ]

@@ -58,6 +58,14 @@ def _units(capability: Capability, method: str) -> list:
             "self.out_degree = self._yaw()",
             "self.out_degree = math.degrees(self._yaw())",
         ),
+        (  # the skeleton's nearest-reading helper gives its bearing in radians
+            "distance, bearing = self._closest_reading(self.scan_msg)\nself.out_degree = bearing",
+            "self.out_degree = math.degrees(bearing)",
+        ),
+        (
+            "self.out_degree = self._closest_reading(self.scan_msg)[1]",
+            "self.out_degree = math.degrees(self._closest_reading(self.scan_msg)[1])",
+        ),
     ],
 )
 def test_radians_stored_in_an_output_in_degrees_are_converted(
@@ -117,6 +125,9 @@ def test_a_quaternion_component_is_not_an_angle(degrees: dict[str, Capability]) 
         "self.out_degree = i * 360 / len(scan.ranges)",  # no evident unit: nothing guessed
         "self.out_degree = (self.in_degree + 90) % 360",
         "self.out_distance = min(scan.ranges)",
+        "distance, bearing = self._closest_reading(self.scan_msg)\n"
+        "self.out_distance = distance\nself.out_degree = math.degrees(bearing)",
+        "self.out_distance = self._closest_reading(self.scan_msg)[0]",
     ],
 )
 def test_consistent_or_unknown_units_are_left_alone(

@@ -386,7 +386,10 @@ def _class_methods(skeleton: Skeleton) -> set[str]:
 
 
 def _problems(
-    attempt: Attempt, findings: Sequence[Finding], code_lines: Sequence[str]
+    attempt: Attempt,
+    findings: Sequence[Finding],
+    code_lines: Sequence[str],
+    offered: Collection[str] = (),
 ) -> list[str]:
     """What to tell the model about its last answer: why it gave no code, or the errors
     in the code it gave (also when the checks wrote that code: their note says what they
@@ -398,8 +401,25 @@ def _problems(
         if finding.severity != "error":
             continue
         source = code_lines[finding.line - 1].strip() if 0 < finding.line <= len(code_lines) else ""
-        out.append(f"`{source}`: {finding.message}" if source else finding.message)
+        message = finding.message + _helper_hint(finding, offered)
+        out.append(f"`{source}`: {message}" if source else message)
     return out[:_MAX_PROBLEMS]
+
+
+_SCAN_SOURCE = re.compile(r"self\.(\w+)\.(?:ranges|angle_min)")
+
+
+def _helper_hint(finding: Finding, offered: Collection[str]) -> str:
+    """The skeleton helper that gives what an output finding says to read by hand: the
+    nearest reading and its bearing from a scan (the file the checks saw holds only the
+    helpers already called, so the finding cannot name the others)."""
+    scan = _SCAN_SOURCE.search(finding.message) if finding.check == "outputs" else None
+    if scan is None or "_closest_reading" not in offered or "_closest_reading" in finding.message:
+        return ""
+    return (
+        f"; self._closest_reading(self.{scan.group(1)}) returns (distance, bearing) of the "
+        "nearest valid reading"
+    )
 
 
 def _resume_point(target: _Target, code: str, judgement: _Judgement, error: Finding) -> str:
@@ -776,7 +796,7 @@ class _Skill:
                     start = _inputs_resume(target, unread)
                 else:
                     start = _output_resume(target, last.code, unset[0])
-                out.append((target, _problems(last, mine, lines), start))
+                out.append((target, _problems(last, mine, lines, self.full.helpers), start))
         return out
 
     def fixes(self, judgement: _Judgement) -> list[tuple[_Target, str, list[str]]]:
@@ -792,7 +812,7 @@ class _Skill:
             errors = [f for f in mine if f.severity == "error"]
             fixed = _apply_replacements(target, last.code, judgement, errors)
             if fixed is not None:
-                out.append((target, fixed, _problems(last, mine, lines)))
+                out.append((target, fixed, _problems(last, mine, lines, self.full.helpers)))
         return out
 
     def fix(self, target: _Target, code: str, problems: list[str]) -> None:

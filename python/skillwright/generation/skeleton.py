@@ -345,7 +345,7 @@ def _module_head(
     interfaces: Sequence[InterfaceRef],
     source_note: str,
     helpers: Sequence[str],
-    turns: bool = False,
+    math_needed: bool = False,
 ) -> None:
     imports: dict[str, set[str]] = {}
     for interface in interfaces:
@@ -372,8 +372,10 @@ def _module_head(
     if source_note:
         out.add(source_note, "")
     out.add(*SKELETON_NOTE, '"""', "")
-    if turns or helpers:
-        out.add(*(["import math"] if turns else []), *(["import time"] if helpers else []), "")
+    if math_needed or helpers:
+        out.add(
+            *(["import math"] if math_needed else []), *(["import time"] if helpers else []), ""
+        )
     out.add("import rclpy")
     if any(i.kind == "action" for i in interfaces):
         out.add("from rclpy.action import ActionClient")
@@ -555,6 +557,8 @@ def skeleton_helpers(
             "                    ) from None",
             "            time.sleep(0.05)",
         ]
+    if any(i.role == "subscribe" and i.type_name in _LASER_SCANS for i in interfaces):
+        helpers["_closest_reading"] = _CLOSEST_READING
     twists = [i for i in interfaces if _is_twist_publisher(i)]
     if twists:
         lines = [
@@ -613,12 +617,33 @@ def helper_summaries(interfaces: Sequence[InterfaceRef]) -> dict[str, str]:
     return out
 
 
+_LASER_SCANS = frozenset({"sensor_msgs/msg/LaserScan", "sensor_msgs/LaserScan"})
+_CLOSEST_READING = [
+    "    def _closest_reading(self, scan) -> tuple[float, float]:",
+    '        """The closest valid reading of ``scan`` (a LaserScan): its range in metres and',
+    "        its bearing in radians (0 along the scanner's x axis, positive to the left).",
+    "        NaN, infinite and out-of-range readings are skipped; (math.inf, 0.0) when none",
+    '        is valid."""',
+    "        closest, bearing = math.inf, 0.0",
+    "        for index, distance in enumerate(scan.ranges):",
+    "            if scan.range_min <= distance <= scan.range_max and distance < closest:",
+    "                closest = distance",
+    "                bearing = scan.angle_min + index * scan.angle_increment",
+    "        return closest, bearing",
+]
+"""The nearest obstacle and its direction: a loop over the ranges that small models got wrong
+(ev69's MR-1 collision avoidance took ``min`` of the ranges, so it had no index for a bearing,
+and stored 0.0 for it)."""
+
 _GENERIC_SUMMARIES = {
     "_wait_until": "self._wait_until(condition, timeout, what) waits while callbacks run, else "
     "raises RuntimeError",
     "_result_of": "self._result_of(future, timeout, what) waits for a future and returns its "
     "result",
     "_stop_base": "self._stop_base() commands zero velocity",
+    "_closest_reading": "self._closest_reading(scan) returns (distance, bearing) of the closest "
+    "valid reading of a LaserScan, NaN, infinite and out-of-range readings skipped; "
+    "(math.inf, 0.0) when there is none",
     "_transform": "self._transform(target_frame, source_frame, timeout) returns the latest "
     "TransformStamped (transform.translation.{x,y,z}, transform.rotation.{x,y,z,w}) or raises "
     "RuntimeError",
@@ -854,7 +879,8 @@ def build_skeleton(
         interfaces,
         source_note,
         list(helper_code),
-        turns=any(p.turn == "math.tau" for p in parameters),
+        math_needed=any(p.turn == "math.tau" for p in parameters)
+        or "_closest_reading" in helper_code,
     )
     _class_head(out, capability, spec, cls, skill_iri)
     _init(out, spec, parameters, interfaces, notes)

@@ -56,14 +56,27 @@ _FIELDS: dict[str, list[tuple[frozenset[str], str]]] = {
 }
 """Message type -> (the units a field carries, where and how a skill reads it)."""
 
+_HELPERS: dict[str, tuple[str, list[tuple[frozenset[str], str]]]] = {
+    "LaserScan": (
+        "_closest_reading",
+        [
+            (_LENGTH, "self._closest_reading({a})[0] (the range of the nearest valid reading)"),
+            (_ANGLE, "self._closest_reading({a})[1] (its bearing, in radians)"),
+        ],
+    ),
+}
+"""Message type -> (the skeleton's helper that reads it, the advice when the skill has it)."""
+
 
 def measuring_sources(cls: ast.ClassDef, unit: str) -> list[str]:
     """Where the skill ``cls`` can read a quantity in ``unit``: fields of the latest messages
     its ``__init__`` declares (``self.odom_msg: Odometry | None``), and the clock for a
     duration; empty when it keeps nothing that carries one."""
+    methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef)}
     out = []
     for attribute, type_name in _latest_messages(cls):
-        for units, text in _FIELDS.get(type_name, []):
+        helper, advice = _HELPERS.get(type_name, ("", []))
+        for units, text in advice if helper in methods else _FIELDS.get(type_name, []):
             if unit in units:
                 out.append(text.format(a=f"self.{attribute}"))
     if unit in _TIME:

@@ -67,6 +67,12 @@ class _Unit:
     why: str
 
 
+_HELPER_TUPLES: dict[str, tuple[_Unit | None, ...]] = {
+    "_closest_reading": (None, _Unit(RAD, "the bearing _closest_reading() returns is in radians"))
+}
+"""The units of the elements of the tuples the skeleton's helpers return, by helper."""
+
+
 @dataclass(frozen=True)
 class _Mix:
     """Two terms of different angle units meeting in one operation."""
@@ -203,9 +209,10 @@ class _Reader:
             if attribute in self.declared and unit is not None:
                 self.stores.append((statement, attribute, value, unit))
         elif isinstance(target, ast.Tuple | ast.List):
-            for element in target.elts:
+            units = _helper_tuple(value) or ()
+            for index, element in enumerate(target.elts):
                 if isinstance(element, ast.Name):
-                    self.names[element.id] = None
+                    self.names[element.id] = units[index] if index < len(units) else None
 
     def _mix(self, node: ast.AST, parts: list[tuple[ast.expr, _Unit | None]]) -> None:
         known = tuple((e, u) for e, u in parts if u is not None)
@@ -229,6 +236,12 @@ class _Reader:
             terms = [node.left, *node.comparators]
             self._mix(node, [(t, self.unit(t)) for t in terms])
             return None
+        if isinstance(node, ast.Subscript) and isinstance(node.slice, ast.Constant):
+            units = _helper_tuple(node.value)
+            index = node.slice.value
+            if units is not None and isinstance(index, int) and -len(units) <= index < len(units):
+                self.unit(node.value)
+                return units[index]
         if isinstance(node, ast.IfExp):
             self.unit(node.test)
             body, orelse = self.unit(node.body), self.unit(node.orelse)
@@ -305,6 +318,17 @@ class _Reader:
         if len(known) == 1 and not units_below:
             return known[0]
         return None
+
+
+def _helper_tuple(node: ast.expr) -> tuple[_Unit | None, ...] | None:
+    """The element units of a call of a skeleton helper that returns a tuple."""
+    if (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and self_attribute(node.func) is not None
+    ):
+        return _HELPER_TUPLES.get(node.func.attr)
+    return None
 
 
 def _factors(
