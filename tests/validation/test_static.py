@@ -650,6 +650,44 @@ def test_an_input_copied_into_a_local_that_nothing_reads_is_still_ignored(
     )
 
 
+@pytest.mark.parametrize(
+    ("refusal", "error"),
+    [
+        (
+            "        if self.in_linear_velocity <= 0.0:\n            raise ValueError('no speed')\n",
+            True,
+        ),
+        (  # logged, then refused; the message reads it too
+            "        if self.in_linear_velocity <= 0.0:\n"
+            "            self.node.get_logger().error(f'{self.in_linear_velocity}')\n"
+            "            raise ValueError(f'bad speed {self.in_linear_velocity}')\n",
+            True,
+        ),
+        (  # a test with another way out is behaviour, not a refusal
+            "        if self.in_linear_velocity <= 0.0:\n            return\n",
+            False,
+        ),
+    ],
+)
+def test_an_input_only_tested_to_refuse_bad_values_is_never_used(
+    move_forward: tuple[Capability, SkillSpec], refusal: str, error: bool
+) -> None:
+    source = GOOD.replace(
+        "        speed = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)\n",
+        f"{refusal}        speed = self.LINEAR_VELOCITY_MAX\n",
+    )
+    found = [f.message for f in run(source, move_forward).findings if f.check == "inputs"]
+    assert found == (
+        [
+            "input inLinearVelocity is never used: execute only tests self.in_linear_velocity "
+            "to refuse a bad value, and nothing the skill does depends on it; use "
+            "self.in_linear_velocity (float, m/s) where the skill needs it"
+        ]
+        if error
+        else []
+    )
+
+
 def test_an_output_no_method_sets_is_an_error_once_every_state_is_written(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

@@ -1386,6 +1386,8 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
     stored: dict[str, list[ast.expr | None]] = {}
     """attribute -> each value a state or helper stores in it (``None``: not a plain store);
     resetting, which clears the outputs, is left out."""
+    checked: dict[str, str] = {}
+    """attribute -> the method whose test refuses a bad value of it (``if ...: raise``)."""
     for method in cls.body:
         if not isinstance(method, ast.FunctionDef) or method.name in {*getters, "__init__"}:
             continue
@@ -1393,6 +1395,7 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
             for attr, value in _self_stores(method):
                 stored.setdefault(attr, []).append(value)
         copies = _idle_copies(method)
+        guards = _refusals(method)
         for inner in ast.walk(method):
             if (
                 isinstance(inner, ast.Attribute)
@@ -1403,6 +1406,8 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                     writes.add(inner.attr)
                 elif id(inner) in copies:
                     idle.setdefault(inner.attr, (method.name, copies[id(inner)]))
+                elif id(inner) in guards:
+                    checked.setdefault(inner.attr, method.name)
                 else:
                     reads.add(inner.attr)
     for kind, name, attr, where, detail in getters.values():
@@ -1416,6 +1421,15 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 f"input {name} is never used: {method_name} copies self.{attr} into {local} "
                 f"and nothing reads {local}, so the skill ignores the value it is given; use "
                 f"{local}{about} where the skill needs it",
+            )
+        elif kind == "skill_parameter" and attr not in reads and attr in checked:
+            ctx.add(
+                "inputs",
+                "error",
+                where,
+                f"input {name} is never used: {checked[attr]} only tests self.{attr} to refuse "
+                "a bad value, and nothing the skill does depends on it; use "
+                f"self.{attr}{about} where the skill needs it",
             )
         elif kind == "skill_parameter" and attr not in reads:
             ctx.add(
@@ -1503,6 +1517,23 @@ def _only_constants(values: list[ast.expr | None]) -> bool:
         return _is_number(value) or (isinstance(value, ast.Constant) and value.value is None)
 
     return bool(values) and all(constant(v) for v in values)
+
+
+def _refusals(method: ast.FunctionDef) -> set[int]:
+    """``id`` of every node of the refusals in ``method``: an ``if`` without ``else`` whose
+    body only raises (after logging, perhaps), test and body. An input read only there is
+    checked, not used (ev69's MR-1 collision avoidance refused a non-positive minimum
+    distance in starting and then stopped at a distance it took from the scan)."""
+    out: set[int] = set()
+    for node in ast.walk(method):
+        if (
+            isinstance(node, ast.If)
+            and not node.orelse
+            and isinstance(node.body[-1], ast.Raise)
+            and all(isinstance(s, ast.Raise | ast.Expr) for s in node.body)
+        ):
+            out |= {id(n) for n in ast.walk(node)}
+    return out
 
 
 def _idle_copies(method: ast.FunctionDef) -> dict[int, str]:
