@@ -115,3 +115,23 @@ def test_line_numbers_in_findings_are_printed_as_numbers_not_emoji(tmp_path: Pat
             console, "skill.py", [Finding(check="x", severity="error", line=100, message="m")]
         )
     assert captured.get().startswith("skill.py:100:0: error [x] m")
+
+
+@pytest.mark.parametrize(("share", "aside"), [(None, True), ("0", False)])
+def test_weak_hits_are_shown_set_aside_unless_min_share_is_0(
+    tmp_path: Path, share: str | None, aside: bool
+) -> None:
+    extra = ["--skeleton", *(["--min-share", share] if share is not None else [])]
+    result = CliRunner().invoke(
+        main, args(tmp_path / "out", *extra, stem="move-forward"), terminal_width=200
+    )
+    progress = " ".join(result.stderr.split())
+    assert ("set aside, under 0.1 of the best score: /navigate_to_pose, /tf" in progress) is aside
+    assert ("aside" in result.stdout) is aside  # the table folds its reason column
+
+
+def test_a_min_share_outside_0_to_1_is_refused(tmp_path: Path) -> None:
+    result = CliRunner().invoke(main, args(tmp_path / "out", "--skeleton", "--min-share", "2"))
+    assert result.exit_code == 2
+    assert "--min-share" in result.output
+    assert not (tmp_path / "out").exists()

@@ -98,6 +98,30 @@ def test_retrieval_hits_and_the_users_pins_and_drops_are_recorded(tmp_path: Path
     assert "/scan" in outcome.skill_path.read_text(encoding="utf-8")
 
 
+@pytest.mark.parametrize("min_share", [0.1, 0.0])
+def test_hits_far_behind_the_best_are_recorded_and_set_aside(
+    tmp_path: Path, min_share: float
+) -> None:
+    # MR-1 move-forward: /odom and /cmd_vel, then /navigate_to_pose and /tf at a tenth of
+    # the best score or less; a pinned interface is never set aside.
+    outcome = run_generation(
+        request(
+            tmp_path / "out",
+            stem="move-forward",
+            skeleton=True,
+            pinned=("/scan",),
+            min_share=min_share,
+        )
+    )
+    retrieval = outcome.record.retrieval
+    aside = [h.name for h in retrieval.hits if h.set_aside]
+    assert aside == (["/navigate_to_pose", "/tf"] if min_share else [])
+    assert retrieval.min_share == min_share
+    code = outcome.skill_path.read_text(encoding="utf-8")
+    assert ("NavigateToPose" in code) is not bool(min_share)
+    assert all(f'"{name}"' in code for name in ("/scan", "/cmd_vel", "/odom"))
+
+
 def test_an_unknown_pinned_interface_is_refused_before_anything_runs(tmp_path: Path) -> None:
     with pytest.raises(InvalidArgumentError, match=r"'/cmd_vell'.*did you mean /cmd_vel"):
         run_generation(request(tmp_path / "out", skeleton=True, pinned=("/cmd_vell",)))

@@ -113,6 +113,8 @@ def _summary(outcome: Outcome) -> None:
         if hit.judgement is not None:
             verdict = {True: "needed", False: "not needed", None: "no verdict"}[hit.needed]
             reason += f"; model: {verdict}: {hit.judgement}"
+        if hit.set_aside:
+            reason += "; set aside (a weak score): not given to the skill"
         table.add_row(hit.name, hit.kind, hit.type_name, score, reason)
     console.print(table)
     print_findings(console, outcome.skill_path, outcome.report.findings)
@@ -171,6 +173,14 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
 @click.option("--skeleton", is_flag=True, help="Write the skeleton only; no model.")
 @click.option("-k", "k", default=4, show_default=True, help="Interfaces to retrieve.")
 @click.option(
+    "--min-share",
+    default=0.1,
+    show_default=True,
+    type=click.FloatRange(0.0, 1.0),
+    help="Set aside a retrieved interface scoring under this share of the best one's score "
+    "(the record keeps it; the skill does not get it). 0 gives all k.",
+)
+@click.option(
     "--pin", multiple=True, metavar="NAME", help="Always give this interface (repeatable)."
 )
 @click.option(
@@ -224,6 +234,7 @@ def generate(
     model_id: str | None,
     skeleton: bool,
     k: int,
+    min_share: float,
     pin: tuple[str, ...],
     drop: tuple[str, ...],
     include_all: bool,
@@ -268,6 +279,7 @@ def generate(
         model=model_id,
         skeleton=skeleton,
         k=k,
+        min_share=min_share,
         include_infrastructure=include_all,
         pinned=pin,
         dropped=drop,

@@ -38,8 +38,8 @@ __all__ = [
 
 RECORD_SCHEMA_VERSION: Final = 2
 """2: the model writes method by method (``model.attempts``); 1: one whole-file answer.
-``run``, ``simulation`` and ``retrieval.rerank`` are optional additions to 2 (records without
-them still load)."""
+``run``, ``simulation``, ``retrieval.rerank``, ``retrieval.min_share`` and a hit's
+``set_aside`` are optional additions to 2 (records without them still load)."""
 
 
 class _Model(BaseModel):
@@ -88,6 +88,11 @@ class HitRecord(_Model):
         default=None, description="The re-ranking model's reason; null when not asked."
     )
     pinned: bool = Field(default=False, description="Forced in by the user.")
+    set_aside: bool = Field(
+        default=False,
+        description="Among the first k but scoring under the request's min_share of the best "
+        "hit's score: not given to the generator.",
+    )
 
 
 class RerankRecord(_Model):
@@ -105,6 +110,10 @@ class RetrievalRecord(_Model):
     """What retrieval chose."""
 
     k: int
+    min_share: float = Field(
+        default=0.0,
+        description="Hits scoring under this share of the best were set aside (0: none).",
+    )
     method: Literal["hybrid", "lexical"] = Field(description="Scores used.")
     rerank: RerankRecord | None = Field(
         default=None, description="The model's second stage, when it ran."

@@ -42,7 +42,8 @@ def summary_lines(folder: Path, record: Any, workspace: Workspace | None = None)
     """What a record says, in a few lines: when, how, with what, and the verdict."""
     model = record.model.id if record.model is not None else "none (skeleton)"
     retrieval = record.retrieval
-    hits = ", ".join(h.name for h in retrieval.hits) or "none"
+    hits = ", ".join(h.name + (" (set aside)" if h.set_aside else "") for h in retrieval.hits)
+    hits = hits or "none"
     inputs = record.inputs
     lines = [
         f"{folder.name}: {record.mode}, model {model}",
