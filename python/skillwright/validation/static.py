@@ -1455,15 +1455,71 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
             and _only_constants(stored.get(attr, []))
         ):
             values = ", ".join(dict.fromkeys(ast.unparse(v) for v in stored[attr] if v))
-            ctx.add(
-                "outputs",
-                "error",
-                where,
-                f"output {name} is only ever set to {values}: no method assigns self.{attr} "
-                f"a measured value, so the skill reports a fixed number whatever happened; "
-                f"store what it measures{about} in self.{attr} before execute ends"
-                f"{_sources(cls, capability, name)}",
-            )
+            _literal_output(ctx, cls, capability, (name, attr, values), where, about)
+
+
+def _literal_output(
+    ctx: _Context,
+    cls: ast.ClassDef,
+    capability: Capability,
+    output: tuple[str, str, str],
+    where: ast.AST,
+    about: str,
+) -> None:
+    """The finding for an output only ever set to the literal ``values``: at the store, with
+    the local to store instead, when the method worked one out; else at the getter."""
+    name, attr, values = output
+    message = (
+        f"output {name} is only ever set to {values}: no method assigns self.{attr} "
+        f"a measured value, so the skill reports a fixed number whatever happened; "
+    )
+    worked_out = _worked_out_local(cls, attr)
+    if worked_out is not None:
+        store, method_name, local = worked_out
+        ctx.add(
+            "outputs",
+            "error",
+            store,
+            message + f"{method_name} works out {local} and then stores "
+            f"{ast.unparse(store.value)} in its place; store {local}",
+            replacement=f"self.{attr} = {local}",
+        )
+    else:
+        ctx.add(
+            "outputs",
+            "error",
+            where,
+            message + f"store what it measures{about} in self.{attr} before execute "
+            f"ends{_sources(cls, capability, name)}",
+        )
+
+
+def _worked_out_local(cls: ast.ClassDef, attr: str) -> tuple[ast.Assign, str, str] | None:
+    """A store of a literal in ``self.<attr>`` that follows, in the same method, a local of
+    the output's name (``out_obstacle_degree``, else ``obstacle_degree``) given a computed
+    value, not a copy of an input: the store, the method and the local. The 1.5B model wrote
+    exactly that in cap2skill's collision avoidance in ev61, ev64 and ev69: it worked the
+    bearing and distance out into locals and stored 0.0 in the outputs."""
+    names = {attr, attr.removeprefix("out_")}
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef) or method.name in {"__init__", "resetting"}:
+            continue
+        computed: dict[str, int] = {}
+        store: tuple[ast.Assign, str] | None = None
+        for node in sorted(
+            (n for n in ast.walk(method) if isinstance(n, ast.Assign) and len(n.targets) == 1),
+            key=lambda n: n.lineno,
+        ):
+            target = node.targets[0]
+            if isinstance(target, ast.Name) and target.id in names:
+                copied = self_attribute(node.value)
+                if not _is_number(node.value) and not (copied or "").startswith("in_"):
+                    computed.setdefault(target.id, node.lineno)
+            elif self_attribute(target) == attr and _is_number(node.value) and computed:
+                store = (node, attr if attr in computed else next(iter(computed)))
+        if store is not None:
+            return store[0], method.name, store[1]
+    return None
 
 
 def _sources(cls: ast.ClassDef, capability: Capability, name: str) -> str:
