@@ -119,3 +119,23 @@ def test_reading_a_first_message_nothing_waited_for_gets_the_wait_before_it(
         assert [
             f for f in found if f.line == source.splitlines().index(read.rstrip("\n")) + 1
         ] == []
+
+
+@pytest.mark.parametrize(
+    ("helper", "error"),
+    [
+        ("    def _speed(self, odom):\n        return odom.twist.twist.linear.x\n\n", True),
+        ("    def _speed(self, odom):\n        return 0.0 if odom is None else 1.0\n\n", False),
+    ],
+)
+def test_handing_a_first_message_to_a_method_that_reads_its_fields_counts_as_reading_it(
+    move_forward: tuple[Capability, SkillSpec], helper: str, error: bool
+) -> None:
+    # ev70's cap2skill get-distance called self._closest_reading(self.scan_msg) at once in
+    # execute: AttributeError in the run
+    read = "        speed = self._speed(self.odom_msg)\n"
+    source = _execute_starting_with(read, starting_waits=False)
+    source = source.replace("    @starting", helper + "    @starting", 1)
+    line = source.splitlines().index(read.rstrip("\n")) + 1
+    found = [f.replacement for f in _waits(source, move_forward) if f.line == line]
+    assert found == ([f"{WAIT}\nspeed = self._speed(self.odom_msg)"] if error else [])

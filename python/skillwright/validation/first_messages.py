@@ -72,10 +72,36 @@ def _wait_for(attribute: str) -> str:
     return f'self._wait_until(lambda: self.{attribute} is not None, 2.0, "{attribute}")'
 
 
-def _reads_field(statement: ast.stmt, attribute: str) -> bool:
-    """Whether ``statement`` reads a field of ``self.<attribute>`` (``self.odom_msg.pose``)
-    outside lambdas and outside a test of that message (``if self.odom_msg is not None``,
-    ``self.odom_msg and self.odom_msg.pose``)."""
+def _reads_parameter_fields(method: ast.FunctionDef, index: int) -> bool:
+    """Whether ``method`` reads a field of its ``index``-th parameter after ``self``."""
+    parameters = method.args.args[1:]
+    if index >= len(parameters):
+        return False
+    name = parameters[index].arg
+    return any(
+        isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name) and n.value.id == name
+        for n in ast.walk(method)
+    )
+
+
+def _hands_over(node: ast.AST, attribute: str, methods: Mapping[str, ast.FunctionDef]) -> bool:
+    """Whether ``node`` calls a method of the class with ``self.<attribute>`` for a parameter
+    whose fields it reads (``self._closest_reading(self.scan_msg)``)."""
+    if not isinstance(node, ast.Call) or not isinstance(node.func, ast.Attribute):
+        return False
+    method = methods.get(node.func.attr) if self_attribute(node.func) is not None else None
+    return method is not None and any(
+        self_attribute(argument) == attribute and _reads_parameter_fields(method, index)
+        for index, argument in enumerate(node.args)
+    )
+
+
+def _reads_field(
+    statement: ast.stmt, attribute: str, methods: Mapping[str, ast.FunctionDef]
+) -> bool:
+    """Whether ``statement`` reads a field of ``self.<attribute>`` (``self.odom_msg.pose``),
+    or hands it to a method that does, outside lambdas and outside a test of that message
+    (``if self.odom_msg is not None``, ``self.odom_msg and self.odom_msg.pose``)."""
     tests = [
         n.test if isinstance(n, ast.If | ast.IfExp | ast.While) else n
         for n in ast.walk(statement)
@@ -89,6 +115,8 @@ def _reads_field(statement: ast.stmt, attribute: str) -> bool:
         if isinstance(node, ast.Lambda | ast.FunctionDef):
             continue
         if isinstance(node, ast.Attribute) and self_attribute(node.value) == attribute:
+            return True
+        if _hands_over(node, attribute, methods):
             return True
         pending.extend(ast.iter_child_nodes(node))
     return False
@@ -159,7 +187,9 @@ def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef
             ):
                 checked |= {a for a in latest if _mentions(statement.test, a)}
             for read in sorted(latest - waited - reported - checked):
-                if _reads_field(statement, read) and not _waits_for(statement, read, methods):
+                if _reads_field(statement, read, methods) and not _waits_for(
+                    statement, read, methods
+                ):
                     wait = _wait_for(read)
                     findings.append(
                         waits_error(
