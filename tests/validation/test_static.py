@@ -1097,7 +1097,7 @@ def test_an_output_only_ever_set_to_a_number_written_out_is_an_error_at_its_gett
 
 
 @pytest.mark.parametrize(
-    ("worked_out", "local"),
+    ("before", "local"),
     [
         ("        out_distance = self._travelled()\n", "out_distance"),  # ev69 cap2skill
         ("        distance = self._travelled()\n", "distance"),
@@ -1105,40 +1105,28 @@ def test_an_output_only_ever_set_to_a_number_written_out_is_an_error_at_its_gett
             "        distance = self.in_distance\n        out_distance = self._travelled()\n",
             "out_distance",
         ),
+        ("        out_distance = 0.0\n", None),  # a number: nothing worked out
+        ("        distance = self.in_distance\n", None),  # only a copy of an input
     ],
 )
 def test_an_output_set_to_a_number_after_a_local_of_its_name_was_worked_out_stores_the_local(
-    move_forward: tuple[Capability, SkillSpec], worked_out: str, local: str
-) -> None:
-    source = GOOD.replace(
-        "        self.out_distance = self._travelled()\n",
-        f"{worked_out}        self.out_distance = 0.0\n",
-    )
-    (finding,) = [f for f in run(source, move_forward).findings if f.check == "outputs"]
-    assert finding.line == source.splitlines().index("        self.out_distance = 0.0") + 1
-    assert finding.message.endswith(
-        f"execute works out {local} and then stores 0.0 in its place; store {local}"
-    )
-    assert finding.replacement == f"self.out_distance = {local}"
-
-
-@pytest.mark.parametrize(
-    "before",
-    [
-        "        out_distance = 0.0\n",  # a number: nothing worked out
-        "        distance = self.in_distance\n",  # a copy of an input
-    ],
-)
-def test_without_a_worked_out_local_the_finding_stays_at_the_getter(
-    move_forward: tuple[Capability, SkillSpec], before: str
+    move_forward: tuple[Capability, SkillSpec], before: str, local: str | None
 ) -> None:
     source = GOOD.replace(
         "        self.out_distance = self._travelled()\n",
         f"{before}        self.out_distance = 0.0\n",
     )
     (finding,) = [f for f in run(source, move_forward).findings if f.check == "outputs"]
-    assert finding.replacement is None
-    assert "@skill_output" in source.splitlines()[finding.line - 1]
+    flagged = source.splitlines()[finding.line - 1]
+    if local is None:  # the finding stays at the getter, with nothing to put in place
+        assert finding.replacement is None
+        assert "@skill_output" in flagged
+        return
+    assert flagged == "        self.out_distance = 0.0"
+    assert finding.message.endswith(
+        f"execute works out {local} and then stores 0.0 in its place; store {local}"
+    )
+    assert finding.replacement == f"self.out_distance = {local}"
 
 
 def test_an_output_the_model_asserts_may_be_set_to_that_number(
