@@ -590,6 +590,35 @@ def test_a_loop_that_never_sleeps_is_replaced_by_the_loop_with_a_sleep(case: _Ca
     ) in authored.code
 
 
+def test_two_fixes_of_one_loop_both_apply_one_round_after_the_other(case: _Case) -> None:
+    # The loop spins and its condition reads a local that hides the module time: the sleep's
+    # fix and the rename's are each made for the whole loop. One applies, the next round's
+    # checks make the other again for the loop as it then is.
+    hides_time = EXECUTE.replace(
+        "        travelled = 0.0\n"
+        "        while travelled < self.in_distance:\n",
+        "        travelled = 0.0\n"
+        "        time = 30.0\n"
+        "        began = time.monotonic()\n"
+        "        while travelled < self.in_distance and time.monotonic() - began < time:\n",
+    ).replace("            time.sleep(0.05)\n", "")
+    model = MethodScript({**GOOD, "execute": [hides_time, "```"]})
+    authored = case.write(model)
+    assert model.asked.count("execute") == 1
+    assert [a.finish for a in authored.attempts if a.target == "execute"] == [
+        "stop",
+        "fixed",
+        "fixed",
+    ]
+    assert (
+        "        time_value = 30.0\n"
+        "        began = time.monotonic()\n"
+        "        while travelled < self.in_distance and time.monotonic() - began < time_value:\n"
+    ) in authored.code
+    assert "            time.sleep(0.05)\n" in authored.code
+    assert not [f for f in authored.findings if f.severity == "error"]
+
+
 def test_a_handle_made_again_is_left_out_so_the_state_uses_the_first(case: _Case) -> None:
     again = (
         '        self.cmd_vel_publisher = self.node.create_publisher(Twist, "/cmd_vel", 10)\n'

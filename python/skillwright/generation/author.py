@@ -24,7 +24,6 @@
 from __future__ import annotations
 
 import ast
-import itertools
 import re
 import textwrap
 import threading
@@ -509,7 +508,12 @@ def _apply_replacements(
     """``code`` (the answer of ``target`` in the judged file) with each flagged statement
     whose finding suggests one replaced by it; ``None`` unless at least one applies and the
     result is a different method that parses. The errors without a suggestion stay for the
-    model, which then repairs a method with fewer of them."""
+    model, which then repairs a method with fewer of them. Of two suggestions for one
+    statement (or for a statement and one inside it) only the first applies: the other was
+    made for the statement as it was, and the next round's checks make it again for the
+    statement as it is (cap2skill collision avoidance's loop needed a sleep and a local
+    renamed; keeping the sleep's loop dropped the rename, and the skill compared a float with
+    the module ``time``)."""
     method = parse_method(code)
     if method is None or not errors:
         return None
@@ -524,13 +528,10 @@ def _apply_replacements(
         if mine is None:
             continue
         first = mine.lineno + inner.lineno - top.lineno
-        spans[(first, mine.lineno + (inner.end_lineno or inner.lineno) - top.lineno)] = (
-            error.replacement
-        )
-    ordered = sorted(spans, reverse=True)
-    if any(later[0] <= earlier[1] for later, earlier in itertools.pairwise(ordered)):
-        return None  # overlapping statements: one fix would undo another
-    for first, last in ordered:
+        last = mine.lineno + (inner.end_lineno or inner.lineno) - top.lineno
+        if not any(first <= end and start <= last for start, end in spans):
+            spans[(first, last)] = error.replacement
+    for first, last in sorted(spans, reverse=True):
         lines[first - 1 : last] = [_indented(spans[(first, last)], lines[first - 1])]
     fixed = "".join(lines)
     return fixed if fixed != code and parse_method(fixed) is not None else None
