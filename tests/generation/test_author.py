@@ -595,8 +595,7 @@ def test_two_fixes_of_one_loop_both_apply_one_round_after_the_other(case: _Case)
     # fix and the rename's are each made for the whole loop. One applies, the next round's
     # checks make the other again for the loop as it then is.
     hides_time = EXECUTE.replace(
-        "        travelled = 0.0\n"
-        "        while travelled < self.in_distance:\n",
+        "        travelled = 0.0\n        while travelled < self.in_distance:\n",
         "        travelled = 0.0\n"
         "        time = 30.0\n"
         "        began = time.monotonic()\n"
