@@ -116,6 +116,54 @@ def test_a_quaternion_component_is_not_an_angle(degrees: dict[str, Capability]) 
 
 
 @pytest.mark.parametrize(
+    ("body", "fix"),
+    [
+        (  # ev71 cap2skill collision avoidance: the old index formula fed the helper's range
+            "self.out_degree = math.degrees(self.scan_msg.angle_min + "
+            "self.scan_msg.angle_increment * self._closest_reading(self.scan_msg)[0])",
+            "self.out_degree = math.degrees(self._closest_reading(self.scan_msg)[1])",
+        ),
+        (  # the same left in radians: the bearing replaces the formula, then is converted
+            "self.out_degree = self.scan_msg.angle_min + "
+            "self._closest_reading(self.scan_msg)[0] * self.scan_msg.angle_increment",
+            "self.out_degree = math.degrees(self._closest_reading(self.scan_msg)[1])",
+        ),
+        (  # without the start angle
+            "angle = self.scan_msg.angle_increment * self._closest_reading(self.scan_msg)[0]\n"
+            "self.out_degree = math.degrees(angle)",
+            "angle = self._closest_reading(self.scan_msg)[1]",
+        ),
+        (  # through a local: said, not fixed
+            "distance, bearing = self._closest_reading(self.scan_msg)\n"
+            "self.out_degree = math.degrees(self.scan_msg.angle_increment * distance)",
+            None,
+        ),
+    ],
+)
+def test_an_angle_times_the_nearest_distance_is_no_bearing(
+    degrees: dict[str, Capability], body: str, fix: str | None
+) -> None:
+    method = "def execute(self) -> None:\n" + "\n".join("    " + line for line in body.splitlines())
+    [finding] = _units(degrees["get-distance-to-nearest-object"], method)
+    assert "multiplies an angle by a distance" in finding.message
+    assert "not the index of a reading" in finding.message
+    assert finding.replacement == fix
+    if fix is None:
+        assert "self._closest_reading(scan)[1]" in finding.message
+
+
+def test_a_distance_stored_as_an_angle_is_found(degrees: dict[str, Capability]) -> None:
+    method = """
+    def execute(self) -> None:
+        self.out_degree = self._closest_reading(self.scan_msg)[0]
+    """
+    [finding] = _units(degrees["get-distance-to-nearest-object"], method)
+    assert "self.out_degree is an angle in degrees" in finding.message
+    assert "is a distance in metres" in finding.message
+    assert finding.replacement is None
+
+
+@pytest.mark.parametrize(
     "body",
     [
         "self.out_degree = math.degrees(scan.angle_min + i * scan.angle_increment)",
@@ -128,6 +176,9 @@ def test_a_quaternion_component_is_not_an_angle(degrees: dict[str, Capability]) 
         "distance, bearing = self._closest_reading(self.scan_msg)\n"
         "self.out_distance = distance\nself.out_degree = math.degrees(bearing)",
         "self.out_distance = self._closest_reading(self.scan_msg)[0]",
+        "distance, bearing = self._closest_reading(self.scan_msg)\n"
+        "if distance < 0.5 and abs(bearing) < 0.3:\n    pass",
+        "self.out_distance = self._closest_reading(self.scan_msg)[0] * 1.0",
     ],
 )
 def test_consistent_or_unknown_units_are_left_alone(

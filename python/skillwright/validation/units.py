@@ -18,6 +18,11 @@ Each expression gets the unit it evidently has, with the reason:
   unit (``index * scan.angle_increment``), ``abs``, ``min``, ``max``, ``%`` keep it; local
   variables, ``self`` attributes and the values a method returns carry it along.
 
+The skeleton's ``_closest_reading()`` returns a distance in metres beside the bearing. An
+angle multiplied by that distance (``scan.angle_increment * self._closest_reading(scan)[0]``,
+the model's old index formula fed the helper's range, cap2skill collision avoidance in ev71)
+is no angle at all: the finding says so, and the fix takes the helper's bearing instead.
+
 A finding needs both sides known: a sum or comparison of degrees and radians, a value in
 radians stored in an output in degrees (or the other way round), a quaternion component used
 as an angle. The fix converts with ``math.degrees`` or ``math.radians``: into the output's
@@ -30,6 +35,7 @@ from __future__ import annotations
 
 import ast
 import copy
+import dataclasses
 import math
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
@@ -45,6 +51,7 @@ __all__ = ["check_angle_units"]
 RAD = "radians"
 DEG = "degrees"
 QUAT = "a quaternion component"
+METRES = "metres"
 _ANGLES = (RAD, DEG)
 
 _DEGREE_UNITS = frozenset({"°", "deg", "degree", "degrees"})
@@ -68,7 +75,10 @@ class _Unit:
 
 
 _HELPER_TUPLES: dict[str, tuple[_Unit | None, ...]] = {
-    "_closest_reading": (None, _Unit(RAD, "the bearing _closest_reading() returns is in radians"))
+    "_closest_reading": (
+        _Unit(METRES, "the distance _closest_reading() returns is in metres"),
+        _Unit(RAD, "the bearing _closest_reading() returns is in radians"),
+    )
 }
 """The units of the elements of the tuples the skeleton's helpers return, by helper."""
 
@@ -79,6 +89,15 @@ class _Mix:
 
     node: ast.AST
     parts: tuple[tuple[ast.expr, _Unit], ...]
+
+
+@dataclass(frozen=True)
+class _Scaled:
+    """A product of an angle and a distance (``angle_increment * distance``)."""
+
+    node: ast.BinOp
+    angle: tuple[ast.expr, _Unit]
+    distance: tuple[ast.expr, _Unit]
 
 
 def check_angle_units(cls: ast.ClassDef, capability: Capability) -> list[Finding]:
@@ -162,6 +181,7 @@ class _Reader:
         self.returned: list[_Unit | None] = []
         self.stored: dict[str, list[_Unit | None]] = {}
         self.mixes: list[_Mix] = []
+        self.scaled: list[_Scaled] = []
         self.stores: list[tuple[ast.stmt, str, ast.expr, _Unit]] = []
         """(statement, output attribute, value, the value's unit) for declared attributes."""
         self._seen: set[int] = set()
@@ -215,7 +235,7 @@ class _Reader:
                     self.names[element.id] = units[index] if index < len(units) else None
 
     def _mix(self, node: ast.AST, parts: list[tuple[ast.expr, _Unit | None]]) -> None:
-        known = tuple((e, u) for e, u in parts if u is not None)
+        known = tuple((e, u) for e, u in parts if u is not None and u.unit != METRES)
         if len({u.unit for _e, u in known}) > 1 and id(node) not in self._seen:
             self._seen.add(id(node))
             self.mixes.append(_Mix(node, known))
@@ -314,6 +334,12 @@ class _Reader:
         units_below = [u for f in below if (u := self.unit(f)) is not None]
         if conversion is not None:
             return conversion
+        angle = next(((f, u) for f, u in units if u is not None and u.unit in _ANGLES), None)
+        distance = next(((f, u) for f, u in units if u is not None and u.unit == METRES), None)
+        if angle is not None and distance is not None and id(node) not in self._seen:
+            self._seen.add(id(node))
+            self.scaled.append(_Scaled(node, angle, distance))
+            return None
         known = [u for _f, u in units if u is not None]
         if len(known) == 1 and not units_below:
             return known[0]
@@ -425,13 +451,34 @@ def _findings(
     capability_unit: str | None,
 ) -> list[Finding]:
     """One finding per statement, with the conversions that put its angles right."""
-    problems: dict[int, tuple[ast.stmt, list[str], dict[int, str]]] = {}
+    problems: dict[int, _Problem] = {}
 
-    def at(node: ast.AST) -> tuple[ast.stmt, list[str], dict[int, str]] | None:
+    def at(node: ast.AST) -> _Problem | None:
         statement = node if isinstance(node, ast.stmt) else statement_holding(method, node)
         if statement is None:
             return None
-        return problems.setdefault(id(statement), (statement, [], {}))
+        return problems.setdefault(id(statement), _Problem(statement))
+
+    for scaled in reader.scaled:
+        entry = at(scaled.node)
+        if entry is None:
+            continue
+        (angle, angle_unit), (distance, distance_unit) = scaled.angle, scaled.distance
+        bearing = _bearing_of(distance)
+        message = (
+            f"`{ast.unparse(scaled.node)}` multiplies an angle by a distance: "
+            f"`{ast.unparse(angle)}` is in {angle_unit.unit} ({angle_unit.why}) and "
+            f"`{ast.unparse(distance)}` in metres ({distance_unit.why}), not the index of a "
+            "reading"
+        )
+        if bearing is None:
+            entry.messages.append(
+                f"{message}; the bearing of the nearest reading is "
+                "self._closest_reading(scan)[1], in radians"
+            )
+            continue
+        entry.messages.append(f"{message}; the fix takes the bearing `{ast.unparse(bearing)}`")
+        entry.swaps[id(_with_start_angle(method, scaled.node))] = bearing
 
     for statement, attribute, value, unit in reader.stores:
         wanted = declared[attribute]
@@ -440,8 +487,14 @@ def _findings(
         entry = at(statement)
         if entry is None:
             continue
+        if unit.unit == METRES:
+            entry.messages.append(
+                f"self.{attribute} is an angle in {wanted.unit} ({wanted.why}), but "
+                f"`{ast.unparse(value)}` is a distance in metres ({unit.why})"
+            )
+            continue
         if unit.unit == QUAT:
-            entry[1].append(
+            entry.messages.append(
                 f"self.{attribute} is an angle in {wanted.unit} ({wanted.why}), but "
                 f"`{ast.unparse(value)}` is {QUAT}, not an angle (for a turn about z, z is "
                 "sin(yaw/2) and w cos(yaw/2)); the yaw is "
@@ -449,18 +502,18 @@ def _findings(
             )
             continue
         converter = _converter(wanted.unit)
-        entry[1].append(
+        entry.messages.append(
             f"self.{attribute} is in {wanted.unit} ({wanted.why}), but `{ast.unparse(value)}` "
             f"is in {unit.unit} ({unit.why}); the fix converts it with math.{converter}"
         )
-        entry[2][id(value)] = converter
+        entry.wraps[id(value)] = converter
     for mix in reader.mixes:
         entry = at(mix.node)
         if entry is None:
             continue
         described = "; ".join(f"`{ast.unparse(e)}` is in {u.unit} ({u.why})" for e, u in mix.parts)
         if any(u.unit == QUAT for _e, u in mix.parts):
-            entry[1].append(
+            entry.messages.append(
                 f"`{ast.unparse(mix.node)}` treats {QUAT} as an angle: {described}. For a "
                 "turn about z, z is sin(yaw/2) and w cos(yaw/2); the yaw is "
                 "math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))"
@@ -471,44 +524,81 @@ def _findings(
             converter = _converter(capability_unit)
             for term, unit in mix.parts:
                 if unit.unit != capability_unit:
-                    entry[2][id(term)] = converter
+                    entry.wraps[id(term)] = converter
             message += (
                 f"; the capability's angles are in {capability_unit}, so the fix converts the "
                 f"others with math.{converter}"
             )
         else:
             message += "; convert one side with math.degrees or math.radians"
-        entry[1].append(message)
-    return [
-        _finding(statement, messages, wraps) for statement, messages, wraps in problems.values()
-    ]
+        entry.messages.append(message)
+    return [_finding(problem) for problem in problems.values()]
+
+
+def _bearing_of(distance: ast.expr) -> ast.expr | None:
+    """``self._closest_reading(x)[1]`` for ``distance`` = ``self._closest_reading(x)[0]``."""
+    if (
+        isinstance(distance, ast.Subscript)
+        and isinstance(distance.slice, ast.Constant)
+        and distance.slice.value == 0
+        and _helper_tuple(distance.value) is not None
+    ):
+        return ast.Subscript(value=distance.value, slice=ast.Constant(1), ctx=ast.Load())
+    return None
+
+
+def _with_start_angle(method: ast.FunctionDef, product: ast.BinOp) -> ast.expr:
+    """``product`` or, when it is a term of ``scan.angle_min + product``, that sum: the
+    index formula whole, which the bearing replaces."""
+    for node in ast.walk(method):
+        if (
+            isinstance(node, ast.BinOp)
+            and isinstance(node.op, ast.Add)
+            and product in (node.left, node.right)
+        ):
+            other = node.right if node.left is product else node.left
+            if isinstance(other, ast.Attribute) and other.attr == "angle_min":
+                return node
+    return product
 
 
 def _converter(unit: str) -> str:
     return "degrees" if unit == DEG else "radians"
 
 
-def _finding(statement: ast.stmt, messages: list[str], wraps: dict[int, str]) -> Finding:
+@dataclass
+class _Problem:
+    """What is wrong with one statement, and the changes that fix it."""
+
+    statement: ast.stmt
+    messages: list[str] = dataclasses.field(default_factory=list)
+    wraps: dict[int, str] = dataclasses.field(default_factory=dict)
+    """Terms (by node id) to put in ``math.<converter>(...)``."""
+    swaps: dict[int, ast.expr] = dataclasses.field(default_factory=dict)
+    """Terms (by node id) to replace by another expression."""
+
+
+def _finding(problem: _Problem) -> Finding:
     replacement = None
-    if wraps and len(wraps) == sum(1 for _ in _wrapped(statement, wraps)):
-        replacement = ast.unparse(_converted(statement, wraps))
-    return error_at("units", statement, "; ".join(messages), replacement)
+    changes = problem.wraps.keys() | problem.swaps.keys()
+    if changes and len(changes) == sum(1 for n in ast.walk(problem.statement) if id(n) in changes):
+        replacement = ast.unparse(_converted(problem))
+    return error_at("units", problem.statement, "; ".join(problem.messages), replacement)
 
 
-def _wrapped(statement: ast.stmt, wraps: dict[int, str]) -> Iterator[ast.AST]:
-    return (n for n in ast.walk(statement) if id(n) in wraps)
-
-
-def _converted(statement: ast.stmt, wraps: dict[int, str]) -> ast.stmt:
-    """A copy of ``statement`` with each term of ``wraps`` in ``math.<converter>(...)``."""
+def _converted(problem: _Problem) -> ast.stmt:
+    """A copy of the statement with each term of ``wraps`` in ``math.<converter>(...)`` and
+    each of ``swaps`` replaced (then wrapped when both name it)."""
     memo: dict[int, object] = {}
-    converted = copy.deepcopy(statement, memo)
-    marked = {id(memo[key]): converter for key, converter in wraps.items() if key in memo}
+    converted = copy.deepcopy(problem.statement, memo)
+    marked = {id(memo[key]): converter for key, converter in problem.wraps.items() if key in memo}
+    swapped = {id(memo[key]): new for key, new in problem.swaps.items() if key in memo}
 
     class _Wrap(ast.NodeTransformer):
         def visit(self, node: ast.AST) -> ast.AST:
             converter = marked.get(id(node))
-            node = self.generic_visit(node)
+            new = swapped.get(id(node))
+            node = copy.deepcopy(new) if new is not None else self.generic_visit(node)
             if converter is None or not isinstance(node, ast.expr):
                 return node
             function = ast.Attribute(
