@@ -488,6 +488,45 @@ def test_a_hidden_module_in_a_statement_that_cannot_be_replaced_whole_is_only_na
     assert source.splitlines()[found[0].line - 1].strip() == "time = 0.5"
 
 
+@pytest.mark.parametrize(
+    ("statements", "flagged", "replacement"),
+    [
+        (  # ev71: the local was renamed in one statement and not in the loop
+            "        time_value = 0.5\n"
+            "        start = time.monotonic()\n"
+            "        while time.monotonic() - start < time:\n"
+            "            time.sleep(0.05)\n",
+            "while time.monotonic() - start < time:",
+            "while time.monotonic() - start < time_value:\n    time.sleep(0.05)",
+        ),
+        (  # no local stands for it, an attribute of its name does
+            "        self.in_time = 0.5\n"
+            "        if time.monotonic() > time * 2:\n"
+            "            pass\n",
+            "if time.monotonic() > time * 2:",
+            "if time.monotonic() > self.in_time * 2:\n    pass",
+        ),
+        (  # nothing to tell what was meant
+            "        self.out_distance = -math\n",
+            "self.out_distance = -math",
+            None,
+        ),
+    ],
+)
+def test_a_module_used_as_a_number_is_found(
+    move_forward: tuple[Capability, SkillSpec],
+    statements: str,
+    flagged: str,
+    replacement: str | None,
+) -> None:
+    source = stopping_with(statements)
+    found = [f for f in _names(source, move_forward) if "as a number" in f.message]
+    assert [(source.splitlines()[f.line - 1].strip(), f.replacement) for f in found] == [
+        (flagged, replacement)
+    ]
+    assert "raises TypeError when it runs" in found[0].message
+
+
 def test_a_module_level_function_parameter_is_not_an_undefined_name(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

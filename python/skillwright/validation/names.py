@@ -1066,12 +1066,7 @@ def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
     """A local variable named like a module the same method uses (``time = distance /
     speed`` then ``time.sleep(...)``): the module is gone inside that method. For the standard
     modules skills use, the variable is renamed in every statement that uses it."""
-    modules = {
-        (alias.asname or alias.name).split(".")[0]
-        for node in tree.body
-        if isinstance(node, ast.Import)
-        for alias in node.names
-    }
+    modules = _imported_modules(tree)
     findings = []
     for method in cls.body:
         if not isinstance(method, ast.FunctionDef | ast.AsyncFunctionDef):
@@ -1098,6 +1093,89 @@ def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
                         "local variable of that name hides it in the whole method: name the "
                         "variable differently",
                     )
+                )
+    return findings
+
+
+def _imported_modules(tree: ast.Module) -> set[str]:
+    return {
+        (alias.asname or alias.name).split(".")[0]
+        for node in tree.body
+        if isinstance(node, ast.Import)
+        for alias in node.names
+    }
+
+
+def _operands(node: ast.AST) -> list[ast.expr]:
+    """The operands of a comparison or of arithmetic."""
+    if isinstance(node, ast.Compare):
+        return [node.left, *node.comparators]
+    if isinstance(node, ast.BinOp):
+        return [node.left, node.right]
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
+        return [node.operand]
+    return []
+
+
+def _stand_in(
+    method: ast.FunctionDef | ast.AsyncFunctionDef, module: str, defined: set[str]
+) -> str | None:
+    """What a module used as a number most likely stands for in ``method``: its one local
+    named after the module (``time_value``) or copied from the input of the module's name
+    (``= self.in_time``), else that input."""
+    named = {
+        target.id
+        for node in ast.walk(method)
+        if isinstance(node, ast.Assign)
+        for target in node.targets
+        if isinstance(target, ast.Name)
+        and (
+            target.id.startswith(f"{module}_")
+            or (self_attribute(node.value) == f"in_{module}" if node.value else False)
+        )
+    }
+    if len(named) == 1:
+        return named.pop()
+    return f"self.in_{module}" if not named and f"in_{module}" in defined else None
+
+
+def _modules_as_numbers(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
+    """A module compared or computed with (``while time.monotonic() - start < time:``, ev71's
+    cap2skill collision avoidance after a local ``time`` was renamed in one statement and
+    not the next): it raises TypeError when it runs. When the method has one local that
+    stands for it, or the capability an input of its name, the statement uses that."""
+    modules = _imported_modules(tree)
+    defined, _ = _class_facts(cls)
+    findings = []
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef | ast.AsyncFunctionDef):
+            continue
+        stored = {
+            n.id
+            for n in ast.walk(method)
+            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)
+        }
+        for node in ast.walk(method):
+            for operand in _operands(node):
+                if not (
+                    isinstance(operand, ast.Name)
+                    and operand.id in modules
+                    and operand.id not in stored
+                ):
+                    continue
+                message = (
+                    f"`{ast.unparse(node)}` uses the module {operand.id} as a number, which "
+                    "raises TypeError when it runs"
+                )
+                stand_in = _stand_in(method, operand.id, defined)
+                statement = statement_holding(method, operand)
+                if stand_in is None or statement is None:
+                    findings.append(_finding(operand, message + ": use the value meant"))
+                    continue
+                where = {(operand.lineno, operand.col_offset)}
+                renamed = _Rename(where, stand_in).visit(copy.deepcopy(statement))
+                findings.append(
+                    _finding(operand, f"{message}; the fix uses {stand_in}", ast.unparse(renamed))
                 )
     return findings
 
@@ -1295,5 +1373,6 @@ def check_names(
     findings = _undefined_names(source, tree) + _missing_nested_classes(tree, imports)
     if cls is not None:
         findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
+        findings += _modules_as_numbers(tree, cls)
         findings += _mismatched_calls(cls) + _none_only_attributes(cls) + _used_nothing(cls)
     return findings
