@@ -39,6 +39,7 @@ from skillwright.validation.names import (
     simple_statements,
 )
 from skillwright.validation.positions import check_filtered_positions
+from skillwright.validation.settle import check_settling
 from skillwright.validation.sources import measuring_sources
 from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
@@ -1866,6 +1867,7 @@ def check_skill(
         ctx.findings += check_angle_units(cls, capability)
         ctx.findings += check_unsent(cls)
         ctx.findings += check_first_messages(cls, methods)
+        ctx.findings += check_settling(cls)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
             _check_constants(ctx, cls, catalog, imports)
