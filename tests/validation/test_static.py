@@ -628,6 +628,10 @@ def test_an_input_no_method_reads_is_an_error_at_its_getter(
     ("uses", "error"),
     [
         ("        speed = self.LINEAR_VELOCITY_MAX", True),
+        (  # ev72: the local copied onto itself, which reads nothing
+            "        linear_velocity = linear_velocity\n        speed = self.LINEAR_VELOCITY_MAX",
+            True,
+        ),
         ("        speed = min(abs(linear_velocity), self.LINEAR_VELOCITY_MAX)", False),
     ],
 )
@@ -665,6 +669,19 @@ def test_an_input_copied_into_a_local_that_nothing_reads_is_still_ignored(
         ),
         (  # a test with another way out is behaviour, not a refusal
             "        if self.in_linear_velocity <= 0.0:\n            return\n",
+            False,
+        ),
+        (  # ev72: refused through a local copy
+            "        limit = self.in_linear_velocity\n"
+            "        if limit <= 0.0:\n"
+            "            raise ValueError(f'bad speed {limit}')\n",
+            True,
+        ),
+        (  # a copy the refusal tests and the motion uses
+            "        limit = self.in_linear_velocity\n"
+            "        if limit <= 0.0:\n"
+            "            raise ValueError(f'bad speed {limit}')\n"
+            "        print(limit)\n",
             False,
         ),
     ],
@@ -1127,6 +1144,43 @@ def test_an_output_set_to_a_number_after_a_local_of_its_name_was_worked_out_stor
         f"execute works out {local} and then stores 0.0 in its place; store {local}"
     )
     assert finding.replacement == f"self.out_distance = {local}"
+
+
+@pytest.mark.parametrize(
+    ("stores", "fix"),
+    [
+        (  # ev72 MR-1 collision avoidance: the helper gave the distance, the bearing stayed 0.0
+            "        self.out_distance = self._closest_reading(self.scan_msg)[0]\n"
+            "        self.out_angle = 0.0\n",
+            "self.out_angle = self._closest_reading(self.scan_msg)[1]",
+        ),
+        (
+            "        _, bearing = self._closest_reading(self.scan_msg)\n"
+            "        self.out_angle = bearing\n"
+            "        self.out_distance = 0.0\n",
+            "self.out_distance = self._closest_reading(self.scan_msg)[0]",
+        ),
+    ],
+)
+def test_an_output_set_to_a_number_beside_the_nearest_reading_helper_stores_its_answer(
+    stores: str, fix: str
+) -> None:
+    capability = load_capability(
+        SHIPPED_CAPABILITIES / "get-distance-to-nearest-object.ttl"
+    ).capability
+    spec = load_spec(SHIPPED_CAPABILITIES / "get-distance-to-nearest-object.spec.yaml")
+    source = (SHIPPED_CAPABILITIES / "skills" / "get_distance_to_nearest_object.py").read_text()
+    start = source.index("        scan = self.scan_msg\n")
+    end = source.index("    @completing")
+    helper = "    def _closest_reading(self, scan):\n        return 0.0, 0.0\n\n"
+    source = source[:start] + stores + "\n" + helper + source[end:]
+    findings = check_skill(source, capability=capability, spec=spec).findings
+    (finding,) = [f for f in findings if f.check == "outputs"]
+    assert source.splitlines()[finding.line - 1].endswith(" = 0.0")
+    assert "finds the nearest reading with _closest_reading() and then stores 0.0" in (
+        finding.message
+    )
+    assert finding.replacement == fix
 
 
 def test_an_output_the_model_asserts_may_be_set_to_that_number(

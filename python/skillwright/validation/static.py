@@ -1380,37 +1380,8 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 annotation = ast.unparse(node.returns) if node.returns is not None else None
                 detail = _parameter_detail(capability, name, annotation)
                 getters[node.name] = (kind, name, value.attr, dec, detail)
-    reads: set[str] = set()
-    writes: set[str] = set()
-    idle: dict[str, tuple[str, str]] = {}
-    """attribute -> (method, local) for a copy (``local = self.attr``) nothing then reads."""
-    stored: dict[str, list[ast.expr | None]] = {}
-    """attribute -> each value a state or helper stores in it (``None``: not a plain store);
-    resetting, which clears the outputs, is left out."""
-    checked: dict[str, str] = {}
-    """attribute -> the method whose test refuses a bad value of it (``if ...: raise``)."""
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef) or method.name in {*getters, "__init__"}:
-            continue
-        if method.name != "resetting":
-            for attr, value in _self_stores(method):
-                stored.setdefault(attr, []).append(value)
-        copies = _idle_copies(method)
-        guards = _refusals(method)
-        for inner in ast.walk(method):
-            if (
-                isinstance(inner, ast.Attribute)
-                and isinstance(inner.value, ast.Name)
-                and inner.value.id == "self"
-            ):
-                if isinstance(inner.ctx, ast.Store):
-                    writes.add(inner.attr)
-                elif id(inner) in copies:
-                    idle.setdefault(inner.attr, (method.name, copies[id(inner)]))
-                elif id(inner) in guards:
-                    checked.setdefault(inner.attr, method.name)
-                else:
-                    reads.add(inner.attr)
+    uses = _attribute_uses(cls, {*getters, "__init__"})
+    reads, idle, checked = uses.reads, uses.idle, uses.checked
     for kind, name, attr, where, detail in getters.values():
         about = f" ({detail})" if detail else ""
         if kind == "skill_parameter" and attr not in reads and attr in idle:
@@ -1441,7 +1412,7 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 "ignores the value it is given (a hard-coded value in its place?); use "
                 f"self.{attr}{about} where the skill needs it",
             )
-        elif kind == "skill_output" and attr not in writes:
+        elif kind == "skill_output" and attr not in uses.writes:
             ctx.add(
                 "outputs",
                 "error",
@@ -1453,10 +1424,60 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
         elif (
             kind == "skill_output"
             and _measured(capability, name)
-            and _only_constants(stored.get(attr, []))
+            and _only_constants(uses.stored.get(attr, []))
         ):
-            values = ", ".join(dict.fromkeys(ast.unparse(v) for v in stored[attr] if v))
+            values = ", ".join(dict.fromkeys(ast.unparse(v) for v in uses.stored[attr] if v))
             _literal_output(ctx, cls, capability, (name, attr, values), where, about)
+
+
+@dataclass
+class _AttributeUses:
+    """How the methods of a skill use its ``self`` attributes."""
+
+    reads: set[str] = field(default_factory=set)
+    writes: set[str] = field(default_factory=set)
+    idle: dict[str, tuple[str, str]] = field(default_factory=dict)
+    """attribute -> (method, local) for a copy (``local = self.attr``) nothing then reads."""
+    stored: dict[str, list[ast.expr | None]] = field(default_factory=dict)
+    """attribute -> each value a state or helper stores in it (``None``: not a plain store);
+    resetting, which clears the outputs, is left out."""
+    checked: dict[str, str] = field(default_factory=dict)
+    """attribute -> the method whose test refuses a bad value of it (``if ...: raise``), by
+    itself or through a local copy."""
+
+
+def _attribute_uses(cls: ast.ClassDef, skipped: AbstractSet[str]) -> _AttributeUses:
+    """How the methods of ``cls`` but the ``skipped`` ones use its attributes."""
+    uses = _AttributeUses()
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef) or method.name in skipped:
+            continue
+        if method.name != "resetting":
+            for attr, value in _self_stores(method):
+                uses.stored.setdefault(attr, []).append(value)
+        guards = _refusals(method)
+        copies = _idle_copies(method, guards)
+        refused = {
+            n.id
+            for n in ast.walk(method)
+            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load) and id(n) in guards
+        }
+        for inner in ast.walk(method):
+            if not (
+                isinstance(inner, ast.Attribute)
+                and isinstance(inner.value, ast.Name)
+                and inner.value.id == "self"
+            ):
+                continue
+            if isinstance(inner.ctx, ast.Store):
+                uses.writes.add(inner.attr)
+            elif id(inner) in guards or copies.get(id(inner), "") in refused:
+                uses.checked.setdefault(inner.attr, method.name)
+            elif id(inner) in copies:
+                uses.idle.setdefault(inner.attr, (method.name, copies[id(inner)]))
+            else:
+                uses.reads.add(inner.attr)
+    return uses
 
 
 def _literal_output(
@@ -1485,6 +1506,16 @@ def _literal_output(
             f"{ast.unparse(store.value)} in its place; store {local}",
             replacement=f"self.{attr} = {local}",
         )
+    elif (reading := _helper_reading(cls, capability, name, attr)) is not None:
+        store, method_name, value = reading
+        ctx.add(
+            "outputs",
+            "error",
+            store,
+            message + f"{method_name} finds the nearest reading with _closest_reading() and "
+            f"then stores {ast.unparse(store.value)} in its place; store {value}",
+            replacement=f"self.{attr} = {value}",
+        )
     else:
         ctx.add(
             "outputs",
@@ -1493,6 +1524,52 @@ def _literal_output(
             message + f"store what it measures{about} in self.{attr} before execute "
             f"ends{_sources(cls, capability, name)}",
         )
+
+
+_DEGREES = frozenset({"°", "deg", "degree", "degrees"})
+_RADIANS = frozenset({"rad", "radian", "radians"})
+
+
+def _helper_reading(
+    cls: ast.ClassDef, capability: Capability, name: str, attr: str
+) -> tuple[ast.Assign, str, str] | None:
+    """A store of a literal in ``self.<attr>`` in a method that calls the skeleton's
+    ``self._closest_reading(scan)``, for an output in metres or in an angle unit: the
+    store, the method and the element of the helper's answer that the output reports (its
+    bearing in the output's unit, or its distance). ev72's MR-1 collision avoidance stored the
+    nearest distance from the helper and 0.0 as its bearing."""
+    unit = next((p.element.unit for p in capability.outputs if p.name == name), None)
+    unit = (unit or "").strip().lower()
+    if unit == "m":
+        element = "[0]"
+    elif unit in _DEGREES | _RADIANS:
+        element = "[1]"
+    else:
+        return None
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef) or method.name in {"__init__", "resetting"}:
+            continue
+        scans = {
+            ast.unparse(node.args[0])
+            for node in ast.walk(method)
+            if isinstance(node, ast.Call)
+            and self_attribute(node.func) == "_closest_reading"
+            and len(node.args) == 1
+        }
+        stores = [
+            node
+            for node in ast.walk(method)
+            if isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and self_attribute(node.targets[0]) == attr
+            and _is_number(node.value)
+        ]
+        if len(scans) == 1 and stores:
+            value = f"self._closest_reading({scans.pop()}){element}"
+            if unit in _DEGREES:
+                value = f"math.degrees({value})"
+            return stores[-1], method.name, value
+    return None
 
 
 def _worked_out_local(cls: ast.ClassDef, attr: str) -> tuple[ast.Assign, str, str] | None:
@@ -1593,11 +1670,25 @@ def _refusals(method: ast.FunctionDef) -> set[int]:
     return out
 
 
-def _idle_copies(method: ast.FunctionDef) -> dict[int, str]:
+def _idle_copies(method: ast.FunctionDef, refusals: AbstractSet[int]) -> dict[int, str]:
     """``id`` of the ``self.<attr>`` of each ``local = self.<attr>`` in ``method`` whose local
-    nothing in the method reads -> the local."""
+    nothing in the method reads but the ``refusals`` (node ids) -> the local. ``local =
+    local`` reads nothing (ev72's MR-1 collision avoidance copied its minimum distance, refused
+    a bad one, wrote ``min_obstacle_distance = min_obstacle_distance`` and used it nowhere)."""
+    no_ops = {
+        id(node.value)
+        for node in ast.walk(method)
+        if isinstance(node, ast.Assign)
+        and isinstance(node.value, ast.Name)
+        and all(isinstance(t, ast.Name) and t.id == node.value.id for t in node.targets)
+    }
     loaded = {
-        n.id for n in ast.walk(method) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)
+        n.id
+        for n in ast.walk(method)
+        if isinstance(n, ast.Name)
+        and isinstance(n.ctx, ast.Load)
+        and id(n) not in no_ops
+        and id(n) not in refusals
     }
     return {
         id(node.value): target.id
