@@ -345,6 +345,32 @@ def test_a_message_field_given_a_number_is_an_error(
     assert found.replacement == "command = Twist(linear=Vector3(x=self.in_linear_velocity))"
 
 
+@pytest.mark.parametrize(
+    ("made", "fix"),
+    [
+        ("Twist(forward, turn)", "command = Twist(linear=forward, angular=turn)"),
+        ("Twist(forward, angular=turn)", "command = Twist(linear=forward, angular=turn)"),
+        ("Twist(forward, turn, spare)", None),  # more arguments than fields
+    ],
+)
+def test_a_message_made_with_positional_arguments_names_its_fields(
+    move_forward: tuple[Capability, SkillSpec], made: str, fix: str | None
+) -> None:
+    # ev70 cap2skill mapping: Vector3(0.0, 0.0, bearing) raised TypeError in its run
+    source = GOOD.replace(
+        "        command = Twist()\n        command.linear.x = speed",
+        f"        forward = turn = spare = Vector3()\n        command = {made}",
+    )
+    report = run(source, move_forward)
+    (found,) = [f for f in report.findings if "positional arguments" in f.message]
+    assert found.check == "grounding"
+    assert found.message.endswith(
+        "a ROS 2 message takes its fields as keywords only (it raises TypeError): name them, "
+        + ("Twist(linear=..., angular=...)" if "angular" not in made else "Twist(linear=...)")
+    )
+    assert found.replacement == fix
+
+
 def test_a_field_one_level_further_down_is_named_and_put_in_the_statement(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

@@ -992,6 +992,8 @@ def _check_fields(
                 fix = f"{publish}(Twist())"
             else:
                 fix = _twist_with_vectors(statement_of.get(id(node)), node, key, numbers)
+            if node.args:
+                _positional_fields(ctx, node, tree, key, statement_of.get(id(node)))
             renamed = _renamed_keywords(node, tree, key, statement_of.get(id(node)))
             for keyword in node.keywords:
                 if keyword.arg is None:
@@ -1015,6 +1017,44 @@ def _check_fields(
                         + ("; a zero command is Twist(), every field of it is 0" if zero else ""),
                         fix,
                     )
+
+
+def _positional_fields(
+    ctx: _Context, call: ast.Call, tree: FieldTree, key: str, statement: ast.stmt | None
+) -> None:
+    """A message made with positional arguments (``Vector3(0.0, 0.0, bearing)``, ev70's
+    cap2skill mapping): a ROS 2 message takes its fields as keywords only, and raises
+    TypeError. The fix names each argument by the field in its place."""
+    names = [n for n in tree if n not in {k.arg for k in call.keywords}]
+    fix = None
+    if (
+        statement is not None
+        and len(call.args) <= len(names)
+        and not any(isinstance(a, ast.Starred) for a in call.args)
+    ):
+        fixed = copy.deepcopy(statement)
+        for node in ast.walk(fixed):
+            if (
+                isinstance(node, ast.Call)
+                and (node.lineno, node.col_offset) == (call.lineno, call.col_offset)
+                and ast.unparse(node.func) == ast.unparse(call.func)
+            ):
+                given = [
+                    ast.keyword(arg=n, value=a) for n, a in zip(names, node.args, strict=False)
+                ]
+                node.keywords = given + node.keywords
+                node.args = []
+                fix = ast.unparse(fixed)
+                break
+    ctx.add(
+        "grounding",
+        "error",
+        call,
+        f"`{ast.unparse(call)}` gives {key} positional arguments, and a ROS 2 message takes "
+        f"its fields as keywords only (it raises TypeError): name them, "
+        f"{ast.unparse(call.func)}({', '.join(f'{n}=...' for n in names[: len(call.args)])})",
+        fix,
+    )
 
 
 _TWIST_AXES = {"linear": "x", "angular": "z"}
