@@ -391,6 +391,45 @@ def test_a_field_one_level_further_down_is_named_and_put_in_the_statement(
 
 
 @pytest.mark.parametrize(
+    ("held", "read", "fix"),
+    [
+        (  # ev70 MR-1 set-velocity: the run found it, the checks did not
+            "twist = self.odom_msg.twist",
+            "twist.linear.x",
+            "twist.twist.linear.x",
+        ),
+        ("stamp = self.odom_msg.header.stamp", "stamp.secs", "stamp.sec"),
+        ("self.moved = self.odom_msg.pose", "self.moved.position.x", "self.moved.pose.position.x"),
+    ],
+)
+def test_a_field_of_a_part_of_a_message_held_in_a_name_is_checked(
+    move_forward: tuple[Capability, SkillSpec], held: str, read: str, fix: str
+) -> None:
+    source = GOOD.replace(
+        "self.start_x = self.odom_msg.pose.pose.position.x",
+        f"{held}\n        self.start_x = {read}",
+    )
+    found = [f for f in run(source, move_forward).findings if f.check == "grounding"]
+    assert [f.replacement for f in found] == [f"self.start_x = {fix}"]
+    root = held.split(" = ", maxsplit=1)[0]
+    assert f", and {root} holds its " in found[0].message
+    assert found[0].message.endswith(f"; it is {fix}")
+
+
+def test_a_made_up_part_of_a_message_is_found_once(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = GOOD.replace(
+        "self.start_x = self.odom_msg.pose.pose.position.x",
+        "twist = self.odom_msg.velocity\n        self.start_x = twist.linear.x",
+    )
+    found = [f for f in run(source, move_forward).findings if f.check == "grounding"]
+    assert [f.message.split(" (")[0] for f in found] == [
+        "nav_msgs/msg/Odometry has no field 'velocity' in the message"
+    ]
+
+
+@pytest.mark.parametrize(
     ("written", "meant"),
     [
         ("self.odom_msg.header.stamp.secs", "self.odom_msg.header.stamp.sec"),

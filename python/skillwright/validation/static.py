@@ -818,10 +818,24 @@ class _FieldVisitor(ast.NodeVisitor):
         ):
             key = self.bound[f"self.{path[0]}"]
             path = path[1:]
+        held: list[str] = []
+        if key is not None and "#" in key:
+            key, _, inside = key.partition("#")
+            held = inside.split(".")
         if key is not None and path and key in self.catalog.fields:
-            missing = _missing_field(self.catalog.fields[key], path, key)
+            tree = self.catalog.fields[key]
+            if held and _missing_field(tree, held, key) is not None:
+                return  # the part itself is made up: its own statement says so
+            missing = _missing_field(tree, [*held, *path], key)
             if missing is not None:
                 message, fixed = missing
+                if held:
+                    head, _, _ = message.partition("; it is ")
+                    fixed = fixed[len(held) :] if fixed and fixed[: len(held)] == held else None
+                    holder = ast.unparse(node)[: -len(".".join(path)) - 1]
+                    message = f"{head}, and {holder} holds its {'.'.join(held)}" + (
+                        f"; it is {'.'.join(fixed)}" if fixed else ""
+                    )
                 right = None
                 if fixed is not None and not _has_subscript(node):
                     whole = _chain(node)[1]
@@ -902,9 +916,30 @@ def _message_bindings(
     cls: ast.ClassDef, uses: Sequence[_Use], returns: dict[str, str], imports: dict[str, str]
 ) -> dict[str, dict[str, str]]:
     """Per method: which local names / self attributes hold which message type (``returns``:
-    the class's methods annotated to return a message, as :func:`_returned_messages` finds)."""
+    the class's methods annotated to return a message, as :func:`_returned_messages` finds).
+    A name given a part of a message (``twist = self.odom_msg.twist``) holds
+    ``type#path`` (``nav_msgs/msg/Odometry#twist``): ev70's MR-1 set-velocity then read
+    ``twist.linear.x``, which the run found missing and the checks did not. The second pass
+    sees the attributes every method stores."""
     callbacks = {u.callback: u.type_name for u in uses if u.callback and u.type_name}
     stored: dict[str, str] = {}
+    per_method: dict[str, dict[str, str]] = {}
+    for _ in range(2):
+        per_method = _bindings_pass(cls, callbacks, stored, returns, imports)
+    for bound in per_method.values():
+        for attribute, key in stored.items():
+            bound.setdefault(attribute, key)
+    return per_method
+
+
+def _bindings_pass(
+    cls: ast.ClassDef,
+    callbacks: dict[str, str],
+    stored: dict[str, str],
+    returns: dict[str, str],
+    imports: dict[str, str],
+) -> dict[str, dict[str, str]]:
+    """One pass of :func:`_message_bindings`; adds to ``stored``."""
     per_method: dict[str, dict[str, str]] = {}
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         bound: dict[str, str] = {}
@@ -929,6 +964,8 @@ def _message_bindings(
                     key = returns[tail]
             elif isinstance(value, ast.Name) and value.id in bound:
                 key = bound[value.id]
+            elif isinstance(value, ast.Attribute):
+                key = _part_of_message(value, bound, stored)
             if key is None:
                 continue
             if isinstance(target, ast.Name):
@@ -936,10 +973,26 @@ def _message_bindings(
             elif isinstance(target, ast.Attribute) and ast.unparse(target.value) == "self":
                 stored[f"self.{target.attr}"] = key
         per_method[method.name] = bound
-    for bound in per_method.values():
-        for attribute, key in stored.items():
-            bound.setdefault(attribute, key)
     return per_method
+
+
+def _part_of_message(
+    value: ast.Attribute, bound: dict[str, str], stored: dict[str, str]
+) -> str | None:
+    """``type#path`` for a part of a message held by a name or attribute
+    (``self.odom_msg.twist``), else ``None``."""
+    root, path = _chain(value)
+    if not isinstance(root, ast.Name):
+        return None
+    if root.id == "self" and path and f"self.{path[0]}" in stored:
+        key, path = stored[f"self.{path[0]}"], path[1:]
+    elif root.id in bound:
+        key = bound[root.id]
+    else:
+        return None
+    if not path:
+        return key
+    return f"{key}.{'.'.join(path)}" if "#" in key else f"{key}#{'.'.join(path)}"
 
 
 def _check_fields(
