@@ -247,6 +247,37 @@ def test_the_nearest_reading_skips_invalid_ranges_and_gives_its_bearing(
     assert namespace["_closest_reading"](None, scan) == expected
 
 
+def test_odometry_gets_the_heading_helper_and_math() -> None:
+    capability, spec = shipped("rotate")
+    skeleton = build_skeleton(capability, spec, [ODOM])
+    assert "_yaw" in skeleton.helpers
+    assert "import math" in skeleton.code
+    assert "in radians" in helper_summaries([ODOM])["_yaw"]
+    assert "_yaw" not in skeleton_helpers([SCAN])
+
+
+@pytest.mark.parametrize(
+    ("quaternion", "heading"),
+    [
+        ((0.0, 0.0, 0.0, 1.0), 0.0),
+        ((0.0, 0.0, math.sin(math.pi / 4), math.cos(math.pi / 4)), math.pi / 2),  # a left turn
+        ((0.0, 0.0, math.sin(-0.3), math.cos(-0.3)), -0.6),  # right
+        ((0.0, 0.0, 1.0, 0.0), math.pi),  # facing back
+    ],
+)
+def test_the_heading_helper_reads_the_yaw_of_the_orientation(
+    quaternion: tuple[float, float, float, float], heading: float
+) -> None:
+    code = "\n".join(skeleton_helpers([ODOM])["_yaw"])
+    namespace: dict[str, object] = {"math": math}
+    exec(textwrap.dedent(code), namespace)
+    x, y, z, w = quaternion
+    orientation = type("Q", (), {"x": x, "y": y, "z": z, "w": w})()
+    pose = type("P", (), {"orientation": orientation})()
+    odom = type("O", (), {"pose": type("PC", (), {"pose": pose})()})()
+    assert namespace["_yaw"](None, odom) == pytest.approx(heading)
+
+
 def test_waiting_helpers_the_behaviour_calls_stay_when_no_call_interface_is_left() -> None:
     capability, spec = shipped("get-distance-to-nearest-object")
     skeleton = build_skeleton(capability, spec, [ODOM], helpers=["_result_of"])

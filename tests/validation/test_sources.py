@@ -65,3 +65,9 @@ def test_a_skill_with_the_nearest_reading_helper_is_pointed_at_it() -> None:
     assert sources("rad", SKILL + helper)[1:] == [
         "self._closest_reading(self.scan_msg)[1] (its bearing, in radians)"
     ]
+
+
+def test_a_skill_with_the_heading_helper_is_pointed_at_it_for_angles_only() -> None:
+    helper = "    def _yaw(self, odom):\n        return 0.0\n"
+    assert sources("rad", SKILL + helper)[0] == "self._yaw(self.odom_msg) (the heading, in radians)"
+    assert sources("m/s", SKILL + helper) == sources("m/s")

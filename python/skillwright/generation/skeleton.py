@@ -559,6 +559,8 @@ def skeleton_helpers(
         ]
     if any(i.role == "subscribe" and i.type_name in _LASER_SCANS for i in interfaces):
         helpers["_closest_reading"] = _CLOSEST_READING
+    if any(i.role == "subscribe" and i.type_name in _ODOMETRY for i in interfaces):
+        helpers["_yaw"] = _YAW
     twists = [i for i in interfaces if _is_twist_publisher(i)]
     if twists:
         lines = [
@@ -635,6 +637,21 @@ _CLOSEST_READING = [
 (ev69's MR-1 collision avoidance took ``min`` of the ranges, so it had no index for a bearing,
 and stored 0.0 for it)."""
 
+_ODOMETRY = frozenset({"nav_msgs/msg/Odometry", "nav_msgs/Odometry"})
+_YAW = [
+    "    def _yaw(self, odom) -> float:",
+    '        """The heading of ``odom`` (an Odometry) in radians, in [-pi, pi]: 0 along the',
+    "        odometry frame's x axis, positive counter-clockwise (to the left). Its change",
+    "        since a start is the angle turned; wrap a difference d into [-pi, pi] with",
+    '        math.atan2(math.sin(d), math.cos(d))."""',
+    "        q = odom.pose.pose.orientation",
+    "        return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))",
+]
+"""The heading from the orientation quaternion. ev70's cap2skill rotate, offered the scan's
+nearest-reading helper and nothing for the heading, turned until the nearest obstacle's
+bearing matched the angle it was asked to turn by; earlier evaluations reported a
+quaternion's ``z`` as the angle (ev38-ev43)."""
+
 _GENERIC_SUMMARIES = {
     "_wait_until": "self._wait_until(condition, timeout, what) waits while callbacks run, else "
     "raises RuntimeError",
@@ -644,6 +661,8 @@ _GENERIC_SUMMARIES = {
     "_closest_reading": "self._closest_reading(scan) returns (distance, bearing) of the closest "
     "valid reading of a LaserScan, NaN, infinite and out-of-range readings skipped; "
     "(math.inf, 0.0) when there is none",
+    "_yaw": "self._yaw(odom) returns the heading of an Odometry in radians, in [-pi, pi], "
+    "counter-clockwise positive",
     "_transform": "self._transform(target_frame, source_frame, timeout) returns the latest "
     "TransformStamped (transform.translation.{x,y,z}, transform.rotation.{x,y,z,w}) or raises "
     "RuntimeError",
@@ -880,7 +899,8 @@ def build_skeleton(
         source_note,
         list(helper_code),
         math_needed=any(p.turn == "math.tau" for p in parameters)
-        or "_closest_reading" in helper_code,
+        or "_closest_reading" in helper_code
+        or "_yaw" in helper_code,
     )
     _class_head(out, capability, spec, cls, skill_iri)
     _init(out, spec, parameters, interfaces, notes)

@@ -57,6 +57,13 @@ _FIELDS: dict[str, list[tuple[frozenset[str], str]]] = {
 """Message type -> (the units a field carries, where and how a skill reads it)."""
 
 _HELPERS: dict[str, tuple[str, list[tuple[frozenset[str], str]]]] = {
+    "Odometry": (
+        "_yaw",
+        [
+            *_FIELDS["Odometry"][:3],
+            (_ANGLE, "self._yaw({a}) (the heading, in radians)"),
+        ],
+    ),
     "LaserScan": (
         "_closest_reading",
         [
