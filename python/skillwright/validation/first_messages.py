@@ -27,12 +27,12 @@ from skillwright.validation.loops import waits_error
 from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
 
-__all__ = ["check_first_messages"]
+__all__ = ["check_first_messages", "latest_messages"]
 
 _NORMAL_PATH = ("starting", "execute", "completing")
 
 
-def _latest_messages(cls: ast.ClassDef) -> set[str]:
+def latest_messages(cls: ast.ClassDef) -> set[str]:
     """The ``self.X_msg`` attributes the class declares with an annotation (the skeleton's)."""
     return {
         name
@@ -145,7 +145,7 @@ def _tested(test: ast.expr, aliases: Mapping[str, str]) -> str | None:
 def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef]) -> list[Finding]:
     """Findings for guards that give up on a first message nothing waited for, with the wait
     (and the local variables set from the message again after it) in their place."""
-    latest = _latest_messages(cls)
+    latest = latest_messages(cls)
     methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
     waited: set[str] = set()
     reported: set[str] = set()

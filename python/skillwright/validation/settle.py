@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import ast
 
+from skillwright.validation.first_messages import latest_messages
 from skillwright.validation.loops import waits_error
 from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
@@ -47,22 +48,12 @@ _OPPOSITE: dict[type[ast.cmpop], type[ast.cmpop]] = {
 
 def check_settling(cls: ast.ClassDef) -> list[Finding]:
     """Findings (check ``waits``) for giving up on a reading right after a command."""
-    latest = _latest_messages(cls)
+    latest = latest_messages(cls)
     can_wait = any(isinstance(n, ast.FunctionDef) and n.name == "_wait_until" for n in cls.body)
     findings = []
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         findings += _in_block(method.body, latest, can_wait)
     return findings
-
-
-def _latest_messages(cls: ast.ClassDef) -> set[str]:
-    return {
-        name
-        for node in ast.walk(cls)
-        if isinstance(node, ast.AnnAssign)
-        and (name := self_attribute(node.target)) is not None
-        and name.endswith("_msg")
-    }
 
 
 def _in_block(block: list[ast.stmt], latest: set[str], can_wait: bool) -> list[Finding]:
