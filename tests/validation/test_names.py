@@ -826,3 +826,16 @@ def test_a_helper_that_never_raises_used_as_an_if_test_gets_no_fix(
     [found] = [f for f in _names(source, move_forward) if "returns nothing" in f.message]
     assert found.replacement is None
     assert "It raises" not in found.message
+
+
+def test_an_attribute_named_with_an_underscore_too_many_is_renamed(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # ev70 MR-1 mapping: self._map_saver_save_map_client for the skeleton's handle
+    source = stopping_with("        self._cmd_vel_publisher.publish(Twist())\n")
+    (found,) = [f for f in _names(source, move_forward) if "_cmd_vel_publisher" in f.message]
+    assert found.message.endswith("did you mean self.cmd_vel_publisher?")
+    assert found.replacement == "self.cmd_vel_publisher.publish(Twist())"
+    other = stopping_with("        self.cmd_vel_pub.publish(Twist())\n")
+    (found,) = [f for f in _names(other, move_forward) if "cmd_vel_pub " in f.message]
+    assert found.replacement is None

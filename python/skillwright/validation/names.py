@@ -527,10 +527,26 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
                 f"{', '.join(helpers) or 'none'}"
             )
         unlimited = name.isupper() and not any(d.isupper() for d in defined)
-        findings.append(
-            _finding(node, message, _without_limit(cls, node, name) if unlimited else None)
-        )
+        fix = _without_limit(cls, node, name) if unlimited else _underscored(cls, node, defined)
+        findings.append(_finding(node, message, fix))
     return findings
+
+
+def _underscored(cls: ast.ClassDef, node: ast.Attribute, defined: set[str]) -> str | None:
+    """The simple statement holding ``node`` (``self._map_saver_client``) with the attribute
+    the class does set when the two differ only in leading underscores (ev70's MR-1 mapping
+    called ``self._map_saver_save_map_client`` for the skeleton's
+    ``self.map_saver_save_map_client``)."""
+    bare = node.attr.lstrip("_")
+    meant = [d for d in defined if d != node.attr and d.lstrip("_") == bare]
+    statement = simple_statements(cls).get(id(node))
+    if len(meant) != 1 or statement is None:
+        return None
+    fixed = copy.deepcopy(statement)
+    for part in ast.walk(fixed):
+        if isinstance(part, ast.Attribute) and self_attribute(part) == node.attr:
+            part.attr = meant[0]
+    return ast.unparse(fixed)
 
 
 class _DropLimit(ast.NodeTransformer):
