@@ -247,12 +247,23 @@ def test_the_nearest_reading_skips_invalid_ranges_and_gives_its_bearing(
     assert namespace["_closest_reading"](None, scan) == expected
 
 
-def test_odometry_gets_the_heading_helper_and_math() -> None:
+def test_odometry_poses_and_transforms_get_the_heading_helper_and_math() -> None:
     capability, spec = shipped("rotate")
     skeleton = build_skeleton(capability, spec, [ODOM])
     assert "_yaw" in skeleton.helpers
     assert "import math" in skeleton.code
     assert "in radians" in helper_summaries([ODOM])["_yaw"]
+    tf = InterfaceRef(
+        name="/tf", kind="topic", type_name="tf2_msgs/msg/TFMessage", role="subscribe"
+    )
+    pose = InterfaceRef(
+        name="/amcl_pose",
+        kind="topic",
+        type_name="geometry_msgs/msg/PoseWithCovarianceStamped",
+        role="subscribe",
+    )
+    assert "_yaw" in skeleton_helpers([tf])
+    assert "_yaw" in skeleton_helpers([pose])
     assert "_yaw" not in skeleton_helpers([SCAN])
 
 
@@ -273,9 +284,7 @@ def test_the_heading_helper_reads_the_yaw_of_the_orientation(
     exec(textwrap.dedent(code), namespace)
     x, y, z, w = quaternion
     orientation = type("Q", (), {"x": x, "y": y, "z": z, "w": w})()
-    pose = type("P", (), {"orientation": orientation})()
-    odom = type("O", (), {"pose": type("PC", (), {"pose": pose})()})()
-    assert namespace["_yaw"](None, odom) == pytest.approx(heading)
+    assert namespace["_yaw"](None, orientation) == pytest.approx(heading)
 
 
 def test_waiting_helpers_the_behaviour_calls_stay_when_no_call_interface_is_left() -> None:

@@ -68,6 +68,10 @@ def test_a_skill_with_the_nearest_reading_helper_is_pointed_at_it() -> None:
 
 
 def test_a_skill_with_the_heading_helper_is_pointed_at_it_for_angles_only() -> None:
-    helper = "    def _yaw(self, odom):\n        return 0.0\n"
-    assert sources("rad", SKILL + helper)[0] == "self._yaw(self.odom_msg) (the heading, in radians)"
+    helper = "    def _yaw(self, q):\n        return 0.0\n"
+    assert sources("rad", SKILL + helper) == [
+        "self._yaw(self.odom_msg.pose.pose.orientation) (the heading, in radians)",
+        sources("rad")[1],
+    ]
     assert sources("m/s", SKILL + helper) == sources("m/s")
+    assert sources("m", SKILL + helper) == sources("m")

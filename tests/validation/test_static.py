@@ -371,6 +371,34 @@ def test_a_message_made_with_positional_arguments_names_its_fields(
     assert found.replacement == fix
 
 
+@pytest.mark.parametrize(
+    ("given", "fix"),
+    [
+        ("self.odom_msg", "self.odom_msg.pose.pose.orientation"),
+        ("odom", "odom.pose.pose.orientation"),
+        ("self.odom_msg.pose.pose.orientation", None),  # already the quaternion
+    ],
+)
+def test_the_heading_helper_handed_a_whole_message_gets_its_orientation(
+    move_forward: tuple[Capability, SkillSpec], given: str, fix: str | None
+) -> None:
+    helper = "    def _yaw(self, q) -> float:\n        return 0.0\n\n    @execute\n"
+    source = GOOD.replace("    @execute\n", helper, 1).replace(
+        "self.start_x = self.odom_msg.pose.pose.position.x",
+        f"odom = self.odom_msg\n        self.start_x = self._yaw({given})",
+    )
+    found = [f for f in run(source, move_forward).findings if "_yaw" in f.message]
+    if fix is None:
+        assert found == []
+        return
+    (finding,) = found
+    assert finding.message == (
+        f"self._yaw() takes an orientation quaternion, and {given} is a whole "
+        f"nav_msgs/msg/Odometry: its orientation is {fix}"
+    )
+    assert finding.replacement == f"self.start_x = self._yaw({fix})"
+
+
 def test_a_field_one_level_further_down_is_named_and_put_in_the_statement(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

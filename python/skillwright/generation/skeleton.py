@@ -559,7 +559,7 @@ def skeleton_helpers(
         ]
     if any(i.role == "subscribe" and i.type_name in _LASER_SCANS for i in interfaces):
         helpers["_closest_reading"] = _CLOSEST_READING
-    if any(i.role == "subscribe" and i.type_name in _ODOMETRY for i in interfaces):
+    if any(is_tf(i) or (i.role == "subscribe" and i.type_name in _ORIENTED) for i in interfaces):
         helpers["_yaw"] = _YAW
     twists = [i for i in interfaces if _is_twist_publisher(i)]
     if twists:
@@ -637,20 +637,31 @@ _CLOSEST_READING = [
 (ev69's MR-1 collision avoidance took ``min`` of the ranges, so it had no index for a bearing,
 and stored 0.0 for it)."""
 
-_ODOMETRY = frozenset({"nav_msgs/msg/Odometry", "nav_msgs/Odometry"})
+_ORIENTED = frozenset(
+    f"{package}/{kind}{name}"
+    for package, name in (
+        ("nav_msgs", "Odometry"),
+        ("geometry_msgs", "PoseStamped"),
+        ("geometry_msgs", "PoseWithCovarianceStamped"),
+        ("geometry_msgs", "Pose"),
+    )
+    for kind in ("msg/", "")
+)
+"""Messages that carry an orientation quaternion (with the transform tree, for ``_yaw``)."""
 _YAW = [
-    "    def _yaw(self, odom) -> float:",
-    '        """The heading of ``odom`` (an Odometry) in radians, in [-pi, pi]: 0 along the',
-    "        odometry frame's x axis, positive counter-clockwise (to the left). Its change",
-    "        since a start is the angle turned; wrap a difference d into [-pi, pi] with",
-    '        math.atan2(math.sin(d), math.cos(d))."""',
-    "        q = odom.pose.pose.orientation",
+    "    def _yaw(self, q) -> float:",
+    '        """The heading (yaw) of the quaternion ``q`` in radians, in [-pi, pi]: 0 along the',
+    "        frame's x axis, positive counter-clockwise (to the left). ``q`` is an orientation",
+    "        such as an Odometry's pose.pose.orientation or a transform's transform.rotation.",
+    "        The change of the heading since a start is the angle turned; wrap a difference d",
+    '        into [-pi, pi] with math.atan2(math.sin(d), math.cos(d))."""',
     "        return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))",
 ]
-"""The heading from the orientation quaternion. ev70's cap2skill rotate, offered the scan's
+"""The heading from an orientation quaternion. ev70's cap2skill rotate, offered the scan's
 nearest-reading helper and nothing for the heading, turned until the nearest obstacle's
 bearing matched the angle it was asked to turn by; earlier evaluations reported a
-quaternion's ``z`` as the angle (ev38-ev43)."""
+quaternion's ``z`` as the angle (ev38-ev43). It takes the quaternion, not the message, so
+that one helper serves odometry, poses and transforms alike."""
 
 _GENERIC_SUMMARIES = {
     "_wait_until": "self._wait_until(condition, timeout, what) waits while callbacks run, else "
@@ -661,8 +672,9 @@ _GENERIC_SUMMARIES = {
     "_closest_reading": "self._closest_reading(scan) returns (distance, bearing) of the closest "
     "valid reading of a LaserScan, NaN, infinite and out-of-range readings skipped; "
     "(math.inf, 0.0) when there is none",
-    "_yaw": "self._yaw(odom) returns the heading of an Odometry in radians, in [-pi, pi], "
-    "counter-clockwise positive",
+    "_yaw": "self._yaw(q) returns the heading in radians, in [-pi, pi], counter-clockwise "
+    "positive, of an orientation quaternion q (an Odometry's pose.pose.orientation, a "
+    "transform's transform.rotation)",
     "_transform": "self._transform(target_frame, source_frame, timeout) returns the latest "
     "TransformStamped (transform.translation.{x,y,z}, transform.rotation.{x,y,z,w}) or raises "
     "RuntimeError",

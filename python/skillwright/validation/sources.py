@@ -61,7 +61,21 @@ _HELPERS: dict[str, tuple[str, list[tuple[frozenset[str], str]]]] = {
         "_yaw",
         [
             *_FIELDS["Odometry"][:3],
-            (_ANGLE, "self._yaw({a}) (the heading, in radians)"),
+            (_ANGLE, "self._yaw({a}.pose.pose.orientation) (the heading, in radians)"),
+        ],
+    ),
+    "PoseWithCovarianceStamped": (
+        "_yaw",
+        [
+            *_FIELDS["PoseWithCovarianceStamped"][:1],
+            (_ANGLE, "self._yaw({a}.pose.pose.orientation) (the heading, in radians)"),
+        ],
+    ),
+    "PoseStamped": (
+        "_yaw",
+        [
+            *_FIELDS["PoseStamped"][:1],
+            (_ANGLE, "self._yaw({a}.pose.orientation) (the heading, in radians)"),
         ],
     ),
     "LaserScan": (

@@ -1005,6 +1005,7 @@ def _check_fields(
     returns = _returned_messages(cls, imports)
     bindings = _message_bindings(cls, uses, returns, imports)
     _check_arguments(ctx, cls, catalog, imports, bindings)
+    _check_yaw_arguments(ctx, cls, bindings)
     numeric_attributes = _numeric_attributes(cls)
     known = _with_transforms(catalog)
     helpers = {name for name, key in returns.items() if key.endswith(".Result")}
@@ -1070,6 +1071,56 @@ def _check_fields(
                         + ("; a zero command is Twist(), every field of it is 0" if zero else ""),
                         fix,
                     )
+
+
+_ORIENTATIONS = {
+    "nav_msgs/msg/Odometry": "pose.pose.orientation",
+    "geometry_msgs/msg/PoseWithCovarianceStamped": "pose.pose.orientation",
+    "geometry_msgs/msg/PoseStamped": "pose.orientation",
+    "geometry_msgs/msg/Pose": "orientation",
+    _TRANSFORM_STAMPED: "transform.rotation",
+}
+"""Where a message keeps its orientation quaternion."""
+
+
+def _check_yaw_arguments(
+    ctx: _Context, cls: ast.ClassDef, bindings: dict[str, dict[str, str]]
+) -> None:
+    """The skeleton's ``self._yaw(q)`` handed a whole message (``self._yaw(transform)``, as
+    ev73's MR-1 get-position did after a worked example that wrote ``_yaw`` for odometry):
+    it takes the quaternion, and the fix hands it the message's orientation."""
+    if not any(isinstance(n, ast.FunctionDef) and n.name == "_yaw" for n in cls.body):
+        return
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        bound = bindings.get(method.name, {})
+        statement_of = simple_statements(method)
+        for call in ast.walk(method):
+            if not (
+                isinstance(call, ast.Call)
+                and self_attribute(call.func) == "_yaw"
+                and len(call.args) == 1
+            ):
+                continue
+            argument = ast.unparse(call.args[0])
+            key = bound.get(argument)
+            path = _ORIENTATIONS.get(key or "")
+            if path is None:
+                continue
+            statement = statement_of.get(id(call))
+            fix = None
+            if statement is not None:
+                fixed = ast.unparse(statement).replace(
+                    f"self._yaw({argument})", f"self._yaw({argument}.{path})"
+                )
+                fix = fixed if fixed != ast.unparse(statement) else None
+            ctx.add(
+                "grounding",
+                "error",
+                call,
+                f"self._yaw() takes an orientation quaternion, and {argument} is a whole "
+                f"{key}: its orientation is {argument}.{path}",
+                fix,
+            )
 
 
 def _positional_fields(
