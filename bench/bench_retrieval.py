@@ -124,6 +124,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     labelled = {name: load_set(name) for name in sets}
     print_recall(labelled, methods)
     print_fields_or_names(ours(Ranking(), False))
+    print_written_descriptions(ours)
     print_other_body_hits(labelled, ours)
     leave_one_robot_out(labelled, ours)
 
@@ -298,6 +299,38 @@ def print_fields_or_names(rank: Ranker) -> None:
         print(f"{name:14}{cells[0]:>12}{cells[1]:>12}")
     sums = ["/".join(str(n) for n in totals[live]) for live in (True, False)]
     print(f"{'all':14}{sums[0]:>12}{sums[1]:>12}")
+
+
+def print_written_descriptions(ours: Callable[[Ranking, bool], Ranker]) -> None:
+    """Recall on the robots the local model described (``bench/describe_robots.py``), as a
+    report with descriptions would carry them: the written text in place of the rules'
+    description (before), and beside it at several weights."""
+    from tests.retrieval.labelled import described_robots, load_set
+
+    from skillwright.retrieval.documents import WRITTEN_WEIGHT
+    from skillwright.retrieval.retrieve import Ranking
+
+    names = described_robots()
+    if not names:
+        return
+    print("\nwritten robots described by the local model (a report with descriptions), lexical")
+    print(f"@1/4/8; the rules' description alone for comparison; default weight {WRITTEN_WEIGHT}")
+    replaced = Ranking(written_weight=1.0, rules_weight=0.0)
+    settings = [
+        ("rules' description only (no written text)", False, Ranking()),
+        ("written text in place of the rules' (before)", True, replaced),
+        *(
+            (f"written text beside the rules' at {w:g}", True, Ranking(written_weight=w))
+            for w in (0.1, 0.25, 0.5, 1.0)
+        ),
+    ]
+    print(f"{'method':48}" + "".join(f"{n:>12}" for n in names))
+    for label, described, ranking in settings:
+        cells = [
+            recall_cell(load_set(n, described=described), ours(ranking, False)).replace(" ", "")
+            for n in names
+        ]
+        print(f"{label:48}" + "".join(f"{c:>12}" for c in cells))
 
 
 def print_other_body_hits(

@@ -36,6 +36,7 @@ the others are left out.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cache
@@ -46,12 +47,15 @@ import yaml
 from skillwright.capability import Capability, load_capability
 from skillwright.interfaces.inventory import Inventory, Relevance
 from skillwright.interfaces.load import load_inventory
-from skillwright.interfaces.sources.report import read_report
+from skillwright.interfaces.sources.report import description_from_text, read_report
 from skillwright.spec import SkillSpec, load_spec
 from tests.conftest import REPO_ROOT, SHARED
 from tests.retrieval.robots import robot_inventory
 
 LABELS = Path(__file__).resolve().parent / "labels"
+DESCRIBED_DIR = Path(__file__).resolve().parent / "robots" / "described"
+"""The local model's free-text descriptions of written robots' candidates
+(``bench/describe_robots.py``), in the four-section layout of a report with descriptions."""
 
 WRITTEN = (
     "tb4",
@@ -151,15 +155,38 @@ def measure(labelled: LabelledSet, rank: Ranker, k: int) -> Recall:
     return result
 
 
+def described_robots() -> list[str]:
+    """The written robots the local model has described (see :data:`DESCRIBED_DIR`)."""
+    return sorted(p.stem for p in DESCRIBED_DIR.glob("*.json"))
+
+
+def _described(inventory: Inventory, name: str) -> Inventory:
+    """The inventory with the model's descriptions, read as a report's are (engine
+    ``report``), on every interface they cover."""
+    document = json.loads((DESCRIBED_DIR / f"{name}.json").read_text(encoding="utf-8"))
+    texts: dict[str, str] = document["descriptions"]
+    interfaces = [
+        i.model_copy(update={"description": description_from_text(texts[f"{i.kind} {i.name}"])})
+        if f"{i.kind} {i.name}" in texts
+        else i
+        for i in inventory.interfaces
+    ]
+    return inventory.model_copy(update={"interfaces": interfaces})
+
+
 @cache
-def load_set(name: str, live: bool = True) -> LabelledSet:
+def load_set(name: str, live: bool = True, described: bool = False) -> LabelledSet:
     """One of :data:`SETS`; the Cap2Skill ones need ``../shared/data``. A written robot shows
-    its types' fields as a live graph would (``live``), or names its types only."""
+    its types' fields as a live graph would (``live``), or names its types only; with
+    ``described`` its candidates carry the local model's free-text descriptions, as a
+    report with descriptions would (:func:`described_robots` have them)."""
     label_file = "cap2skill.yaml" if name.startswith("cap2skill") else f"{name}.yaml"
     document = yaml.safe_load((LABELS / label_file).read_text(encoding="utf-8"))
     root = REPO_ROOT if name == "mr1" else SHARED / "data"
     if "robot_file" in document:
         inventory = robot_inventory(document["robot_file"], live=live)
+        if described:
+            inventory = _described(inventory, name)
     elif name == "mr1":
         inventory = load_inventory(root / document["inventory"])
     elif name == "cap2skill":

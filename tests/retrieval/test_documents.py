@@ -2,8 +2,15 @@
 
 from __future__ import annotations
 
-from skillwright.interfaces.inventory import Interface
-from skillwright.retrieval.documents import describe, interface_role, interface_terms
+import pytest
+
+from skillwright.interfaces.inventory import Description, Interface
+from skillwright.retrieval.documents import (
+    WRITTEN_WEIGHT,
+    describe,
+    interface_role,
+    interface_terms,
+)
 
 
 def test_a_twist_topic_is_a_command_whatever_its_name() -> None:
@@ -41,3 +48,30 @@ def test_a_point_clouds_points_are_cloud_not_the_point_a_capability_moves_to() -
         assert cloud["cloud"] > 0
     goal = terms("/clicked_point", "geometry_msgs/msg/PointStamped")
     assert goal["point"] > 0  # elsewhere a point is still a point
+
+
+def test_a_written_description_counts_beside_the_rules_own_and_weaker() -> None:
+    backup = Interface(name="/backup", kind="action", type_name="nav2_msgs/action/BackUp")
+    rules = interface_terms(backup, describe(backup))
+    written = Description(
+        purpose="Moves the mobile robot backwards over a given distance at a given speed.",
+        module="navigation",
+        tasks=["recovery"],
+        engine="report",
+    )
+    terms = interface_terms(backup, written)
+    for term, weight in rules.items():
+        assert terms[term] >= weight  # nothing of the rules' description is lost
+    assert "recovery" in terms
+    assert "recovery" not in rules
+    alone = interface_terms(backup, written, written_weight=1.0, rules_weight=0.0)
+    assert terms["recovery"] == pytest.approx(WRITTEN_WEIGHT * alone["recovery"])
+    assert interface_terms(backup, written, written_weight=0.0) == rules
+
+
+def test_a_description_the_rules_engine_stored_counts_once() -> None:
+    odometry = Interface(name="/odom", kind="topic", type_name="nav_msgs/msg/Odometry")
+    stored = describe(odometry)
+    assert stored.engine == "rules"
+    described = odometry.model_copy(update={"description": stored})
+    assert interface_terms(described, describe(described)) == interface_terms(odometry, stored)

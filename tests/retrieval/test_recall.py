@@ -15,7 +15,14 @@ from skillwright.capability import Capability
 from skillwright.interfaces.inventory import Inventory
 from skillwright.retrieval.retrieve import Embedder, candidates, rank_interfaces
 from skillwright.spec import SkillSpec
-from tests.retrieval.labelled import SETS, WRITTEN, LabelledSet, load_set, measure
+from tests.retrieval.labelled import (
+    SETS,
+    WRITTEN,
+    LabelledSet,
+    described_robots,
+    load_set,
+    measure,
+)
 
 
 @pytest.fixture(params=SETS)
@@ -207,6 +214,13 @@ NAMES_ONLY_FLOORS = [
 """Recall@4 of the written robots when they name their types only, as a recording without
 schemas or a report of names shows them."""
 
+DESCRIBED_FLOORS = [
+    ("tb3manip", 20),
+]
+"""Recall@4 of the written robots whose candidates carry the local model's free-text
+descriptions (``bench/describe_robots.py``), as a report with descriptions carries them. With
+the text in place of the rules' description (before) the TurtleBot3 found 14."""
+
 HYBRID_FLOORS = [
     ("mr1", 4, 18),
     ("mr1", 8, 18),
@@ -234,6 +248,23 @@ def test_lexical_recall_of_names_only_robots_stays_at_or_above_its_floor(
     name: str, floor: int, shared_data: object
 ) -> None:
     recall = measure(load_set(name, live=False), lexical, 4)
+    assert recall.found >= floor, recall.misses
+
+
+def test_every_described_robot_has_a_floor_and_every_candidate_a_description() -> None:
+    assert sorted(name for name, _ in DESCRIBED_FLOORS) == described_robots()
+    for name in described_robots():
+        for interface in candidates(load_set(name, described=True).inventory):
+            assert interface.description is not None, f"{name}: {interface.name}"
+            assert interface.description.engine == "report"
+            assert interface.description.purpose, f"{name}: {interface.name}"
+
+
+@pytest.mark.parametrize(("name", "floor"), DESCRIBED_FLOORS)
+def test_lexical_recall_of_described_robots_stays_at_or_above_its_floor(
+    name: str, floor: int, shared_data: object
+) -> None:
+    recall = measure(load_set(name, described=True), lexical, 4)
     assert recall.found >= floor, recall.misses
 
 

@@ -2,6 +2,13 @@
 
 Both come from the same parts — the name, the type, the field names and the uniform
 description — so the dense and the lexical score judge the same evidence.
+
+A description somebody wrote (a report's, or a model's from ``inventory describe --engine
+llm``) is weaker evidence than the interface's own name, type and fields: it is free text of
+unknown care, and a language model describes a Nav2 back-up action in the words of moving,
+distance and speed, and odometry in those of navigation and path planning. Its words count
+beside the rules engine's description, which reads only the type and the name, at
+:data:`WRITTEN_WEIGHT`, never in its place.
 """
 
 from __future__ import annotations
@@ -14,7 +21,14 @@ from skillwright.interfaces.description import describe_by_rules
 from skillwright.interfaces.inventory import Description, Interface, MessageField
 from skillwright.retrieval.text import weighted_tokens
 
-__all__ = ["describe", "field_paths", "interface_role", "interface_terms", "interface_text"]
+__all__ = [
+    "WRITTEN_WEIGHT",
+    "describe",
+    "field_paths",
+    "interface_role",
+    "interface_terms",
+    "interface_text",
+]
 
 TERM_WEIGHTS = {
     "name": 3.0,
@@ -29,6 +43,12 @@ TERM_WEIGHTS = {
 # whatever the topic's name: measured velocities come stamped or inside an Odometry),
 # goals, setpoints, trajectories sent to a controller, and the request topic of a
 # request/response pair (a vendor API served over topics: the client writes the request).
+WRITTEN_WEIGHT = 0.25
+"""Weight of a written description's words (a report's or a model's) relative to the rules
+engine's description, which always counts fully. ``bench/bench_retrieval.py`` measures it on
+robots described by the local model: in place of the rules (the weight 1 with nothing beside
+it) they lost six of the TurtleBot3's twenty needs at k=4."""
+
 _COMMAND_NAME = re.compile(r"(^|[/_])(cmd|command|commands|goal|setpoint|request)s?([/_]|$)")
 _COMMAND_TYPE = re.compile(r"trajectory_msgs/msg/\w+|\w+/msg/\w*Command|geometry_msgs/msg/Twist")
 _MAIN_ROLES = ("message", "goal", "request", "feedback", "result", "response")
@@ -56,6 +76,10 @@ def describe(interface: Interface) -> Description:
     """The interface's description: the one enrichment stored, else the rules engine's."""
     if interface.description is not None:
         return interface.description
+    return _by_rules(interface)
+
+
+def _by_rules(interface: Interface) -> Description:
     return describe_by_rules(
         interface.kind, interface.name, interface.type_name, field_paths(interface, depth=2)
     )
@@ -93,13 +117,26 @@ def _cloud(point: re.Match[str]) -> str:
     return "Cloud" if point[0].startswith("P") else "cloud"
 
 
-def interface_terms(interface: Interface, description: Description) -> dict[str, float]:
-    """Weighted lexical terms of the interface."""
+def _told(description: Description) -> str:
+    """The parts of a description retrieval weighs: what the interface does, its tasks."""
+    return description.purpose + " " + " ".join(description.tasks)
+
+
+def interface_terms(
+    interface: Interface,
+    description: Description,
+    written_weight: float = WRITTEN_WEIGHT,
+    rules_weight: float = 1.0,
+) -> dict[str, float]:
+    """Weighted lexical terms of the interface. A ``description`` that the rules engine did
+    not write counts at ``written_weight`` beside the rules' own at ``rules_weight``."""
     terms: defaultdict[str, float] = defaultdict(float)
 
-    def add(text: str, part: str) -> None:
+    def add(text: str, part: str, share: float = 1.0) -> None:
+        if share <= 0:
+            return
         for term, weight in weighted_tokens(text):
-            terms[term] += weight * TERM_WEIGHTS[part]
+            terms[term] += weight * TERM_WEIGHTS[part] * share
 
     package, _, rest = interface.type_name.partition("/")
     short_type = rest.rsplit("/", 1)[-1]
@@ -113,7 +150,11 @@ def interface_terms(interface: Interface, description: Description) -> dict[str,
     add(own(package), "package")
     for path in field_paths(interface, depth=2):
         add(path.rsplit(".", 1)[-1], "field")
-    add(own(description.purpose + " " + " ".join(description.tasks)), "description")
+    written = description.engine != "rules"
+    rules = _by_rules(interface) if written else description
+    add(own(_told(rules)), "description", rules_weight if written else 1.0)
+    if written:
+        add(own(_told(description)), "description", written_weight)
     role = interface_role(interface)
     if role is not None:
         add(role, "role")

@@ -30,6 +30,7 @@ from skillwright.cancel import raise_if_cancelled
 from skillwright.capability.model import Capability
 from skillwright.interfaces.inventory import Interface, Inventory
 from skillwright.retrieval.documents import (
+    WRITTEN_WEIGHT,
     describe,
     interface_role,
     interface_terms,
@@ -102,6 +103,12 @@ class Ranking:
     the same from 0.5 down to 0 on every labelled set; at 0.5 nine hits in the first 4 were
     for the other part (the paper's robot's joint trajectory action for navigate-to-point),
     and a small model given one uses it. At 0.1 there are none."""
+    written_weight: float = WRITTEN_WEIGHT
+    """Weight of a description somebody wrote (a report's, a model's) beside the rules
+    engine's (see :mod:`~skillwright.retrieval.documents`)."""
+    rules_weight: float = 1.0
+    """Weight of the rules engine's description where a written one exists; 0 with a
+    ``written_weight`` of 1 lets the written one take its place (how it was before)."""
     unreached_factor: float = 0.1
     """Evidence factor for an interface the live graph shows nobody at the other end of
     (see :func:`~skillwright.retrieval.semantics.unreached`): a command topic no one reads
@@ -370,7 +377,10 @@ def rank_interfaces(
     query = build_query(capability, spec)
     facets = query.facets if ranking.facets else [_pooled(query)]
     descriptions = [describe(i) for i in pool]
-    documents = [interface_terms(i, d) for i, d in zip(pool, descriptions, strict=True)]
+    documents = [
+        interface_terms(i, d, ranking.written_weight, ranking.rules_weight)
+        for i, d in zip(pool, descriptions, strict=True)
+    ]
     dense_raw = None
     if embed is not None:
         raise_if_cancelled(cancel, what)
