@@ -894,3 +894,23 @@ def test_an_output_finding_that_says_to_read_a_scan_by_hand_names_the_helper() -
     assert _helper_hint(finding, ["_wait_until"]) == ""
     other = finding.model_copy(update={"check": "units"})
     assert _helper_hint(other, ["_closest_reading"]) == ""
+
+
+def test_a_navigation_goal_of_the_wrong_type_is_told_the_goal_helper() -> None:
+    from skillwright.generation.author import _helper_hint
+
+    finding = Finding(
+        check="grounding",
+        severity="error",
+        line=1,
+        message="self._send_navigate_to_pose_goal takes a nav2_msgs/action/NavigateToPose.Goal, "
+        "not a geometry_msgs/msg/Pose",
+    )
+    assert _helper_hint(finding, ["_pose_goal", "_result_of"]) == (
+        "; self._pose_goal(frame, x, y, yaw) returns one for a point and a heading"
+    )
+    assert _helper_hint(finding, ["_result_of"]) == ""
+    other = finding.model_copy(
+        update={"message": "self.pub.publish takes a geometry_msgs/msg/Twist, not a Pose"}
+    )
+    assert _helper_hint(other, ["_pose_goal"]) == ""

@@ -480,6 +480,40 @@ def test_a_navigation_written_with_the_action_helpers_runs_and_is_cancelled(
     assert ("stopping", "done") in [(s.name, s.outcome) for s in stop.states]
 
 
+def test_a_navigation_goal_made_by_the_pose_goal_helper_reaches_the_point(tmp_path: Path) -> None:
+    report = _run_with_helpers(
+        "navigate-to-point",
+        [NAVIGATE, TF],
+        {
+            "starting": """
+                if not self.navigate_to_pose_client.wait_for_server(timeout_sec=5.0):
+                    raise RuntimeError("no /navigate_to_pose server")
+            """,
+            "execute": """
+                goal = self._pose_goal("map", self.in_position_x, self.in_position_y, 2.5)
+                self._send_navigate_to_pose_goal(goal, 5.0)
+                self._navigate_to_pose_result(60.0)
+                where = self._transform("map", "base_link", 1.0).transform
+                heading = self._yaw(where.rotation)
+                if abs(heading - 2.5) > 0.1:
+                    raise RuntimeError(f"arrived facing {heading:.2f} rad, not 2.5")
+                self.out_position_x = where.translation.x
+                self.out_position_y = where.translation.y
+            """,
+            "completing": 'self.node.get_logger().info("done")',
+            "stopping": "self._cancel_navigate_to_pose_goal(2.0)",
+            "resetting": "self.out_position_x = 0.0",
+        },
+        tmp_path,
+    )
+    assert report.findings == []
+    normal = report.trace.episodes[0]
+    assert (normal.outputs["outPositionX"], normal.outputs["outPositionY"]) == pytest.approx(
+        (2.0, 1.0), abs=0.05
+    )
+    assert "NavigateToPose.Goal()" in helper_summaries([NAVIGATE])["_pose_goal"]
+
+
 def test_an_arm_motion_written_with_the_move_group_helpers_reports_where_it_went(
     tmp_path: Path,
 ) -> None:

@@ -862,6 +862,67 @@ def test_a_transform_lookup_gives_a_transform_stamped_whose_fields_are_checked(
     ]
 
 
+@pytest.mark.parametrize(
+    ("written", "meant"),
+    [
+        ("transform.orientation", "transform.transform.rotation"),
+        ("transform.position", "transform.transform.translation"),
+    ],
+)
+def test_a_poses_own_field_asked_of_a_transform_is_put_as_the_transform_holds_it(
+    written: str, meant: str
+) -> None:
+    skill = SHIPPED_CAPABILITIES / "skills" / "get_position.py"
+    source = (
+        skill.read_text(encoding="utf-8")
+        .replace("q = transform.transform.rotation", f"q = {written}")
+        .replace("translation = transform.transform.translation", f"translation = {written}")
+    )
+    report = check_skill(
+        source,
+        capability=load_capability(SHIPPED_CAPABILITIES / "get-position.ttl").capability,
+        spec=load_spec(SHIPPED_CAPABILITIES / "get-position.spec.yaml"),
+        catalog=mr1_catalog(),
+    )
+    field = written.rsplit(".", 1)[1]
+    found = [f for f in report.findings if f"no field {field!r}" in f.message]
+    assert found
+    assert all(f.message.endswith(f"; it is {meant}") for f in found)
+
+
+@pytest.mark.parametrize(
+    ("given", "fix"),
+    [
+        ("self.odom_msg", "self._yaw(self.odom_msg.pose.pose.orientation)"),
+        ("odom.pose.pose.orientation", "self._yaw(odom.pose.pose.orientation)"),
+        ("0.5", None),
+        ("self._yaw(odom.pose.pose.orientation)", None),  # already the heading
+    ],
+)
+def test_the_goal_helper_handed_an_orientation_for_its_heading_gets_the_yaw_of_it(
+    move_forward: tuple[Capability, SkillSpec], given: str, fix: str | None
+) -> None:
+    helper = (
+        "    def _pose_goal(self, frame, x, y, yaw):\n        return None\n\n"
+        "    def _yaw(self, q) -> float:\n        return 0.0\n\n    @execute\n"
+    )
+    source = GOOD.replace("    @execute\n", helper, 1).replace(
+        "self.start_x = self.odom_msg.pose.pose.position.x",
+        "odom = self.odom_msg\n        self.start_x = odom.pose.pose.position.x\n"
+        f"        self.goal = self._pose_goal('map', 1.0, 2.0, {given})",
+    )
+    found = [f for f in run(source, move_forward).findings if "_pose_goal" in f.message]
+    if fix is None:
+        assert found == []
+        return
+    (finding,) = found
+    assert finding.message == (
+        f"self._pose_goal() takes the heading as an angle in radians, and {given} is an "
+        f"orientation: {fix} is its heading"
+    )
+    assert finding.replacement == f"self.goal = self._pose_goal('map', 1.0, 2.0, {fix})"
+
+
 _START = "        self.start_x = self.odom_msg.pose.pose.position.x"
 
 

@@ -408,10 +408,20 @@ def _problems(
 _SCAN_SOURCE = re.compile(r"self\.(\w+)\.(?:ranges|angle_min)")
 
 
+_NAVIGATE_GOAL = re.compile(r"takes a nav2_msgs/action/NavigateToPose\.Goal, not a ")
+
+
 def _helper_hint(finding: Finding, offered: Collection[str]) -> str:
-    """The skeleton helper that gives what an output finding says to read by hand: the
-    nearest reading and its bearing from a scan (the file the checks saw holds only the
-    helpers already called, so the finding cannot name the others)."""
+    """The skeleton helper that gives what a finding says was done by hand: the nearest
+    reading and its bearing from a scan, a navigation goal from a point and a heading (the
+    file the checks saw holds only the helpers already called, so the finding cannot name
+    the others)."""
+    if (
+        finding.check == "grounding"
+        and _NAVIGATE_GOAL.search(finding.message)
+        and "_pose_goal" in offered
+    ):
+        return "; self._pose_goal(frame, x, y, yaw) returns one for a point and a heading"
     scan = _SCAN_SOURCE.search(finding.message) if finding.check == "outputs" else None
     if scan is None or "_closest_reading" not in offered or "_closest_reading" in finding.message:
         return ""

@@ -537,6 +537,8 @@ def skeleton_helpers(
             helpers.update(_action_helpers(interface))
     if any(i.type_name in _MOVE_GROUP for i in interfaces):
         helpers["_position_goal"] = _POSITION_GOAL
+    if any(i.type_name in _NAVIGATE_TO_POSE for i in interfaces):
+        helpers["_pose_goal"] = _POSE_GOAL
     if any(is_tf(i) for i in interfaces):
         helpers["_transform"] = [
             "    def _transform(self, target_frame: str, source_frame: str, timeout: float):",
@@ -615,6 +617,12 @@ def helper_summaries(interfaces: Sequence[InterfaceRef]) -> dict[str, str]:
             "MoveGroup.Goal() that plans and executes a motion of link (planning group group) "
             "to the point x, y, z in frame within tolerance metres, any orientation; set "
             "goal.request's other fields on it"
+        )
+    if any(i.type_name in _NAVIGATE_TO_POSE for i in interfaces):
+        out["_pose_goal"] = (
+            "self._pose_goal(frame, x, y, yaw) returns a NavigateToPose.Goal() that moves the "
+            "base to the point x, y in frame (e.g. 'map') with heading yaw in radians; hand it "
+            "to the send helper"
         )
     return out
 
@@ -724,6 +732,26 @@ _POSITION_GOAL = [
     "        goal.planning_options.plan_only = False",
     "        return goal",
 ]
+
+
+_NAVIGATE_TO_POSE = frozenset({"nav2_msgs/action/NavigateToPose", "nav2_msgs/NavigateToPose"})
+_POSE_GOAL = [
+    "    def _pose_goal(self, frame: str, x: float, y: float, yaw: float) -> NavigateToPose.Goal:",
+    '        """A navigate-to-pose goal: the base at the point (x, y) in ``frame``, heading',
+    "        ``yaw`` radians (0 along the frame's x axis, counter-clockwise positive). The stamp",
+    '        stays zero, which Nav2 reads as the latest transform."""',
+    "        goal = NavigateToPose.Goal()",
+    "        goal.pose.header.frame_id = frame",
+    "        goal.pose.pose.position.x = x",
+    "        goal.pose.pose.position.y = y",
+    "        goal.pose.pose.orientation.z = math.sin(yaw / 2.0)",
+    "        goal.pose.pose.orientation.w = math.cos(yaw / 2.0)",
+    "        return goal",
+]
+"""A Nav2 goal from a point and a heading. The MR-1 demo's navigate-to-point once built a
+bare ``Pose()``, set a header and a ``pose`` on it and handed it to the send helper, and two
+repairs did not mend it: a goal is a PoseStamped inside a Goal, with the heading as a
+quaternion, three layers a small model confuses."""
 
 
 def _action_helpers(interface: InterfaceRef) -> dict[str, list[str]]:
@@ -912,7 +940,8 @@ def build_skeleton(
         list(helper_code),
         math_needed=any(p.turn == "math.tau" for p in parameters)
         or "_closest_reading" in helper_code
-        or "_yaw" in helper_code,
+        or "_yaw" in helper_code
+        or "_pose_goal" in helper_code,
     )
     _class_head(out, capability, spec, cls, skill_iri)
     _init(out, spec, parameters, interfaces, notes)

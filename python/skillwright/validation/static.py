@@ -566,6 +566,12 @@ _SAME_AS = {
     ("geometry_msgs/msg/TransformStamped", "pose", "orientation"): ("transform", "rotation"),
 }
 """Paths a model takes from a pose into a transform, which carries the same quantities."""
+_SAME_AS_FIRST = {
+    ("geometry_msgs/msg/TransformStamped", "position"): ("transform", "translation"),
+    ("geometry_msgs/msg/TransformStamped", "orientation"): ("transform", "rotation"),
+}
+"""A pose's own fields asked of a transform (``transform.orientation``: the MR-1 demo's
+navigate-to-point read the heading of ``self._transform(...)`` so)."""
 
 
 def _missing_field(
@@ -600,6 +606,9 @@ def _meant(
     same = _SAME_AS.get((type_name, part, path[index + 1] if index + 1 < len(path) else ""))
     if index == 0 and same is not None:
         return [*same, *path[2:]]
+    first = _SAME_AS_FIRST.get((type_name, part))
+    if index == 0 and first is not None:
+        return [*first, *path[1:]]
     holders = [name for name, sub in current.items() if isinstance(sub, dict) and part in sub]
     if len(holders) == 1:
         return [*head, holders[0], *path[index:]]
@@ -1006,6 +1015,7 @@ def _check_fields(
     bindings = _message_bindings(cls, uses, returns, imports)
     _check_arguments(ctx, cls, catalog, imports, bindings)
     _check_yaw_arguments(ctx, cls, bindings)
+    _check_heading_arguments(ctx, cls, bindings)
     numeric_attributes = _numeric_attributes(cls)
     known = _with_transforms(catalog)
     helpers = {name for name, key in returns.items() if key.endswith(".Result")}
@@ -1119,6 +1129,46 @@ def _check_yaw_arguments(
                 call,
                 f"self._yaw() takes an orientation quaternion, and {argument} is a whole "
                 f"{key}: its orientation is {argument}.{path}",
+                fix,
+            )
+
+
+def _check_heading_arguments(
+    ctx: _Context, cls: ast.ClassDef, bindings: dict[str, dict[str, str]]
+) -> None:
+    """The skeleton's ``self._pose_goal(frame, x, y, yaw)`` handed an orientation for the
+    heading (a quaternion, or a whole odometry, pose or transform; the MR-1 demo's
+    navigate-to-point handed it the transform's orientation): it takes the angle in radians,
+    and the fix hands it ``self._yaw()`` of the quaternion."""
+    if not any(isinstance(n, ast.FunctionDef) and n.name == "_pose_goal" for n in cls.body):
+        return
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        bound = bindings.get(method.name, {})
+        statement_of = simple_statements(method)
+        for call in ast.walk(method):
+            if not (isinstance(call, ast.Call) and self_attribute(call.func) == "_pose_goal"):
+                continue
+            heading = call.args[3] if len(call.args) == 4 else _keyword(call, "yaw")
+            if heading is None:
+                continue
+            text = ast.unparse(heading)
+            path = _ORIENTATIONS.get(bound.get(text) or "")
+            if path is not None:
+                quaternion = f"{text}.{path}"
+            elif text.endswith((".orientation", ".rotation")):
+                quaternion = text
+            else:
+                continue
+            statement = statement_of.get(id(call))
+            fix = None
+            if statement is not None and ast.unparse(statement).count(text) == 1:
+                fix = ast.unparse(statement).replace(text, f"self._yaw({quaternion})")
+            ctx.add(
+                "grounding",
+                "error",
+                heading,
+                f"self._pose_goal() takes the heading as an angle in radians, and {text} is an "
+                f"orientation: self._yaw({quaternion}) is its heading",
                 fix,
             )
 
