@@ -1099,38 +1099,43 @@ def _check_yaw_arguments(
     """The skeleton's ``self._yaw(q)`` handed a whole message (``self._yaw(transform)``, as
     ev73's MR-1 get-position did after a worked example that wrote ``_yaw`` for odometry):
     it takes the quaternion, and the fix hands it the message's orientation."""
-    if not any(isinstance(n, ast.FunctionDef) and n.name == "_yaw" for n in cls.body):
+    for call, bound, statement in _helper_calls(cls, "_yaw", bindings):
+        if len(call.args) != 1:
+            continue
+        argument = ast.unparse(call.args[0])
+        key = bound.get(argument)
+        path = _ORIENTATIONS.get(key or "")
+        if path is None:
+            continue
+        fix = None
+        if statement is not None:
+            fixed = ast.unparse(statement).replace(
+                f"self._yaw({argument})", f"self._yaw({argument}.{path})"
+            )
+            fix = fixed if fixed != ast.unparse(statement) else None
+        ctx.add(
+            "grounding",
+            "error",
+            call,
+            f"self._yaw() takes an orientation quaternion, and {argument} is a whole "
+            f"{key}: its orientation is {argument}.{path}",
+            fix,
+        )
+
+
+def _helper_calls(
+    cls: ast.ClassDef, helper: str, bindings: dict[str, dict[str, str]]
+) -> Iterable[tuple[ast.Call, dict[str, str], ast.stmt | None]]:
+    """Every call of the skeleton's ``self.<helper>(...)`` when the class has that helper,
+    with the message types its method binds to names and the statement that holds it."""
+    if not any(isinstance(n, ast.FunctionDef) and n.name == helper for n in cls.body):
         return
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         bound = bindings.get(method.name, {})
         statement_of = simple_statements(method)
         for call in ast.walk(method):
-            if not (
-                isinstance(call, ast.Call)
-                and self_attribute(call.func) == "_yaw"
-                and len(call.args) == 1
-            ):
-                continue
-            argument = ast.unparse(call.args[0])
-            key = bound.get(argument)
-            path = _ORIENTATIONS.get(key or "")
-            if path is None:
-                continue
-            statement = statement_of.get(id(call))
-            fix = None
-            if statement is not None:
-                fixed = ast.unparse(statement).replace(
-                    f"self._yaw({argument})", f"self._yaw({argument}.{path})"
-                )
-                fix = fixed if fixed != ast.unparse(statement) else None
-            ctx.add(
-                "grounding",
-                "error",
-                call,
-                f"self._yaw() takes an orientation quaternion, and {argument} is a whole "
-                f"{key}: its orientation is {argument}.{path}",
-                fix,
-            )
+            if isinstance(call, ast.Call) and self_attribute(call.func) == helper:
+                yield call, bound, statement_of.get(id(call))
 
 
 def _check_heading_arguments(
@@ -1140,37 +1145,29 @@ def _check_heading_arguments(
     heading (a quaternion, or a whole odometry, pose or transform; the MR-1 demo's
     navigate-to-point handed it the transform's orientation): it takes the angle in radians,
     and the fix hands it ``self._yaw()`` of the quaternion."""
-    if not any(isinstance(n, ast.FunctionDef) and n.name == "_pose_goal" for n in cls.body):
-        return
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        bound = bindings.get(method.name, {})
-        statement_of = simple_statements(method)
-        for call in ast.walk(method):
-            if not (isinstance(call, ast.Call) and self_attribute(call.func) == "_pose_goal"):
-                continue
-            heading = call.args[3] if len(call.args) == 4 else _keyword(call, "yaw")
-            if heading is None:
-                continue
-            text = ast.unparse(heading)
-            path = _ORIENTATIONS.get(bound.get(text) or "")
-            if path is not None:
-                quaternion = f"{text}.{path}"
-            elif text.endswith((".orientation", ".rotation")):
-                quaternion = text
-            else:
-                continue
-            statement = statement_of.get(id(call))
-            fix = None
-            if statement is not None and ast.unparse(statement).count(text) == 1:
-                fix = ast.unparse(statement).replace(text, f"self._yaw({quaternion})")
-            ctx.add(
-                "grounding",
-                "error",
-                heading,
-                f"self._pose_goal() takes the heading as an angle in radians, and {text} is an "
-                f"orientation: self._yaw({quaternion}) is its heading",
-                fix,
-            )
+    for call, bound, statement in _helper_calls(cls, "_pose_goal", bindings):
+        heading = call.args[3] if len(call.args) == 4 else _keyword(call, "yaw")
+        if heading is None:
+            continue
+        text = ast.unparse(heading)
+        path = _ORIENTATIONS.get(bound.get(text) or "")
+        if path is not None:
+            quaternion = f"{text}.{path}"
+        elif text.endswith((".orientation", ".rotation")):
+            quaternion = text
+        else:
+            continue
+        fix = None
+        if statement is not None and ast.unparse(statement).count(text) == 1:
+            fix = ast.unparse(statement).replace(text, f"self._yaw({quaternion})")
+        ctx.add(
+            "grounding",
+            "error",
+            heading,
+            f"self._pose_goal() takes the heading as an angle in radians, and {text} is an "
+            f"orientation: self._yaw({quaternion}) is its heading",
+            fix,
+        )
 
 
 def _positional_fields(
