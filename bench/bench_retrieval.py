@@ -9,8 +9,8 @@ Labelled sets (``tests/retrieval/labels``): the MR-1 (our nine capabilities and 
 recording, 41 candidates, 22 needs) and the paper's robot (the paper's nine capability
 models and specs against its full interface report, 107 interfaces of which our rules
 keep 37 after leaving out infrastructure, and against the 33 the paper's filter kept; 18 needs),
-and eighteen robots written down from public sources (``tests/retrieval/robots``: a TurtleBot 4,
-a TIAGo, a UR5e, a Go2, a ROSbot XL with an arm and thirteen more, see
+and nineteen robots written down from public sources (``tests/retrieval/robots``: a TurtleBot 4,
+a TIAGo, a UR5e, a Go2, a ROSbot XL with an arm and fourteen more, see
 ``tests/retrieval/labelled.py``) running the paper's capabilities, shown with their types' fields
 as a live graph shows them; one more table gives their recall with type names only. A need is
 an interface a correct skill needs, or a group of alternatives of which one is

@@ -9,7 +9,7 @@ A capability can need more interfaces than ``k`` (the MR-1's mapping needs six);
 needs cannot all be found at that ``k`` by any ranking, so :class:`Recall` also reports
 the *attainable* count, ``min(needs, k)`` summed over the capabilities.
 
-The paper's robot is read from its Cap2Skill reports by the report import. Eighteen more robots,
+The paper's robot is read from its Cap2Skill reports by the report import. Nineteen more robots,
 written down from public sources (``tests/retrieval/robots``), run the paper's nine
 capabilities and specs, as the robot this retrieval is judged on does: a TurtleBot 4 with Nav2,
 PAL TIAGo (a mobile manipulator with Nav2, SLAM Toolbox, MoveIt and ros2_control), a UR5e arm,
@@ -29,7 +29,8 @@ vendor's image (a servo bus arm behind its own kinematics node, ``/controller/cm
 Cartographer and Nav2; it must stand up before it moves), an OMRON LD-250 with a TM12X arm
 (Nav2, SLAM Toolbox, MoveIt), an AgileX Scout 2.0 with a PiPER arm (the vendor's own driver
 names, SLAM Toolbox, Nav2, an Ouster) and a Husarion Panther with a UR5e (the base under
-``/panther``, UR's driver and MoveIt at the root, 616 interfaces). The last thirteen were
+``/panther``, UR's driver and MoveIt at the root, 616 interfaces) and a Neobotix MMO-700 in
+Gazebo, the paper's robot with Nav2, SLAM Toolbox and MoveIt running. The last fourteen were
 labelled by someone who saw no ranking of them. Only the capabilities a robot can serve are labelled; the label files say why
 the others are left out.
 """
@@ -76,6 +77,7 @@ WRITTEN = (
     "omronmoma",
     "scoutpiper",
     "panther",
+    "mmo700nav",
 )
 """The robots of ``tests/retrieval/robots``: graphs written from public sources."""
 

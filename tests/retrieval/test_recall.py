@@ -77,9 +77,9 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
 # (set, k, needs found at least). Needs: mr1 22, cap2skill 18 (both settings), tb4 16,
 # tiago 19, ur5e 2, go2 16, rosbotxl 19, husky 19, stretch3 26, locobot 19, mur620 19, rbkairos
 # 19, kmriiwa 21, tb3manip 20, hsr 22, jetrover 20, spot 27, omronmoma 20, scoutpiper 20,
-# panther 20. At k=4 the MR-1's mapping
+# panther 20, mmo700nav 23. At k=4 the MR-1's mapping
 # needs 6 interfaces, so 20 of its 22 needs are attainable (the Stretch's mapping 5, so 25 of
-# 26); every need of the other robots is. Before facets and coverage (pooled query, relevance order) the lexical numbers at k=4 were 14, 15 and 16;
+# 26, the MMO-700's 5, so 22 of 23); every need of the other robots is. Before facets and coverage (pooled query, relevance order) the lexical numbers at k=4 were 14, 15 and 16;
 # before the type semantics (words only) mr1 18, tb4 13, tiago 12, ur5e 2, go2 10. The
 # ROSbot XL was labelled before anything ranked it: 17 at k=4 with the rules of that day,
 # 18 with the display rule, 19 once the map service ranked behind the map topic. The Husky
@@ -126,7 +126,13 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
 # 9/17/19 (collision avoidance's odometry one place behind NavigateToPose, whose feedback's
 # navigation_time matched the spec's time), KMR iiwa 8/17/20 -> 8/18/20, HSR 7/15/19 ->
 # 8/16/19, Spot 7/15/18 -> 8/16/18, JetRover 8/18/18 -> 7/18/18. NAMES_ONLY_FLOORS keeps the
-# names-only numbers at k=4.
+# names-only numbers at k=4. A Neobotix MMO-700 in Gazebo with Nav2 (Neobotix's local
+# planner), SLAM Toolbox and MoveIt for a UR10 (the paper's robot with the stacks of the robot
+# this project is judged on) was labelled blind by a helper and scored 9/20/20 of 23 at first
+# contact, nothing changed for it; its mapping needs 5 (22 attainable at k=4). Its labels count
+# both 170-degree scanners as needed where nothing merges them; the three misses are /scan2,
+# left out because one scan of the type covers the evidence (duplicate_type_factor), where
+# the paper's robot's labels take either scanner.
 LEXICAL_FLOORS = [
     ("mr1", 1, 9),
     ("mr1", 4, 20),
@@ -189,6 +195,9 @@ LEXICAL_FLOORS = [
     ("panther", 1, 9),
     ("panther", 4, 19),
     ("panther", 8, 19),
+    ("mmo700nav", 1, 9),
+    ("mmo700nav", 4, 20),
+    ("mmo700nav", 8, 20),
 ]
 
 NAMES_ONLY_FLOORS = [
@@ -210,6 +219,7 @@ NAMES_ONLY_FLOORS = [
     ("omronmoma", 19),
     ("scoutpiper", 20),
     ("panther", 19),
+    ("mmo700nav", 20),
 ]
 """Recall@4 of the written robots when they name their types only, as a recording without
 schemas or a report of names shows them."""
