@@ -98,6 +98,13 @@ def test_nav2s_own_velocities_and_rvizs_goal_topic_are_auxiliary(name: str, type
     assert directness(interface(name, type_name)) == "auxiliary"
 
 
+def test_a_base_controllers_echo_of_the_command_it_applied_is_auxiliary() -> None:
+    echo = interface("/mobile_base_controller/cmd_vel_out", "geometry_msgs/msg/TwistStamped")
+    assert directness(echo) == "auxiliary"
+    # twist_mux's output of the same name is what a base reads: it stays direct
+    assert directness(interface("/twist_mux/cmd_vel_out", "geometry_msgs/msg/Twist")) == "direct"
+
+
 def test_the_velocity_the_base_takes_stays_direct() -> None:
     for name in ("/cmd_vel", "/mobile_base_controller/cmd_vel_unstamped", "/nav_vel"):
         assert directness(interface(name, "geometry_msgs/msg/Twist")) == "direct"

@@ -32,7 +32,10 @@ of the stacks every such robot runs: everything under a Nav2 costmap's namespace
 (``/global_costmap/costmap``, an ``OccupancyGrid`` of costs and not a map, and the layers'
 ``voxel_marked_cloud``) is the costmap's own; Nav2's ``cmd_vel_nav`` and ``cmd_vel_teleop``
 are its controller's and assisted teleop's velocities on their way to the velocity smoother,
-not the base's command, and ``goal_pose`` is the pose RViz's goal tool hands the navigator
+not the base's command; a base controller's ``cmd_vel_out`` (ros2_controllers' drive
+controllers with ``publish_limited_velocity``) is the command it applied after its limits, a
+copy it publishes, where its input ``cmd_vel`` or ``cmd_vel_unstamped`` sits beside it; and
+``goal_pose`` is the pose RViz's goal tool hands the navigator
 (the ``NavigateToPose`` action does the same with feedback, a result and a cancel); and a
 name with a ``visualization`` or ``debug`` part (SLAM Toolbox's
 ``/slam_toolbox/scan_visualization``) is a copy republished for display, not the sensor; so
@@ -119,6 +122,7 @@ _COSTMAP = re.compile(r"(^|/)[^/]*costmap[^/]*(/|$)")
 _DWB_COSTS = re.compile(r"(^|/)cost_cloud$")
 _SCAN_MATCHED = re.compile(r"(^|/)scan_matched_points2$")
 _NAV2_VELOCITY = re.compile(r"(^|/)cmd_vel_(nav|teleop)$")
+_CONTROLLER_ECHO = re.compile(r"(^|/)[^/]*controller/cmd_vel_out$")
 _TWIST = "geometry_msgs/msg/Twist"  # and TwistStamped
 _NAV2_GOAL = re.compile(r"(^|/)goal_pose$")
 _POSE = "geometry_msgs/msg/PoseStamped"
@@ -130,6 +134,8 @@ def directness(interface: Interface) -> Directness:
     if any(p.search(interface.name) for p in (_COSTMAP, _DWB_COSTS, _SCAN_MATCHED, _DISPLAY)):
         return "auxiliary"
     if _NAV2_VELOCITY.search(interface.name) and interface.type_name.startswith(_TWIST):
+        return "auxiliary"
+    if _CONTROLLER_ECHO.search(interface.name) and interface.type_name.startswith(_TWIST):
         return "auxiliary"
     if _NAV2_GOAL.search(interface.name) and interface.type_name == _POSE:
         return "auxiliary"
