@@ -314,14 +314,16 @@ def print_written_descriptions(ours: Callable[[Ranking, bool], Ranker]) -> None:
     if not names:
         return
     print("\nwritten robots described by the local model (a report with descriptions), lexical")
-    print(f"@1/4/8; the rules' description alone for comparison; default weight {WRITTEN_WEIGHT}")
+    print(
+        f"@1/4/8, by the weight of the written words beside the rules' (default {WRITTEN_WEIGHT:g})"
+    )
     replaced = Ranking(written_weight=1.0, rules_weight=0.0)
     settings = [
-        ("rules' description only (no written text)", False, Ranking()),
+        ("no written text at all", False, Ranking()),
         ("written text in place of the rules' (before)", True, replaced),
         *(
             (f"written text beside the rules' at {w:g}", True, Ranking(written_weight=w))
-            for w in (0.1, 0.25, 0.5, 1.0)
+            for w in (0.0, 0.1, 0.25, 0.5, 1.0)
         ),
     ]
     print(f"{'method':48}" + "".join(f"{n:>12}" for n in names))

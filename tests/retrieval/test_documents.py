@@ -50,7 +50,7 @@ def test_a_point_clouds_points_are_cloud_not_the_point_a_capability_moves_to() -
     assert goal["point"] > 0  # elsewhere a point is still a point
 
 
-def test_a_written_description_counts_beside_the_rules_own_and_weaker() -> None:
+def test_a_written_description_is_not_weighed_unless_asked_and_never_replaces_the_rules() -> None:
     backup = Interface(name="/backup", kind="action", type_name="nav2_msgs/action/BackUp")
     rules = interface_terms(backup, describe(backup))
     written = Description(
@@ -59,14 +59,15 @@ def test_a_written_description_counts_beside_the_rules_own_and_weaker() -> None:
         tasks=["recovery"],
         engine="report",
     )
-    terms = interface_terms(backup, written)
+    assert WRITTEN_WEIGHT == 0.0
+    assert interface_terms(backup, written) == rules
+    beside = interface_terms(backup, written, written_weight=0.5)
     for term, weight in rules.items():
-        assert terms[term] >= weight  # nothing of the rules' description is lost
-    assert "recovery" in terms
+        assert beside[term] >= weight  # nothing of the rules' description is lost
+    assert "recovery" in beside
     assert "recovery" not in rules
     alone = interface_terms(backup, written, written_weight=1.0, rules_weight=0.0)
-    assert terms["recovery"] == pytest.approx(WRITTEN_WEIGHT * alone["recovery"])
-    assert interface_terms(backup, written, written_weight=0.0) == rules
+    assert beside["recovery"] == pytest.approx(0.5 * alone["recovery"])
 
 
 def test_a_description_the_rules_engine_stored_counts_once() -> None:
