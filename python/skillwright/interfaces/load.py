@@ -84,8 +84,8 @@ def _read_json_source(
         return inventory
     raise FileFormatError(
         f"{path}: JSON, but neither a skillwright inventory (no 'resource' and 'interfaces') "
-        "nor a report of the reference tool (no 'ros2_control_entities'); make an inventory "
-        "with `skillwright discover SOURCE -o inventory.json`"
+        "nor a report of the reference tool (no 'ros2_control_entities' or 'control_entities'); "
+        "make an inventory with `skillwright discover SOURCE -o inventory.json`"
     )
 
 

@@ -1,4 +1,4 @@
-"""Reference-tool reports import into inventories: both shapes, definitions, descriptions."""
+"""Reference-tool reports import into inventories: all three shapes, definitions, descriptions."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ import pytest
 
 from skillwright.errors import FileFormatError, OperationCancelledError
 from skillwright.interfaces.inventory import Description, MessageField
+from skillwright.interfaces.load import discover_path
 from skillwright.interfaces.sources.report import (
     definitions_from_details,
     description_from_text,
@@ -141,6 +142,40 @@ def test_report_with_descriptions_imports_each_description(described_report: Pat
     assert trajectory is not None
     assert "It is typically used for controlling the movement" in trajectory.purpose
     assert len(trajectory.tasks) == 2
+
+
+def test_the_rest_services_answer_reads_as_the_saved_report_it_was_made_from(
+    described_report: Path, tmp_path: Path
+) -> None:
+    # /generate-system-report/ answers {"control_entities": [...]}: the same entries, and
+    # an empty description where the tool wrote none
+    saved = json.loads(described_report.read_text(encoding="utf-8"))
+    entries = saved["ros2_control_entities"]
+    entries[0] = {**entries[0], "description": ""}
+    answered = tmp_path / "api_documentation.json"
+    answered.write_text(json.dumps({"control_entities": entries}), encoding="utf-8")
+    inventory = read_report(answered)
+    expected = inventory_from_report({"ros2_control_entities": entries}, "same")
+    assert inventory.interfaces == expected.interfaces
+    assert len(inventory.interfaces) == 33
+    assert inventory.interface(entries[0]["name"]).description is None
+    assert discover_path(answered).interfaces == inventory.interfaces
+
+
+@pytest.mark.parametrize(
+    ("document", "message"),
+    [
+        ({"control_entities": {"topics": []}}, r"r\.json: control_entities: expected a list"),
+        (
+            {"control_entities": [{"name": "/a", "type": "topic"}]},
+            r"r\.json: control_entities\[0\]\.interfaces: expected a list",
+        ),
+        ({"entities": []}, r"no 'ros2_control_entities' or 'control_entities'"),
+    ],
+)
+def test_a_bad_rest_answer_is_named_by_file_and_json_path(document: Any, message: str) -> None:
+    with pytest.raises(FileFormatError, match=message):
+        inventory_from_report(document, "r.json")
 
 
 def _report(entries: list[dict[str, Any]]) -> dict[str, Any]:

@@ -1,12 +1,15 @@
 """The reference tool's interface reports: read them as inventories, write inventories as them.
 
 LLMCap2Skill (the paper's tool) saves what it discovers on a live ROS 2 system as JSON, in
-two shapes, and both are read here as they are:
+three shapes, and all are read here as they are:
 
 * the raw report: ``{"timestamp", "ros2_control_entities": {"topics": [...], "services":
   [...], "actions": [...]}}``;
 * the report after its relevance filter: ``{"ros2_control_entities": [...]}``, one flat
-  list whose entries also carry a ``description``.
+  list whose entries also carry a ``description``;
+* what its REST service's ``/generate-system-report/`` answers (saved as
+  ``api_documentation.json``): ``{"control_entities": [...]}``, the same flat list, every entry
+  with a ``description`` (empty where none was written).
 
 An entry is ``{"name", "type", "interfaces": [{"name": "pkg/msg/T", "details": TEXT}],
 "description"?}``. ``details`` is what ``ros2 interface show`` prints: the definition with
@@ -460,16 +463,30 @@ def description_to_text(description: Description) -> str:
 # --- import ----------------------------------------------------------------------------
 
 
+REPORT_KEYS: Final = ("ros2_control_entities", "control_entities")
+"""The key of a report's entries: the saved report's, the REST service's answer's."""
+
+
+def _report_key(document: object) -> str | None:
+    if not isinstance(document, dict):
+        return None
+    return next((key for key in REPORT_KEYS if key in document), None)
+
+
 def is_report(document: object) -> bool:
     """Whether a parsed JSON document is a reference-tool report (by its content)."""
-    return isinstance(document, dict) and "ros2_control_entities" in document
+    return _report_key(document) is not None
 
 
 def _entries(
     document: dict[str, Any], where: str
 ) -> Iterator[tuple[str, InterfaceKind | None, object]]:
     """``(JSON path, kind of its section or None, entry)`` for every entry."""
-    entities = document["ros2_control_entities"]
+    key = _report_key(document)
+    assert key is not None
+    entities = document[key]
+    if key == "control_entities" and not isinstance(entities, list):
+        raise FileFormatError(f"{where}: control_entities: expected a list of entries")
     if isinstance(entities, dict):
         for section, items in entities.items():
             kind = SECTIONS.get(section)
@@ -484,7 +501,7 @@ def _entries(
                 yield f"{path}[{index}]", kind, entry
     elif isinstance(entities, list):
         for index, entry in enumerate(entities):
-            yield f"ros2_control_entities[{index}]", None, entry
+            yield f"{key}[{index}]", None, entry
     else:
         raise FileFormatError(
             f"{where}: ros2_control_entities: expected an object with topics, services and "
@@ -560,7 +577,10 @@ def inventory_from_report(
     ``cancel`` is looked at before each entry (see :mod:`skillwright.cancel`).
     """
     if not is_report(document):
-        raise FileFormatError(f"{where}: not a reference-tool report (no 'ros2_control_entities')")
+        raise FileFormatError(
+            f"{where}: not a reference-tool report (no 'ros2_control_entities' or "
+            "'control_entities')"
+        )
     assert isinstance(document, dict)
     interfaces: list[Interface] = []
     for path, section_kind, entry in _entries(document, where):
