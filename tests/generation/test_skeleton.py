@@ -437,6 +437,12 @@ def _run_with_helpers(
     )
 
 
+WAIT_FOR_NAVIGATOR = """
+    if not self.navigate_to_pose_client.wait_for_server(timeout_sec=5.0):
+        raise RuntimeError("no /navigate_to_pose server")
+"""
+
+
 def test_a_navigation_written_with_the_action_helpers_runs_and_is_cancelled(
     tmp_path: Path,
 ) -> None:
@@ -444,10 +450,7 @@ def test_a_navigation_written_with_the_action_helpers_runs_and_is_cancelled(
         "navigate-to-point",
         [NAVIGATE, TF],
         {
-            "starting": """
-                if not self.navigate_to_pose_client.wait_for_server(timeout_sec=5.0):
-                    raise RuntimeError("no /navigate_to_pose server")
-            """,
+            "starting": WAIT_FOR_NAVIGATOR,
             "execute": """
                 goal = NavigateToPose.Goal()
                 goal.pose.header.frame_id = "map"
@@ -485,10 +488,7 @@ def test_a_navigation_goal_made_by_the_pose_goal_helper_reaches_the_point(tmp_pa
         "navigate-to-point",
         [NAVIGATE, TF],
         {
-            "starting": """
-                if not self.navigate_to_pose_client.wait_for_server(timeout_sec=5.0):
-                    raise RuntimeError("no /navigate_to_pose server")
-            """,
+            "starting": WAIT_FOR_NAVIGATOR,
             "execute": """
                 goal = self._pose_goal("map", self.in_position_x, self.in_position_y, 2.5)
                 self._send_navigate_to_pose_goal(goal, 5.0)

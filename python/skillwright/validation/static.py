@@ -1107,12 +1107,7 @@ def _check_yaw_arguments(
         path = _ORIENTATIONS.get(key or "")
         if path is None:
             continue
-        fix = None
-        if statement is not None:
-            fixed = ast.unparse(statement).replace(
-                f"self._yaw({argument})", f"self._yaw({argument}.{path})"
-            )
-            fix = fixed if fixed != ast.unparse(statement) else None
+        fix = _replaced_once(statement, f"self._yaw({argument})", f"self._yaw({argument}.{path})")
         ctx.add(
             "grounding",
             "error",
@@ -1121,6 +1116,15 @@ def _check_yaw_arguments(
             f"{key}: its orientation is {argument}.{path}",
             fix,
         )
+
+
+def _replaced_once(statement: ast.stmt | None, old: str, new: str) -> str | None:
+    """The statement with ``old`` replaced by ``new``, as the finding's fix; none where the
+    call is not a statement of its own or ``old`` is not there exactly once."""
+    if statement is None:
+        return None
+    text = ast.unparse(statement)
+    return text.replace(old, new) if text.count(old) == 1 else None
 
 
 def _helper_calls(
@@ -1157,9 +1161,7 @@ def _check_heading_arguments(
             quaternion = text
         else:
             continue
-        fix = None
-        if statement is not None and ast.unparse(statement).count(text) == 1:
-            fix = ast.unparse(statement).replace(text, f"self._yaw({quaternion})")
+        fix = _replaced_once(statement, text, f"self._yaw({quaternion})")
         ctx.add(
             "grounding",
             "error",
