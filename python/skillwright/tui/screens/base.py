@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, cast
 
 from textual.app import SystemCommand
 from textual.containers import Vertical
+from textual.widget import Widget
 
 from skillwright.tui.messages import JobFailed
 
@@ -33,7 +34,15 @@ class Pane(Vertical):
         """Puts the focus on the tab's main widget, so the tab's keys work at once."""
         found = self.query(self.primary) if self.primary else None
         if found:
-            found.first().focus()
+            self.focus_now(found.first())
+
+    def focus_now(self, widget: Widget) -> None:
+        """Focuses ``widget`` at once, where ``widget.focus()`` would do it a moment later.
+
+        Callers decide from the tab shown now; a deferred focus could land after a tab key
+        was read, and focusing a widget of a hidden tab switches back to that tab.
+        """
+        self.screen.set_focus(widget)
 
     def cancel_job(self) -> bool:
         """Cancels this pane's running job; False when none was running."""

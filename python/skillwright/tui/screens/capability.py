@@ -219,7 +219,7 @@ class CapabilityPane(Pane):
         self._show_choices(message.choices, None)
         # Focusing a widget of a hidden tab would switch to it; only take the focus if shown.
         if self.sw.query_one("#tabs", TabbedContent).active == "capability":
-            self.query_one("#capability-choices", OptionList).focus()
+            self.focus_now(self.query_one("#capability-choices", OptionList))
         self.sw.loaded.capability = None
         self.sw.loaded.capability_path = None
 
