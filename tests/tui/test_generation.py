@@ -60,7 +60,9 @@ async def _send_keys(app: Any, keys: list[str], done: Any) -> None:
     for key in keys:
         app._driver.send_message(events.Key(key, key if len(key) == 1 else None))
     while not done():
-        assert time.monotonic() - started < STEP, f"keys {keys} not handled in {STEP} s"
+        assert time.monotonic() - started < STEP, (
+            f"keys {keys} not handled in {STEP} s: tab {_tab(app)}, focus on {app.focused}"
+        )
         await asyncio.sleep(0.01)
 
 

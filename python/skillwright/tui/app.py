@@ -185,8 +185,10 @@ class SkillwrightApp(App[None]):
                 pane.focus_primary()
 
     def action_show_tab(self, tab: str) -> None:
-        """Switches to the tab with id ``tab``."""
+        """Switches to the tab with id ``tab`` and focuses it in the same step, so no focus
+        message still on its way for the tab left can take the tab back."""
         self.query_one("#tabs", TabbedContent).active = tab
+        self._focus_active_pane()
 
     def action_help(self) -> None:
         """Shows the keys and the flow."""
