@@ -319,11 +319,11 @@ def print_written_descriptions(ours: Callable[[Ranking, bool], Ranker]) -> None:
     )
     replaced = Ranking(written_weight=1.0, rules_weight=0.0)
     settings = [
-        ("no written text at all", False, Ranking()),
+        (f"no written text (what weight {WRITTEN_WEIGHT:g} scores)", False, Ranking()),
         ("written text in place of the rules' (before)", True, replaced),
         *(
             (f"written text beside the rules' at {w:g}", True, Ranking(written_weight=w))
-            for w in (0.0, 0.1, 0.25, 0.5, 1.0)
+            for w in (0.1, 0.25, 0.5, 1.0)
         ),
     ]
     print(f"{'method':48}" + "".join(f"{n:>12}" for n in names))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from textual.widget import Widget
 from textual.widgets import TabbedContent, TabPane
 
 __all__ = ["FocusTabs"]
@@ -32,7 +31,7 @@ class FocusTabs(TabbedContent):
         self._events += 1
         self._switched_at = self._events
 
-    def _focus_moved(self, focused: Widget | None) -> None:
+    def _focus_moved(self) -> None:
         self._events += 1
         self._focused_at = self._events
 
