@@ -107,6 +107,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     words_only = Ranking(
         neutral_factor=1.0, auxiliary_factor=1.0, intent_factor=1.0, body_factor=1.0
     )
+    one_view = Ranking(split_view_factor=0.0)
     methods: list[tuple[str, Ranker]] = [
         ("paper: rdfs:comment only, dense (alternative)", paper),
         ("dense, pooled query (all evidence, one text)", ours(dense_pooled, True)),
@@ -117,6 +118,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         ("lexical, words only (no type semantics)", ours(words_only, False)),
         ("hybrid 0.1, words only (no type semantics)", ours(words_only, True)),
         ("lexical + type semantics (default)", ours(Ranking(), False)),
+        ("the same, a split view's scanners alternatives", ours(one_view, False)),
         ("hybrid 0.1 + type semantics (--dense)", ours(Ranking(), True)),
         ("lexical default, capability only (no spec)", no_spec),
     ]
@@ -373,6 +375,7 @@ GRID = {
     "auxiliary_factor": (1.0, 0.5, 0.3),
     "intent_factor": (1.0, 0.5),
     "body_factor": (1.0, 0.5, 0.1),
+    "split_view_factor": (1.0, 0.0),
 }
 """The type-semantics settings leave-one-robot-out chooses among (lexical ranking)."""
 

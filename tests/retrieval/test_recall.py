@@ -130,9 +130,12 @@ def test_the_filtered_report_keeps_the_papers_33_with_their_descriptions(
 # planner), SLAM Toolbox and MoveIt for a UR10 (the paper's robot with the stacks of the robot
 # this project is judged on) was labelled blind by a helper and scored 9/20/20 of 23 at first
 # contact, nothing changed for it; its mapping needs 5 (22 attainable at k=4). Its labels count
-# both 170-degree scanners as needed where nothing merges them; the three misses are /scan2,
-# left out because one scan of the type covers the evidence (duplicate_type_factor), where
-# the paper's robot's labels take either scanner.
+# both 170-degree scanners as needed where nothing merges them; the three misses were /scan2,
+# left out because one scan of the type covered the evidence (duplicate_type_factor), where
+# the paper's robot's labels take either scanner. Once the parts of a split view (names that
+# differ by a number or a side, nothing merging them) no longer count as alternatives to each
+# other, 9/22/23: mapping's /scan2 is 8th, behind /map and SLAM's services; nothing else moved
+# (the paper's robot keeps 9/18/18, its mapping now /tf, /scan, /scan2, /cmd_vel).
 LEXICAL_FLOORS = [
     ("mr1", 1, 9),
     ("mr1", 4, 20),
@@ -196,8 +199,8 @@ LEXICAL_FLOORS = [
     ("panther", 4, 19),
     ("panther", 8, 19),
     ("mmo700nav", 1, 9),
-    ("mmo700nav", 4, 20),
-    ("mmo700nav", 8, 20),
+    ("mmo700nav", 4, 22),
+    ("mmo700nav", 8, 23),
 ]
 
 NAMES_ONLY_FLOORS = [
@@ -219,7 +222,7 @@ NAMES_ONLY_FLOORS = [
     ("omronmoma", 19),
     ("scoutpiper", 20),
     ("panther", 19),
-    ("mmo700nav", 20),
+    ("mmo700nav", 22),
 ]
 """Recall@4 of the written robots when they name their types only, as a recording without
 schemas or a report of names shows them."""
@@ -227,14 +230,14 @@ schemas or a report of names shows them."""
 DESCRIBED_FLOORS = [
     ("go2", 13),
     ("kmriiwa", 18),
-    ("mmo700nav", 20),
+    ("mmo700nav", 22),
     ("tb3manip", 20),
     ("tiago", 19),
 ]
 """Recall@4 of the written robots whose candidates carry the local model's free-text
 descriptions (``bench/describe_robots.py``), as a report with descriptions carries them: what
 they score without them, since the written words are not weighed. With the text in place of
-the rules' description (before) they found 8, 15, 13, 14 and 16."""
+the rules' description (before) they found 8, 15, 15, 14 and 16."""
 
 HYBRID_FLOORS = [
     ("mr1", 4, 18),

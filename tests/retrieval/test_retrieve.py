@@ -394,3 +394,33 @@ def test_a_map_under_its_conventional_name_outranks_variants_that_share_words_by
     names = [h.name for h in rank_interfaces(inventory, capability, k=4)]
     assert names.index("/map") < names.index("/dynamic_obstacle_map")
     assert names.index("/map") < names.index("/static_distance_map")
+
+
+def test_the_second_scanner_of_a_split_view_follows_the_first_but_a_version_does_not() -> None:
+    # An MMO-700: two scanners on opposite corners, each seeing one half around the robot,
+    # and SLAM Toolbox's copy of the scans it used; a TIAGo-like /scan_raw beside /scan is
+    # the same view before filtering, an alternative to it.
+    inventory = Inventory(
+        resource=Resource(name="mmo700"),
+        interfaces=topics(
+            "sensor_msgs/msg/LaserScan",
+            "/scan",
+            "/scan2",
+            "/scan_raw",
+            "/slam_toolbox/scan_visualization",
+        )
+        + topics("nav_msgs/msg/Odometry", "/odom"),
+    )
+    capability = provided(
+        "getDistanceToNearestObject",
+        "I measure the distance to the nearest object around the robot.",
+        [],
+        [parameter("outDistance", "m", "The distance to the nearest object.")],
+    )
+    hits = {h.name: h for h in rank_interfaces(inventory, capability, k=5)}
+    assert list(hits)[:3] == ["/scan", "/odom", "/scan2"]
+    assert hits["/scan2"].score > 0.1
+    assert hits["/scan_raw"].score == hits["/slam_toolbox/scan_visualization"].score == 0
+    # counted as alternatives, the second scanner gains as little as the versions
+    alike = rank_interfaces(inventory, capability, k=5, ranking=Ranking(split_view_factor=0))
+    assert {h.name: h.score for h in alike}["/scan2"] == 0

@@ -10,6 +10,7 @@ from skillwright.retrieval.semantics import (
     body_of_text,
     directness,
     merges,
+    split_view,
     unreached,
 )
 
@@ -195,3 +196,44 @@ def test_an_interface_is_unreached_only_when_the_graph_shows_nobody_at_the_other
 )
 def test_which_streams_say_they_merge_others(name: str, type_name: str, expected: bool) -> None:
     assert merges(Interface(name=name, kind="topic", type_name=type_name)) is expected
+
+
+_CLOUD = "sensor_msgs/msg/PointCloud2"
+_TWIST = "geometry_msgs/msg/Twist"
+
+
+def scan(name: str, type_name: str = "sensor_msgs/msg/LaserScan") -> Interface:
+    return interface(name, type_name)
+
+
+@pytest.mark.parametrize(
+    ("a", "b", "expected"),
+    [
+        # two scanners on opposite corners, or named by their side
+        ("/scan", "/scan2", True),
+        ("/scan", "/scan_2", True),
+        ("/robot/front_laser/scan", "/robot/rear_laser/scan", True),
+        ("/mur620a/f_scan", "/mur620a/b_scan", True),
+        ("/lidar_1/scan", "/lidar_2/scan", True),
+        # a plain name beside a side's is the whole view, not a part
+        ("/mur620a/scan", "/mur620a/f_scan", False),
+        # another version of one view, or another sensor
+        ("/scan", "/scan_raw", False),
+        ("/scan", "/scan_filtered", False),
+        ("/scan", "/slam_toolbox/scan_visualization", False),
+        ("/utlidar/cloud", "/utlidar/cloud_deskewed", False),
+        # a stream that merges the parts is none of them
+        ("/scan_2", "/scan_concatenated", False),
+        ("/scan", "/scan", False),
+    ],
+)
+def test_which_sensor_streams_are_parts_of_one_split_view(a: str, b: str, expected: bool) -> None:
+    assert split_view(scan(a), scan(b)) is expected
+    assert split_view(scan(b), scan(a)) is expected
+
+
+def test_only_sensor_streams_of_one_type_split_a_view() -> None:
+    assert split_view(scan("/points", _CLOUD), scan("/points2", _CLOUD))
+    assert not split_view(scan("/scan"), scan("/scan2", _CLOUD))
+    # two velocity commands are alternatives, whatever their names
+    assert not split_view(scan("/front/cmd_vel", _TWIST), scan("/rear/cmd_vel", _TWIST))

@@ -44,6 +44,7 @@ from skillwright.retrieval.semantics import (
     conventional,
     directness,
     merges,
+    split_view,
     unreached,
 )
 from skillwright.retrieval.text import split_words
@@ -87,6 +88,12 @@ class Ranking:
     /cmd_vel_nav beside /cmd_vel) is an alternative to the first, and a small model given
     both drives the wrong one. Measured on the labelled sets: recall@4 the same everywhere
     and one more on the Go2 than at 0.5."""
+    split_view_factor: float = 1.0
+    """Relevance factor, in place of :attr:`duplicate_type_factor`, for a sensor stream
+    whose every picked hit of its type is another part of one split view (see
+    :func:`~skillwright.retrieval.semantics.split_view`): the MMO-700's ``/scan2`` after its
+    ``/scan``. A second corner's scanner sees what the first does not, so it is no
+    alternative to it."""
     neutral_factor: float = 0.8
     """Evidence factor for a candidate whose type :mod:`~skillwright.retrieval.semantics`
     does not know (a direct type counts fully)."""
@@ -407,7 +414,7 @@ def rank_interfaces(
             pool[i].name,
         ),
     )
-    picked_types: set[str] = set()
+    picked: list[Interface] = []
     hits: list[Hit] = []
     while remaining and len(hits) < k:
         raise_if_cancelled(cancel, what)
@@ -419,8 +426,7 @@ def rank_interfaces(
             ]
 
         def objective(i: int) -> float:
-            duplicate = _family(pool[i].type_name) in picked_types
-            factor = ranking.duplicate_type_factor if duplicate else 1.0
+            factor = _type_factor(pool[i], picked, ranking)
             mix = (1.0 - ranking.coverage) * relevance[i] * factor
             return mix + ranking.coverage * sum(gains(i)) / total
 
@@ -446,9 +452,22 @@ def rank_interfaces(
                 facets=tuple(facets[f].key for f in order[:2] if gained[f] > 1e-9),
             )
         )
-        picked_types.add(_family(interface.type_name))
+        picked.append(interface)
         covered = [max(c, row[best]) for c, row in zip(covered, scores.mixed, strict=True)]
     return hits
+
+
+def _type_factor(candidate: Interface, picked: Sequence[Interface], ranking: Ranking) -> float:
+    """The relevance factor for the types already picked: a type picked before makes the
+    candidate an alternative to that hit, unless each such hit is another part of its split
+    view."""
+    family = _family(candidate.type_name)
+    same = [p for p in picked if _family(p.type_name) == family]
+    if not same:
+        return 1.0
+    if all(split_view(candidate, p) for p in same):
+        return ranking.split_view_factor
+    return ranking.duplicate_type_factor
 
 
 def _family(type_name: str) -> str:

@@ -62,6 +62,7 @@ __all__ = [
     "body_of_text",
     "directness",
     "merges",
+    "split_view",
     "unreached",
 ]
 
@@ -157,6 +158,44 @@ def merges(interface: Interface) -> bool:
     return bool(
         _SENSOR_STREAM.fullmatch(interface.type_name) and _MERGING.search(interface.name.lower())
     )
+
+
+_SIDE_WORDS = frozenset(
+    ("front", "rear", "back", "left", "right", "f", "b", "l", "r", "fl", "fr", "rl", "rr")
+)
+
+
+def _view(name: str) -> tuple[tuple[str, ...], bool]:
+    """The name with its numbers and the words that say where on the robot a sensor sits
+    taken out (``/scan2`` and ``/scan``, ``/robot/front_laser/scan`` and
+    ``/robot/rear_laser/scan`` share one), and whether it had such a word."""
+    parts, sided = [], False
+    for part in name.lower().split("/"):
+        words = [w.rstrip("0123456789") for w in re.split(r"[^0-9a-z]+", part) if w]
+        sided = sided or any(w in _SIDE_WORDS for w in words)
+        parts.append("_".join(w for w in words if w and w not in _SIDE_WORDS))
+    return tuple(parts), sided
+
+
+def split_view(a: Interface, b: Interface) -> bool:
+    """Whether two sensor streams are parts of one split view: two scanners on opposite
+    corners (the MMO-700's ``/scan`` and ``/scan2``, a mecanum base's ``front_laser`` and
+    ``rear_laser``), each seeing a side the other does not. Their names differ only by a
+    number, or both name a side: a plain ``/scan`` beside ``/f_scan`` and ``/b_scan`` (a
+    MuR620) is the whole view, not a part. A processing word (``/scan_raw`` and
+    ``/scan_filtered``, a ``_deskewed`` cloud) makes another version of the same view, and
+    a stream that merges them (:func:`merges`) is none of the parts."""
+    if not (
+        a.name != b.name
+        and a.kind == b.kind == "topic"
+        and a.type_name == b.type_name
+        and _SENSOR_STREAM.fullmatch(a.type_name) is not None
+        and not merges(a)
+        and not merges(b)
+    ):
+        return False
+    (key_a, sided_a), (key_b, sided_b) = _view(a.name), _view(b.name)
+    return key_a == key_b and sided_a == sided_b
 
 
 _CONVENTIONAL_NAMES = {
