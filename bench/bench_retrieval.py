@@ -284,23 +284,26 @@ def print_recall(labelled: dict[str, LabelledSet], methods: list[tuple[str, Rank
 
 def print_fields_or_names(rank: Ranker) -> None:
     """The default's recall on each written robot with its types' fields, as a live graph
-    shows them, and with their names only, as a recording without schemas does."""
+    shows them; with their names only, as a recording without schemas does; and read from
+    the reference tool's report of the graph (no endpoint counts)."""
     from tests.retrieval.labelled import WRITTEN, load_set
 
     print("\nwritten robots, lexical default @1/4/8: with the fields of their types (a live")
-    print("graph; the tables above) and with type names only (a recording without schemas)")
-    print(f"{'robot':14}{'fields':>12}{'names only':>12}")
-    totals = {True: [0, 0, 0], False: [0, 0, 0]}
+    print("graph; the tables above), with type names only (a recording without schemas) and")
+    print("read from the reference tool's report of the graph (no endpoint counts)")
+    print(f"{'robot':14}{'fields':>12}{'names only':>12}{'report':>12}")
+    forms: tuple[dict[str, bool], ...] = ({}, {"live": False}, {"report": True})
+    totals = [[0, 0, 0] for _ in forms]
     for name in WRITTEN:
         cells = []
-        for live in (True, False):
-            cell = recall_cell(load_set(name, live=live), rank)
+        for form, total in zip(forms, totals, strict=True):
+            cell = recall_cell(load_set(name, **form), rank)
             for index, found in enumerate(cell.split("/")):
-                totals[live][index] += int(found)
+                total[index] += int(found)
             cells.append(cell.replace(" ", ""))
-        print(f"{name:14}{cells[0]:>12}{cells[1]:>12}")
-    sums = ["/".join(str(n) for n in totals[live]) for live in (True, False)]
-    print(f"{'all':14}{sums[0]:>12}{sums[1]:>12}")
+        print(f"{name:14}" + "".join(f"{c:>12}" for c in cells))
+    sums = ["/".join(str(n) for n in total) for total in totals]
+    print(f"{'all':14}" + "".join(f"{c:>12}" for c in sums))
 
 
 def print_written_descriptions(ours: Callable[[Ranking, bool], Ranker]) -> None:

@@ -48,7 +48,12 @@ import yaml
 from skillwright.capability import Capability, load_capability
 from skillwright.interfaces.inventory import Inventory, Relevance
 from skillwright.interfaces.load import load_inventory
-from skillwright.interfaces.sources.report import description_from_text, read_report
+from skillwright.interfaces.sources.report import (
+    description_from_text,
+    inventory_from_report,
+    read_report,
+    report_from_inventory,
+)
 from skillwright.spec import SkillSpec, load_spec
 from tests.conftest import REPO_ROOT, SHARED
 from tests.retrieval.robots import robot_inventory
@@ -176,12 +181,24 @@ def _described(inventory: Inventory, name: str) -> Inventory:
     return inventory.model_copy(update={"interfaces": interfaces})
 
 
+def _through_a_report(inventory: Inventory, name: str) -> Inventory:
+    """The inventory as the reference tool's report of it reads back: no endpoint counts
+    and no traffic, and a type's definition only where ``ros2 interface show`` would give it
+    whole."""
+    document, _ = report_from_inventory(inventory)
+    return inventory_from_report(document, f"{name} as a report")
+
+
 @cache
-def load_set(name: str, live: bool = True, described: bool = False) -> LabelledSet:
+def load_set(
+    name: str, live: bool = True, described: bool = False, report: bool = False
+) -> LabelledSet:
     """One of :data:`SETS`; the Cap2Skill ones need ``../shared/data``. A written robot shows
     its types' fields as a live graph would (``live``), or names its types only; with
     ``described`` its candidates carry the local model's free-text descriptions, as a
-    report with descriptions would (:func:`described_robots` have them)."""
+    report with descriptions would (:func:`described_robots` have them); with ``report`` it
+    is read from the reference tool's report of its graph, as the robot this retrieval is
+    judged on is."""
     label_file = "cap2skill.yaml" if name.startswith("cap2skill") else f"{name}.yaml"
     document = yaml.safe_load((LABELS / label_file).read_text(encoding="utf-8"))
     root = REPO_ROOT if name == "mr1" else SHARED / "data"
@@ -189,6 +206,8 @@ def load_set(name: str, live: bool = True, described: bool = False) -> LabelledS
         inventory = robot_inventory(document["robot_file"], live=live)
         if described:
             inventory = _described(inventory, name)
+        if report:
+            inventory = _through_a_report(inventory, name)
     elif name == "mr1":
         inventory = load_inventory(root / document["inventory"])
     elif name == "cap2skill":

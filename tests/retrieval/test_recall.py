@@ -227,6 +227,34 @@ NAMES_ONLY_FLOORS = [
 """Recall@4 of the written robots when they name their types only, as a recording without
 schemas or a report of names shows them."""
 
+REPORT_FLOORS = [
+    ("tb4", 16),
+    ("tiago", 19),
+    ("ur5e", 2),
+    ("go2", 13),
+    ("rosbotxl", 18),
+    ("husky", 19),
+    ("stretch3", 11),
+    ("locobot", 18),
+    ("mur620", 19),
+    ("rbkairos", 19),
+    ("kmriiwa", 18),
+    ("tb3manip", 20),
+    ("hsr", 16),
+    ("jetrover", 18),
+    ("spot", 11),
+    ("omronmoma", 19),
+    ("scoutpiper", 20),
+    ("panther", 19),
+    ("mmo700nav", 22),
+]
+"""Recall@4 of the written robots read from the reference tool's report of their graphs, the
+form the robot this retrieval is judged on comes in. A report has no endpoint counts, so a
+command topic nobody reads or a measured one nobody publishes looks as live as the rest: the
+Stretch's Nav2 /cmd_vel (its driver reads /stretch/cmd_vel) 17 -> 11, the Spot's Nav2 /odom
+(Spot publishes /odometry) 16 -> 11, the LoCoBot's root /cmd_vel 19 -> 18. The others score
+as their live graphs do."""
+
 DESCRIBED_FLOORS = [
     ("go2", 13),
     ("kmriiwa", 18),
@@ -267,6 +295,20 @@ def test_lexical_recall_of_names_only_robots_stays_at_or_above_its_floor(
 ) -> None:
     recall = measure(load_set(name, live=False), lexical, 4)
     assert recall.found >= floor, recall.misses
+
+
+@pytest.mark.parametrize(("name", "floor"), REPORT_FLOORS)
+def test_lexical_recall_of_robots_read_from_a_report_stays_at_or_above_its_floor(
+    name: str, floor: int, shared_data: object
+) -> None:
+    labelled = load_set(name, report=True)
+    assert all(i.endpoints is None for i in labelled.inventory.interfaces)
+    recall = measure(labelled, lexical, 4)
+    assert recall.found >= floor, recall.misses
+
+
+def test_every_written_robot_has_a_report_floor() -> None:
+    assert sorted(name for name, _ in REPORT_FLOORS) == sorted(WRITTEN)
 
 
 def test_every_described_robot_has_a_floor_and_every_candidate_a_description() -> None:

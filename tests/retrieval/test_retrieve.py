@@ -420,6 +420,8 @@ def test_the_second_scanner_of_a_split_view_follows_the_first_but_a_version_does
     hits = {h.name: h for h in rank_interfaces(inventory, capability, k=5)}
     assert list(hits)[:3] == ["/scan", "/odom", "/scan2"]
     assert hits["/scan2"].score > 0.1
+    assert hits["/scan2"].reason.startswith("another side of the view of /scan; ")
+    assert "another side" not in hits["/odom"].reason + hits["/scan_raw"].reason
     assert hits["/scan_raw"].score == hits["/slam_toolbox/scan_visualization"].score == 0
     # counted as alternatives, the second scanner gains as little as the versions
     alike = rank_interfaces(inventory, capability, k=5, ranking=Ranking(split_view_factor=0))

@@ -199,7 +199,7 @@ def test_which_streams_say_they_merge_others(name: str, type_name: str, expected
 
 
 _CLOUD = "sensor_msgs/msg/PointCloud2"
-_TWIST = "geometry_msgs/msg/Twist"
+_VELOCITY = "geometry_msgs/msg/Twist"
 
 
 def scan(name: str, type_name: str = "sensor_msgs/msg/LaserScan") -> Interface:
@@ -236,4 +236,4 @@ def test_only_sensor_streams_of_one_type_split_a_view() -> None:
     assert split_view(scan("/points", _CLOUD), scan("/points2", _CLOUD))
     assert not split_view(scan("/scan"), scan("/scan2", _CLOUD))
     # two velocity commands are alternatives, whatever their names
-    assert not split_view(scan("/front/cmd_vel", _TWIST), scan("/rear/cmd_vel", _TWIST))
+    assert not split_view(scan("/front/cmd_vel", _VELOCITY), scan("/rear/cmd_vel", _VELOCITY))

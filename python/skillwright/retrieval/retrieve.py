@@ -448,7 +448,8 @@ def rank_interfaces(
                 score=values[position],
                 dense=None if scores.dense is None else _weighted(scores.dense, weights, best),
                 lexical=_weighted(scores.lexical, weights, best),
-                reason=_reason(facets, scores, order, documents[best], best),
+                reason=_split_view_note(interface, picked)
+                + _reason(facets, scores, order, documents[best], best),
                 facets=tuple(facets[f].key for f in order[:2] if gained[f] > 1e-9),
             )
         )
@@ -468,6 +469,12 @@ def _type_factor(candidate: Interface, picked: Sequence[Interface], ranking: Ran
     if all(split_view(candidate, p) for p in same):
         return ranking.split_view_factor
     return ranking.duplicate_type_factor
+
+
+def _split_view_note(hit: Interface, picked: Sequence[Interface]) -> str:
+    """``another side of the view of /scan; `` for the second scanner of a split view."""
+    parts = [p.name for p in picked if split_view(hit, p)]
+    return f"another side of the view of {', '.join(parts)}; " if parts else ""
 
 
 def _family(type_name: str) -> str:
