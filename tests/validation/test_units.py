@@ -66,6 +66,11 @@ def _units(capability: Capability, method: str) -> list:
             "self.out_degree = self._closest_reading(self.scan_msg)[1]",
             "self.out_degree = math.degrees(self._closest_reading(self.scan_msg)[1])",
         ),
+        (  # the helper's tuple kept whole, of both scanners of a split view, then indexed
+            "closest = self._closest_reading(self.scan_msg, self.scan2_msg)\n"
+            "self.out_distance = closest[0]\nself.out_degree = closest[1]",
+            "self.out_degree = math.degrees(closest[1])",
+        ),
     ],
 )
 def test_radians_stored_in_an_output_in_degrees_are_converted(

@@ -629,16 +629,18 @@ def helper_summaries(interfaces: Sequence[InterfaceRef]) -> dict[str, str]:
 
 _LASER_SCANS = frozenset({"sensor_msgs/msg/LaserScan", "sensor_msgs/LaserScan"})
 _CLOSEST_READING = [
-    "    def _closest_reading(self, scan) -> tuple[float, float]:",
-    '        """The closest valid reading of ``scan`` (a LaserScan): its range in metres and',
-    "        its bearing in radians (0 along the scanner's x axis, positive to the left).",
-    "        NaN, infinite and out-of-range readings are skipped; (math.inf, 0.0) when none",
-    '        is valid."""',
+    "    def _closest_reading(self, *scans) -> tuple[float, float]:",
+    '        """The closest valid reading of the ``scans`` (LaserScans: one, or each scanner',
+    "        of a robot whose scanners see different sides): its range in metres and its",
+    "        bearing in radians (0 along the x axis of the scanner it came from, positive to",
+    "        the left). NaN, infinite and out-of-range readings are skipped; (math.inf, 0.0)",
+    '        when none is valid."""',
     "        closest, bearing = math.inf, 0.0",
-    "        for index, distance in enumerate(scan.ranges):",
-    "            if scan.range_min <= distance <= scan.range_max and distance < closest:",
-    "                closest = distance",
-    "                bearing = scan.angle_min + index * scan.angle_increment",
+    "        for scan in scans:",
+    "            for index, distance in enumerate(scan.ranges):",
+    "                if scan.range_min <= distance <= scan.range_max and distance < closest:",
+    "                    closest = distance",
+    "                    bearing = scan.angle_min + index * scan.angle_increment",
     "        return closest, bearing",
 ]
 """The nearest obstacle and its direction: a loop over the ranges that small models got wrong
@@ -679,7 +681,8 @@ _GENERIC_SUMMARIES = {
     "_stop_base": "self._stop_base() commands zero velocity",
     "_closest_reading": "self._closest_reading(scan) returns (distance, bearing) of the closest "
     "valid reading of a LaserScan, NaN, infinite and out-of-range readings skipped; "
-    "(math.inf, 0.0) when there is none",
+    "(math.inf, 0.0) when there is none; self._closest_reading(scan, scan2) the closest of "
+    "several scanners'",
     "_yaw": "self._yaw(q) returns the heading in radians, in [-pi, pi], counter-clockwise "
     "positive, of an orientation quaternion q (an Odometry's pose.pose.orientation, a "
     "transform's transform.rotation)",

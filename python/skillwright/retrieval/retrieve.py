@@ -12,7 +12,9 @@ hits already picked it matches each facet. A capability rarely needs two interfa
 same piece of evidence, so once ``/cmd_vel`` covers the velocity facets, ``/cmd_vel_nav``
 gains nothing, and the sentence of the stopping state that publishes a zero velocity, or
 the output that needs a pose in the map frame, can win a place of its own. Interfaces
-of a type already picked are discounted too (a global and a local costmap).
+of a type already picked are discounted too (a global and a local costmap), except the
+other scanners of a split view: ``/scan2`` on the corner opposite ``/scan`` sees what
+``/scan`` cannot, so it is no alternative to it.
 
 Infrastructure interfaces (logging, parameters, lifecycle plumbing) are left out unless
 asked for. ``bench/bench_retrieval.py`` measures every choice made here on two labelled

@@ -45,6 +45,7 @@ from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
 from skillwright.validation.units import check_angle_units
 from skillwright.validation.unsent import check_unsent
+from skillwright.validation.views import check_views
 
 __all__ = ["check_skill", "local_name"]
 
@@ -2152,6 +2153,7 @@ def check_skill(
         ctx.findings += check_unsent(cls)
         ctx.findings += check_first_messages(cls, methods)
         ctx.findings += check_settling(cls)
+        ctx.findings += check_views(cls, tree)
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
             _check_constants(ctx, cls, catalog, imports)

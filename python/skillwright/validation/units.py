@@ -185,6 +185,9 @@ class _Reader:
         self.stores: list[tuple[ast.stmt, str, ast.expr, _Unit]] = []
         """(statement, output attribute, value, the value's unit) for declared attributes."""
         self._seen: set[int] = set()
+        self.tuples: dict[str, tuple[_Unit | None, ...]] = {}
+        """Local names holding a helper's tuple whole (``closest = self._closest_reading(
+        scan)``), read later by index (``closest[1]``)."""
 
     def read_block(self, body: list[ast.stmt]) -> None:
         for statement in body:
@@ -224,6 +227,11 @@ class _Reader:
     ) -> None:
         if isinstance(target, ast.Name):
             self.names[target.id] = unit
+            units = _helper_tuple(value)
+            if units is None:
+                self.tuples.pop(target.id, None)
+            else:
+                self.tuples[target.id] = units
         elif (attribute := self_attribute(target)) is not None:
             self.stored.setdefault(attribute, []).append(unit)
             if attribute in self.declared and unit is not None:
@@ -257,7 +265,8 @@ class _Reader:
             self._mix(node, [(t, self.unit(t)) for t in terms])
             return None
         if isinstance(node, ast.Subscript) and isinstance(node.slice, ast.Constant):
-            units = _helper_tuple(node.value)
+            held = self.tuples.get(node.value.id) if isinstance(node.value, ast.Name) else None
+            units = _helper_tuple(node.value) or held
             index = node.slice.value
             if units is not None and isinstance(index, int) and -len(units) <= index < len(units):
                 self.unit(node.value)
