@@ -92,18 +92,18 @@ def _fix(cls: ast.ClassDef, read: ast.Attribute, kept: str) -> tuple[str, str] |
     """Where ``read`` is the one argument of the skeleton's ``self._closest_reading(...)`` in
     a statement of its own: the call with ``self.<kept>`` added, and the statement with that
     call, after the wait for its first message."""
-    if not any(isinstance(n, ast.FunctionDef) and n.name == CLOSEST for n in cls.body):
+    if not any(isinstance(n, ast.FunctionDef) and n.name == _CLOSEST for n in cls.body):
         return None
     statement_of = simple_statements(cls)
     for call in ast.walk(cls):
         if (
             isinstance(call, ast.Call)
-            and self_attribute(call.func) == CLOSEST
+            and self_attribute(call.func) == _CLOSEST
             and call.args == [read]
             and not call.keywords
         ):
             old = ast.unparse(call)
-            new = f"self.{CLOSEST}({ast.unparse(read)}, self.{kept})"
+            new = f"self.{_CLOSEST}({ast.unparse(read)}, self.{kept})"
             statement = statement_of.get(id(call))
             if statement is None or ast.unparse(statement).count(old) != 1:
                 return None
@@ -112,7 +112,7 @@ def _fix(cls: ast.ClassDef, read: ast.Attribute, kept: str) -> tuple[str, str] |
     return None
 
 
-CLOSEST = "_closest_reading"
+_CLOSEST = "_closest_reading"
 """The skeleton's helper for the nearest reading of one scan or several."""
 
 
