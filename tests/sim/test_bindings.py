@@ -8,7 +8,14 @@ from pathlib import Path
 import pytest
 
 from skillwright.interfaces.inventory import Inventory
-from skillwright.sim.bindings import ScanGeometry, bind_interfaces, nominal_rate, recorded_facts
+from skillwright.sim.bindings import (
+    ScanGeometry,
+    bind_interfaces,
+    default_geometries,
+    nominal_rate,
+    recorded_facts,
+    split_views,
+)
 
 
 @pytest.mark.parametrize(
@@ -85,8 +92,29 @@ def test_a_report_without_messages_gives_default_geometry_and_says_so(shared_dat
     assert not bindings.has_localisation
     assert bindings.actions == {}
     facts = recorded_facts(inventory, bindings)
-    assert facts.scans == {"/scan": ScanGeometry(), "/scan2": ScanGeometry()}
     assert "defaults" in facts.notes[0]
+    # the paper's robot's two corner scanners: a half turn each, the front one and the rear
+    front, rear = facts.scans["/scan"], facts.scans["/scan2"]
+    assert front.count == rear.count == 180
+    assert math.degrees(front.angle_min) == pytest.approx(-90)
+    assert math.degrees(rear.angle_min) == pytest.approx(90)
+    assert rear.angle_min == pytest.approx(front.angle_max + front.angle_increment)
+    assert facts.notes[1:] == [
+        "/scan: one scanner of a split view; it sees from -90 to 89 degrees only",
+        "/scan2: one scanner of a split view; it sees from 90 to 269 degrees only",
+    ]
+
+
+def test_a_scanner_of_its_own_sees_all_around_and_split_views_share_the_turn() -> None:
+    assert default_geometries(["/scan"]) == {"/scan": ScanGeometry()}
+    assert split_views(["/scan_raw", "/scan", "/b_scan", "/f_scan"]) == [
+        ["/b_scan", "/f_scan"],
+        ["/scan"],
+        ["/scan_raw"],
+    ]
+    thirds = default_geometries(["/lidar_1/scan", "/lidar_2/scan", "/lidar_3/scan"])
+    assert [g.count for g in thirds.values()] == [120, 120, 120]
+    assert [round(math.degrees(g.angle_min)) for g in thirds.values()] == [-60, 60, 180]
 
 
 def test_an_inventory_without_a_base_says_what_is_missing() -> None:

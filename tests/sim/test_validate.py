@@ -191,3 +191,29 @@ def test_a_turn_that_overshoots_in_mujoco_is_watched_and_told_why(
     said = timeout.message.split("; watched on every pass in a second run, ", 1)[1]
     assert said.startswith("`self.remaining` went past zero once")
     assert "so the robot steps over its goal between two checks" in said
+
+
+@pytest.mark.parametrize(
+    ("scanners", "passed"), [('("/scan", "/scan2")', True), ('("/scan",)', False)]
+)
+def test_the_papers_robot_measured_with_one_of_its_two_corner_scanners_fails(
+    tmp_path: Path, shared_data: Path, scanners: str, passed: bool
+) -> None:
+    # Without recorded scans each of the two scanners sees one half; the derived scenario's
+    # nearest wall is behind the robot, on the rear scanner's side.
+    from skillwright.capability.reader import load_capability
+    from skillwright.interfaces.load import load_inventory
+
+    data = shared_data / "cap2skill"
+    capability = load_capability(
+        data / "capability-models" / "get-distance-to-nearest-object.ttl"
+    ).capability
+    inventory = load_inventory(data / "interface-reports" / "ros2_system_report.json")
+    text = (HERE / "skills" / "nearest_of_two_scanners.py").read_text(encoding="utf-8")
+    skill = tmp_path / "skill.py"
+    skill.write_text(text.replace('SCANNERS = ("/scan", "/scan2")', f"SCANNERS = {scanners}"))
+    report = validate_skill(skill, capability, inventory)
+    assert report.passed is passed, report.findings
+    if not passed:
+        failed = set(report.failed_oracles())
+        assert {"derived/normal/output:outDistance", "derived/normal/output:outDegree"} <= failed

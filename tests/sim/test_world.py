@@ -269,6 +269,29 @@ def test_the_papers_robot_runs_in_the_same_worlds(shared_data: Path) -> None:
     assert world.truth.at(1.0).x > 0.2
 
 
+def test_the_papers_two_corner_scanners_each_see_one_half_and_the_truth_sees_both(
+    shared_data: Path,
+) -> None:
+    from skillwright.interfaces.load import load_inventory
+
+    inventory = load_inventory(
+        shared_data / "cap2skill" / "interface-reports" / "ros2_system_report.json"
+    )
+    # near the west wall, facing east: the nearest obstacle is behind, on the rear scanner's side
+    world, host = _world(inventory, "walled_room", (0.0, 1.0, 0.0), noise=Noise(scan=0.0))
+    host.run_until(0.5)
+    front, rear = host.messages("/scan")[-1][1], host.messages("/scan2")[-1][1]
+    assert len(front["ranges"]) == len(rear["ranges"]) == 180
+    assert math.degrees(front["angle_min"]) == pytest.approx(-90)
+    assert math.degrees(rear["angle_min"]) == pytest.approx(90)
+    nearest = world.truth.nearest_at(0.5)
+    assert nearest is not None
+    distance, bearing = nearest
+    assert distance == pytest.approx(min(rear["ranges"]), abs=1e-3)
+    assert distance < min(front["ranges"]) - 0.5
+    assert abs(math.degrees(bearing)) > 150
+
+
 def test_the_same_seed_and_commands_give_the_same_run(mr1_inventory: Inventory) -> None:
     def run() -> list[tuple[float, ...]]:
         world, host = _world(mr1_inventory, "corridor", (2.0, 0.2, 0.1), seed=9)

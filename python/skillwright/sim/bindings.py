@@ -18,6 +18,7 @@ from typing import Any
 
 from skillwright.interfaces.inventory import Interface, Inventory
 from skillwright.interfaces.roles import TWIST_TYPES, command_topic
+from skillwright.retrieval.semantics import split_view
 
 __all__ = [
     "ACTION_TYPES",
@@ -206,6 +207,60 @@ def bind_interfaces(inventory: Inventory) -> Bindings:
     return bindings
 
 
+def split_views(topics: list[str]) -> list[list[str]]:
+    """The scan topics grouped into views: the scanners of one split view together (see
+    :func:`~skillwright.retrieval.semantics.split_view`: ``/scan`` and ``/scan2`` on opposite
+    corners), every other topic alone; each group in name order."""
+    scans = [Interface(name=t, kind="topic", type_name=_LASER_SCAN) for t in sorted(topics)]
+    groups: list[list[Interface]] = []
+    for scan in scans:
+        group = next((g for g in groups if all(split_view(scan, o) for o in g)), None)
+        if group is None:
+            groups.append([scan])
+        else:
+            group.append(scan)
+    return [[i.name for i in group] for group in groups]
+
+
+def default_geometries(topics: list[str]) -> dict[str, ScanGeometry]:
+    """Scan geometry for topics without a recorded message: a full turn for a scanner of its
+    own; for the ``n`` scanners of a split view, one ``n``-th of the turn each, in name order
+    from the front half (``/scan``) on, so that each sees what the others do not, as the
+    MMO-700's two corner scanners do. A skill that reads one of them misses what is on the
+    others' sides."""
+    full = ScanGeometry()
+    out: dict[str, ScanGeometry] = {}
+    for group in split_views(topics):
+        share = len(group)
+        for index, topic in enumerate(group):
+            if share == 1:
+                out[topic] = full
+                continue
+            count = full.count // share
+            out[topic] = ScanGeometry(
+                angle_min=-math.pi / share + index * 2 * math.pi / share,
+                angle_increment=full.angle_increment,
+                count=count,
+                range_min=full.range_min,
+                range_max=full.range_max,
+                scan_time=full.scan_time,
+                frame_id=full.frame_id,
+            )
+    return out
+
+
+def _sector_notes(geometries: dict[str, ScanGeometry]) -> list[str]:
+    return [
+        f"{topic}: one scanner of a split view; it sees from "
+        f"{math.degrees(g.angle_min):.0f} to {math.degrees(g.angle_max):.0f} degrees only"
+        for topic, g in geometries.items()
+        if g.count < ScanGeometry().count
+    ]
+
+
+_LASER_SCAN = "sensor_msgs/msg/LaserScan"
+
+
 def _recording_path(inventory: Inventory, recording: Path | None) -> Path | None:
     if recording is not None:
         from skillwright.runtime.run import recording_files
@@ -256,13 +311,15 @@ def recorded_facts(
     wanted.update(dict.fromkeys(bindings.odometry_topics, "nav_msgs/msg/Odometry"))
     if bindings.map_topic:
         wanted[bindings.map_topic] = "nav_msgs/msg/OccupancyGrid"
+    defaults = default_geometries(bindings.scan_topics)
     if path is None or not wanted:
         if bindings.scan_topics:
             facts.notes.append(
                 "scan geometry and frames: defaults (360 beams over a full turn, 0.05-12 m, "
                 "frame laser_link), as the interface source holds no recorded messages"
             )
-        facts.scans = {topic: ScanGeometry() for topic in bindings.scan_topics}
+        facts.scans = dict(defaults)
+        facts.notes += _sector_notes(defaults)
         return facts
     try:
         first = _first_messages(path, wanted, inventory)
@@ -271,8 +328,9 @@ def recorded_facts(
         first = {}
     for topic in bindings.scan_topics:
         if topic not in first:
-            facts.scans[topic] = ScanGeometry()
+            facts.scans[topic] = defaults[topic]
             facts.notes.append(f"{topic}: no recorded scan; default geometry used")
+            facts.notes += _sector_notes({topic: defaults[topic]})
             continue
         scan = first[topic]
         count = len(scan["ranges"])

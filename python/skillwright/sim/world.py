@@ -27,6 +27,7 @@ pose.
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -35,7 +36,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from skillwright.errors import FileFormatError
-from skillwright.sim.bindings import Bindings, RecordedFacts, ScanGeometry
+from skillwright.sim.bindings import Bindings, RecordedFacts, ScanGeometry, split_views
 from skillwright.sim.drive import Command, DriveLimits, DriverState, MecanumKinematics
 from skillwright.sim.motion import ArmConfig, ArmServer, BaseMotionServer, NavConfig, fill
 from skillwright.sim.truth import CommandRecord, ContactRecord, GroundTruth, Sample, Sweep
@@ -202,7 +203,7 @@ class MujocoWorld:
         self._map: Any = None
         self._map_scans: list[tuple[ScanGeometry, tuple[float, float, float], Any, Any, float]] = []
         self.truth.catch_up = self._catch_up_map
-        self._map_pose: tuple[float, float, float] | None = None
+        self._map_pose: dict[str, tuple[float, float, float]] = {}
         self._map_updates = 0
         self._map_published = -1
         self.host: GraphHost | None = None
@@ -823,6 +824,27 @@ class MujocoWorld:
         angles = geometry.angle_min + np.arange(geometry.count) * geometry.angle_increment
         return angles, ranges
 
+    @functools.cached_property
+    def _views(self) -> dict[str, list[str]]:
+        """The scanners of each scan topic's view: itself alone, or the parts of its split
+        view."""
+        return {t: group for group in split_views(self.bindings.scan_topics) for t in group}
+
+    def _nearest_seen(self, topic: str, angles: Any, ranges: Any) -> tuple[float, float]:
+        """Distance and bearing of the nearest return the robot's view holds now: ``topic``'s
+        scan, and each other scanner of its split view (which sees another side)."""
+        np = self._np
+        views = [(angles, ranges)] + [self.scan(o) for o in self._views[topic] if o != topic]
+        best = (math.inf, 0.0)
+        for bearings, distances in views:
+            finite = np.isfinite(distances)
+            if finite.any():
+                index = int(np.argmin(np.where(finite, distances, np.inf)))
+                if float(distances[index]) < best[0]:
+                    bearing = math.remainder(float(bearings[index]), 2 * math.pi)
+                    best = (float(distances[index]), bearing)
+        return best
+
     def _laser_pose(self, geometry: ScanGeometry) -> tuple[float, float, float]:
         x, y, yaw = self.base_pose()
         ox, oy, _ = self.frames.get(
@@ -838,15 +860,10 @@ class MujocoWorld:
         def emit(t: float) -> None:
             angles, ranges = self.scan(topic)
             finite = np.isfinite(ranges)
-            if finite.any():
-                index = int(np.argmin(np.where(finite, ranges, np.inf)))
-                bearing = math.remainder(float(angles[index]), 2 * math.pi)
-                self.truth.nearest.append((t, float(ranges[index]), bearing))
-            else:
-                self.truth.nearest.append((t, math.inf, 0.0))
+            self.truth.nearest.append((t, *self._nearest_seen(topic, angles, ranges)))
             self.truth.sweeps.append(Sweep(t, geometry.angle_min, geometry.angle_increment, ranges))
-            if self.bindings.map_topic and topic == self.bindings.scan_topics[0]:
-                self._integrate_map(geometry, angles, ranges, t)
+            if self.bindings.map_topic and topic in self._views[self.bindings.scan_topics[0]]:
+                self._integrate_map(topic, geometry, angles, ranges, t)
             sigma = self.config.noise.scan
             # Drawn whether or not the scan is sent: the noise of later messages stays the same.
             noise = (
@@ -883,21 +900,25 @@ class MujocoWorld:
         return emit
 
     # --- the map ------------------------------------------------------------------------
-    def _integrate_map(self, geometry: ScanGeometry, angles: Any, ranges: Any, t: float) -> None:
-        """Takes a scan into the map when the base has moved enough since the last one.
+    def _integrate_map(
+        self, topic: str, geometry: ScanGeometry, angles: Any, ranges: Any, t: float
+    ) -> None:
+        """Takes a scan into the map when the base has moved enough since that scanner's
+        last one (each scanner of a split view adds its own side).
 
         The tracing itself waits until someone needs the map (its topic, a map saver, the
         oracles asking for its extent; see :meth:`_catch_up_map`): it is the dearest
         thing the world does, and most runs never look at the map.
         """
         pose = self._laser_pose(geometry)
-        if self._map_pose is not None:
-            moved = math.hypot(pose[0] - self._map_pose[0], pose[1] - self._map_pose[1])
-            turned = abs(math.remainder(pose[2] - self._map_pose[2], 2 * math.pi))
+        last = self._map_pose.get(topic)
+        if last is not None:
+            moved = math.hypot(pose[0] - last[0], pose[1] - last[1])
+            turned = abs(math.remainder(pose[2] - last[2], 2 * math.pi))
             # slam_toolbox's defaults: a scan joins the map after 0.5 m or 0.5 rad of motion.
             if moved < 0.5 and turned < 0.5:
                 return
-        self._map_pose = pose
+        self._map_pose[topic] = pose
         self._map_updates += 1
         self._map_scans.append((geometry, pose, angles, ranges, t))
 
