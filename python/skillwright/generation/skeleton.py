@@ -681,8 +681,8 @@ _GENERIC_SUMMARIES = {
     "_stop_base": "self._stop_base() commands zero velocity",
     "_closest_reading": "self._closest_reading(scan) returns (distance, bearing) of the closest "
     "valid reading of a LaserScan, NaN, infinite and out-of-range readings skipped; "
-    "(math.inf, 0.0) when there is none; self._closest_reading(scan, scan2) the closest of "
-    "several scanners'",
+    "(math.inf, 0.0) when there is none; self._closest_reading(scan, scan2) gives the "
+    "closest reading of several scanners",
     "_yaw": "self._yaw(q) returns the heading in radians, in [-pi, pi], counter-clockwise "
     "positive, of an orientation quaternion q (an Odometry's pose.pose.orientation, a "
     "transform's transform.rotation)",

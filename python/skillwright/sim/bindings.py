@@ -11,6 +11,7 @@ of the recording itself when the inventory was made from one (see :func:`recorde
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -233,18 +234,14 @@ def default_geometries(topics: list[str]) -> dict[str, ScanGeometry]:
     for group in split_views(topics):
         share = len(group)
         for index, topic in enumerate(group):
-            if share == 1:
-                out[topic] = full
-                continue
-            count = full.count // share
-            out[topic] = ScanGeometry(
-                angle_min=-math.pi / share + index * 2 * math.pi / share,
-                angle_increment=full.angle_increment,
-                count=count,
-                range_min=full.range_min,
-                range_max=full.range_max,
-                scan_time=full.scan_time,
-                frame_id=full.frame_id,
+            out[topic] = (
+                full
+                if share == 1
+                else dataclasses.replace(
+                    full,
+                    angle_min=-math.pi / share + index * 2 * math.pi / share,
+                    count=full.count // share,
+                )
             )
     return out
 
