@@ -126,6 +126,19 @@ def test_reading_a_first_message_nothing_waited_for_gets_the_wait_before_it(
     [
         ("    def _speed(self, odom):\n        return odom.twist.twist.linear.x\n\n", True),
         ("    def _speed(self, odom):\n        return 0.0 if odom is None else 1.0\n\n", False),
+        # the skeleton's _closest_reading(self, *scans) reads each element's fields
+        (
+            "    def _speed(self, *odoms):\n"
+            "        for odom in odoms:\n"
+            "            return odom.twist.twist.linear.x\n\n",
+            True,
+        ),
+        ("    def _speed(self, *odoms):\n        return odoms[0].twist.twist.linear.x\n\n", True),
+        (
+            "    def _speed(self, *odoms):\n        first = odoms[0]\n        return first.pose\n\n",
+            True,
+        ),
+        ("    def _speed(self, *odoms):\n        return float(len(odoms))\n\n", False),
     ],
 )
 def test_handing_a_first_message_to_a_method_that_reads_its_fields_counts_as_reading_it(
@@ -139,3 +152,27 @@ def test_handing_a_first_message_to_a_method_that_reads_its_fields_counts_as_rea
     line = source.splitlines().index(read.rstrip("\n")) + 1
     found = [f.replacement for f in _waits(source, move_forward) if f.line == line]
     assert found == ([f"{WAIT}\nspeed = self._speed(self.odom_msg)"] if error else [])
+
+
+def test_one_statement_reading_two_first_messages_gets_both_waits_in_one_finding(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # the cap2skill get-distance of the evaluation at d678df9 unpacked
+    # self._closest_reading(self.scan_msg, self.scan2_msg) in execute, waiting for neither
+    helper = (
+        "    def _nearest(self, *scans):\n"
+        "        return min(min(scan.ranges) for scan in scans)\n\n"
+    )
+    read = "        nearest = self._nearest(self.odom_msg, self.scan_msg)\n"
+    source = _execute_starting_with(read, starting_waits=False)
+    source = source.replace("    @starting", helper + "    @starting", 1)
+    source = source.replace(
+        "        self.odom_msg: Odometry | None = None\n",
+        "        self.odom_msg: Odometry | None = None\n        self.scan_msg: object = None\n",
+        1,
+    )
+    line = source.splitlines().index(read.rstrip("\n")) + 1
+    [finding] = [f for f in _waits(source, move_forward) if f.line == line]
+    scan_wait = WAIT.replace("odom_msg", "scan_msg")
+    assert "self.odom_msg and self.scan_msg stay None" in finding.message
+    assert finding.replacement == f"{WAIT}\n{scan_wait}\n{read.strip()}"

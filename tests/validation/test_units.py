@@ -184,6 +184,8 @@ def test_a_distance_stored_as_an_angle_is_found(degrees: dict[str, Capability]) 
         "distance, bearing = self._closest_reading(self.scan_msg)\n"
         "if distance < 0.5 and abs(bearing) < 0.3:\n    pass",
         "self.out_distance = self._closest_reading(self.scan_msg)[0] * 1.0",
+        "self.out_distance, bearing = self._closest_reading(self.scan_msg)\n"
+        "self.out_degree = math.degrees(bearing)",
     ],
 )
 def test_consistent_or_unknown_units_are_left_alone(
@@ -194,6 +196,44 @@ def test_consistent_or_unknown_units_are_left_alone(
         _units(degrees["get-distance-to-nearest-object"], method)
         + _units(degrees["rotate"], method)
         == []
+    )
+
+
+@pytest.mark.parametrize(
+    ("body", "fix", "said"),
+    [
+        (  # the evaluation at d678df9, cap2skill get-distance: distance and bearing swapped
+            "self.out_degree, self.out_distance = "
+            "self._closest_reading(self.scan_msg, self.scan2_msg)",
+            "self.out_distance, bearing = self._closest_reading(self.scan_msg, self.scan2_msg)\n"
+            "self.out_degree = math.degrees(bearing)",
+            "self.out_degree is an angle in degrees",
+        ),
+        (  # the right order, but the bearing kept in radians
+            "self.out_distance, self.out_degree = self._closest_reading(self.scan_msg)",
+            "self.out_distance, bearing = self._closest_reading(self.scan_msg)\n"
+            "self.out_degree = math.degrees(bearing)",
+            "self.out_degree is in degrees",
+        ),
+    ],
+)
+def test_the_helpers_tuple_unpacked_into_outputs_puts_the_bearing_in_the_angle(
+    degrees: dict[str, Capability], body: str, fix: str, said: str
+) -> None:
+    method = "def execute(self) -> None:\n    " + body
+    [finding] = _units(degrees["get-distance-to-nearest-object"], method)
+    assert said in finding.message
+    assert finding.replacement == fix
+
+
+def test_the_swapped_tuple_into_an_output_in_radians_only_swaps(radians: Capability) -> None:
+    method = """
+    def execute(self) -> None:
+        self.out_angle, self.out_distance = self._closest_reading(self.scan_msg)
+    """
+    [finding] = _units(radians, method)
+    assert finding.replacement == (
+        "self.out_distance, self.out_angle = self._closest_reading(self.scan_msg)"
     )
 
 

@@ -73,15 +73,44 @@ def _wait_for(attribute: str) -> str:
 
 
 def _reads_parameter_fields(method: ast.FunctionDef, index: int) -> bool:
-    """Whether ``method`` reads a field of its ``index``-th parameter after ``self``."""
+    """Whether ``method`` reads a field of its ``index``-th parameter after ``self``; past
+    the named parameters, of an element of its ``*args`` (``for scan in scans: scan.ranges``
+    in the skeleton's ``_closest_reading(self, *scans)``)."""
     parameters = method.args.args[1:]
-    if index >= len(parameters):
+    if index < len(parameters):
+        names = {parameters[index].arg}
+    elif method.args.vararg is not None:
+        names = _elements_of(method, method.args.vararg.arg)
+    else:
         return False
-    name = parameters[index].arg
-    return any(
-        isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name) and n.value.id == name
-        for n in ast.walk(method)
-    )
+    for node in ast.walk(method):
+        if not isinstance(node, ast.Attribute):
+            continue
+        holder = node.value.value if isinstance(node.value, ast.Subscript) else node.value
+        if isinstance(holder, ast.Name) and holder.id in names:
+            return True
+    return False
+
+
+def _elements_of(method: ast.FunctionDef, sequence: str) -> set[str]:
+    """The names ``method`` binds to the elements of its parameter ``sequence``: the
+    targets of ``for x in sequence`` and of ``x = sequence[i]``."""
+    out = {sequence}  # read by index: scans[0].ranges
+    for node in ast.walk(method):
+        if (
+            isinstance(node, ast.For | ast.comprehension)
+            and isinstance(node.iter, ast.Name)
+            and node.iter.id == sequence
+        ):
+            out |= {n.id for n in ast.walk(node.target) if isinstance(n, ast.Name)}
+        elif (
+            isinstance(node, ast.Assign)
+            and isinstance(node.value, ast.Subscript)
+            and isinstance(node.value.value, ast.Name)
+            and node.value.value.id == sequence
+        ):
+            out |= {t.id for t in node.targets if isinstance(t, ast.Name)}
+    return out
 
 
 def _hands_over(node: ast.AST, attribute: str, methods: Mapping[str, ast.FunctionDef]) -> bool:
@@ -142,6 +171,23 @@ def _tested(test: ast.expr, aliases: Mapping[str, str]) -> str | None:
     return self_attribute(subject)
 
 
+def _read_too_soon(statement: ast.stmt, reads: list[str], state: str) -> Finding:
+    """The finding for ``statement`` reading the fields of the first messages ``reads``
+    before anything waited for them, with the waits put before it."""
+    waits = [_wait_for(read) for read in reads]
+    named = " and ".join(f"self.{read}" for read in reads)
+    stays = "stays None" if len(reads) == 1 else "stay None"
+    return waits_error(
+        statement,
+        f"{named} {stays} until the first message arrives, and nothing waited for "
+        f"{'it' if len(reads) == 1 else 'them'} before {state} reads "
+        f"{'its' if len(reads) == 1 else 'their'} fields here: on a robot that is fine the "
+        "state raises AttributeError when it runs before the first message. Wait first: "
+        + "; ".join(waits),
+        "\n".join([*waits, ast.unparse(statement)]),
+    )
+
+
 def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef]) -> list[Finding]:
     """Findings for guards that give up on a first message nothing waited for, with the wait
     (and the local variables set from the message again after it) in their place."""
@@ -186,22 +232,15 @@ def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef
                 and isinstance(statement.body[-1], ast.Return | ast.Raise)
             ):
                 checked |= {a for a in latest if _mentions(statement.test, a)}
-            for read in sorted(latest - waited - reported - checked):
-                if _reads_field(statement, read, methods) and not _waits_for(
-                    statement, read, methods
-                ):
-                    wait = _wait_for(read)
-                    findings.append(
-                        waits_error(
-                            statement,
-                            f"self.{read} stays None until the first message arrives, and "
-                            f"nothing waited for it before {state} reads its fields here: on "
-                            "a robot that is fine the state raises AttributeError when it runs "
-                            f"before the first message. Wait for it first: {wait}",
-                            "\n".join([wait, ast.unparse(statement)]),
-                        )
-                    )
-                    reported.add(read)
+            unready = [
+                read
+                for read in sorted(latest - waited - reported - checked)
+                if _reads_field(statement, read, methods)
+                and not _waits_for(statement, read, methods)
+            ]
+            if unready:
+                findings.append(_read_too_soon(statement, unready, state))
+                reported |= set(unready)
             if (
                 isinstance(statement, ast.Assign)
                 and len(statement.targets) == 1

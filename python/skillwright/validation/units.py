@@ -239,8 +239,14 @@ class _Reader:
         elif isinstance(target, ast.Tuple | ast.List):
             units = _helper_tuple(value) or ()
             for index, element in enumerate(target.elts):
+                held = units[index] if index < len(units) else None
                 if isinstance(element, ast.Name):
-                    self.names[element.id] = units[index] if index < len(units) else None
+                    self.names[element.id] = held
+                elif (attribute := self_attribute(element)) is not None:
+                    self.stored.setdefault(attribute, []).append(held)
+                    if attribute in self.declared and held is not None:
+                        part = ast.Subscript(value=value, slice=ast.Constant(index), ctx=ast.Load())
+                        self.stores.append((statement, attribute, part, held))
 
     def _mix(self, node: ast.AST, parts: list[tuple[ast.expr, _Unit | None]]) -> None:
         known = tuple((e, u) for e, u in parts if u is not None and u.unit != METRES)
@@ -516,6 +522,8 @@ def _findings(
             f"is in {unit.unit} ({unit.why}); the fix converts it with math.{converter}"
         )
         entry.wraps[id(value)] = converter
+    for problem in problems.values():
+        problem.replacement = _unpacked_again(problem.statement, declared)
     for mix in reader.mixes:
         entry = at(mix.node)
         if entry is None:
@@ -571,6 +579,40 @@ def _with_start_angle(method: ast.FunctionDef, product: ast.BinOp) -> ast.expr:
     return product
 
 
+def _unpacked_again(statement: ast.stmt, declared: Mapping[str, _Unit]) -> str | None:
+    """For ``self.out_degree, self.out_distance = self._closest_reading(scan)`` (the
+    helper's distance and bearing unpacked in the wrong order, or the bearing kept in
+    radians for an output in degrees): the statements that put the bearing, converted, into
+    the one angle output and the distance into the other target. None for anything else."""
+    if not (
+        isinstance(statement, ast.Assign)
+        and len(statement.targets) == 1
+        and isinstance(statement.targets[0], ast.Tuple | ast.List)
+    ):
+        return None
+    units = _helper_tuple(statement.value)
+    targets = statement.targets[0].elts
+    if units is None or len(units) != len(targets) or len(targets) != 2:
+        return None
+    angles = [t for t in targets if self_attribute(t) in declared]
+    bearing = next((i for i, u in enumerate(units) if u is not None and u.unit == RAD), None)
+    if len(angles) != 1 or bearing is None:
+        return None
+    angle = angles[0]
+    other = next(t for t in targets if t is not angle)
+    wanted = declared[str(self_attribute(angle))].unit
+    local = "bearing"
+    placed: list[ast.expr] = [other, other]
+    placed[bearing] = angle if wanted == RAD else ast.Name(id=local, ctx=ast.Store())
+    unpack = ast.Assign(
+        targets=[ast.Tuple(elts=placed, ctx=ast.Store())], value=statement.value, lineno=0
+    )
+    lines = [ast.unparse(unpack)]
+    if wanted != RAD:
+        lines.append(f"{ast.unparse(angle)} = math.{_converter(wanted)}({local})")
+    return "\n".join(lines)
+
+
 def _converter(unit: str) -> str:
     return "degrees" if unit == DEG else "radians"
 
@@ -585,10 +627,12 @@ class _Problem:
     """Terms (by node id) to put in ``math.<converter>(...)``."""
     swaps: dict[int, ast.expr] = dataclasses.field(default_factory=dict)
     """Terms (by node id) to replace by another expression."""
+    replacement: str | None = None
+    """The statements that replace the statement whole, where the changes are no terms'."""
 
 
 def _finding(problem: _Problem) -> Finding:
-    replacement = None
+    replacement = problem.replacement
     changes = problem.wraps.keys() | problem.swaps.keys()
     if changes and len(changes) == sum(1 for n in ast.walk(problem.statement) if id(n) in changes):
         replacement = ast.unparse(_converted(problem))
