@@ -829,6 +829,24 @@ def test_a_helper_the_states_call_is_asked_for_and_kept(case: _Case) -> None:
     assert not [f for f in authored.findings if f.severity == "error"], authored.findings
 
 
+def test_a_return_the_checks_know_the_fix_of_is_fixed_without_the_model(case: _Case) -> None:
+    # the MR-1 set-velocity of the evaluation at d678df9: a helper returned a test of
+    # twist.linear.x on the odometry's twist (twist.twist.linear.x), and the grounding
+    # check's fix was not applied to a return
+    uses_helper = EXECUTE.replace(
+        "        self._stop_base()\n", "        self._stop_base()\n        self._settled()\n", 1
+    )
+    helper = """) -> bool:
+        twist = self.odom_msg.twist
+        return abs(twist.linear.x) < 0.01
+```"""
+    model = MethodScript({**GOOD, "execute": [uses_helper], "_settled": [helper, "```"]})
+    authored = case.write(model)
+    assert model.asked.count("_settled") == 1
+    assert "        return abs(twist.twist.linear.x) < 0.01\n" in authored.code
+    assert not [f for f in authored.findings if f.severity == "error"], authored.findings
+
+
 def test_a_callback_the_states_hand_to_a_timer_is_asked_for_as_a_helper(case: _Case) -> None:
     uses_callback = EXECUTE.replace(
         "        command = Twist()\n",

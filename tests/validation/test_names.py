@@ -839,3 +839,36 @@ def test_an_attribute_named_with_an_underscore_too_many_is_renamed(
     other = stopping_with("        self.cmd_vel_pub.publish(Twist())\n")
     (found,) = [f for f in _names(other, move_forward) if "cmd_vel_pub " in f.message]
     assert found.replacement is None
+
+
+@pytest.mark.parametrize(
+    ("ros1", "ros2"),
+    [
+        (  # the MR-1 move-to-point of the evaluation at d678df9
+            "timeout = rospy.Duration(0.0)",
+            "timeout = rclpy.duration.Duration(seconds=0.0)",
+        ),
+        ("stamp = rospy.Time(0)", "stamp = rclpy.time.Time()"),
+        ("stamp = rospy.Time.now()", "stamp = self.node.get_clock().now()"),
+        ("rospy.sleep(0.5)", "time.sleep(0.5)"),
+        ("rospy.logwarn('halting')", "self.node.get_logger().warning('halting')"),
+        (
+            "running = not rospy.is_shutdown() and rospy.get_time() > 0",
+            "running = rclpy.ok() and time.time() > 0",
+        ),
+        ("rate = rospy.Rate(10)", None),  # no plain counterpart: named only
+        ("timeout = rospy.Duration(1.0) + rospy.Rate(10).sleep_dur", None),
+    ],
+)
+def test_rospy_is_named_as_ros_1_with_the_rclpy_statement_where_there_is_one(
+    move_forward: tuple[Capability, SkillSpec], ros1: str, ros2: str | None
+) -> None:
+    source = stopping_with(f"        {ros1}\n")
+    [finding] = [f for f in _names(source, move_forward) if "rospy" in f.message]
+    assert source.splitlines()[finding.line - 1].strip() == ros1
+    assert finding.message.startswith("rospy is ROS 1's client library")
+    assert finding.replacement == ros2
+    if ros2 is None:
+        assert "rclpy.duration.Duration(seconds=...)" in finding.message or (
+            "rospy.Duration(1.0) is rclpy.duration.Duration(seconds=1.0)" in finding.message
+        )

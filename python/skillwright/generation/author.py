@@ -549,12 +549,19 @@ def _apply_replacements(
 
 def _replaceable(statement: ast.stmt) -> bool:
     """Whether a check's suggested statements may take the place of ``statement`` whole: a
-    plain statement (a ``raise`` whose text names a timeout the run changed), a loop, or an
-    ``if`` (a guard on something that does not exist, which the suggestion replaces by what
-    it comes to)."""
+    plain statement (a ``raise`` whose text names a timeout the run changed, a helper's
+    ``return`` of a field that is one level deeper), a loop, or an ``if`` (a guard on
+    something that does not exist, which the suggestion replaces by what it comes to)."""
     return isinstance(
         statement,
-        ast.Assign | ast.AugAssign | ast.AnnAssign | ast.Expr | ast.While | ast.If | ast.Raise,
+        ast.Assign
+        | ast.AugAssign
+        | ast.AnnAssign
+        | ast.Expr
+        | ast.While
+        | ast.If
+        | ast.Raise
+        | ast.Return,
     )
 
 

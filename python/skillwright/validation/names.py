@@ -275,6 +275,10 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
         use = _scope_uses(tree, name, child.get_lineno())
         if use is not None and name not in seen:
             seen.add(name)
+            ros1 = _from_ros1(tree, use) if name == "rospy" else None
+            if ros1 is not None:
+                findings.append(_finding(use, *ros1))
+                continue
             findings.append(
                 _finding(
                     use,
@@ -311,6 +315,96 @@ def _read_from_skill(tree: ast.Module, use: ast.Name, undefined: set[str]) -> st
             return node
 
     return ast.unparse(_ToAttribute().visit(statement))
+
+
+_ROS1_LOGGING = {
+    "logdebug": "debug",
+    "loginfo": "info",
+    "logwarn": "warning",
+    "logerr": "error",
+    "logfatal": "fatal",
+}
+
+
+def _ros2_call(call: ast.expr) -> str | None:
+    """The ROS 2 (rclpy) expression for a call of rospy's API, where there is one plain
+    counterpart: ``rospy.Duration(0.5)`` is ``rclpy.duration.Duration(seconds=0.5)``."""
+    if not isinstance(call, ast.Call):
+        return None
+    func = call.func
+    if not isinstance(func, ast.Attribute):
+        return None
+    arguments = [ast.unparse(a) for a in call.args]
+    if isinstance(func.value, ast.Attribute):  # rospy.Time.now()
+        inner = func.value
+        if (
+            isinstance(inner.value, ast.Name)
+            and inner.value.id == "rospy"
+            and (inner.attr, func.attr) == ("Time", "now")
+            and not arguments
+        ):
+            return "self.node.get_clock().now()"
+        return None
+    if not isinstance(func.value, ast.Name) or func.value.id != "rospy" or call.keywords:
+        return None
+    name = func.attr
+    if name in ("Duration", "Time") and len(arguments) <= 2:
+        module = "rclpy.duration" if name == "Duration" else "rclpy.time"
+        if name == "Time" and arguments in ([], ["0"], ["0.0"]):
+            return "rclpy.time.Time()"  # rospy.Time(0): the latest transform
+        keywords = [
+            f"seconds={a}" if i == 0 else f"nanoseconds={a}" for i, a in enumerate(arguments)
+        ]
+        return f"{module}.{name}({', '.join(keywords)})"
+    if name == "sleep" and len(arguments) == 1:
+        return f"time.sleep({arguments[0]})"
+    if name in _ROS1_LOGGING and arguments:
+        return f"self.node.get_logger().{_ROS1_LOGGING[name]}({', '.join(arguments)})"
+    if name == "get_time" and not arguments:
+        return "time.time()"
+    if name == "is_shutdown" and not arguments:
+        return "(not rclpy.ok())"
+    return None
+
+
+def _from_ros1(tree: ast.Module, use: ast.Name) -> tuple[str, str | None] | None:
+    """The message (and, when every use of rospy in the statement has a plain ROS 2
+    counterpart, the statement so translated) for ``rospy`` used in a ROS 2 skill: the
+    MR-1 move-to-point of the evaluation at d678df9 looked up a transform at
+    ``rospy.Duration(0.0)``."""
+    statement = statement_holding(tree, use)
+    if statement is None:
+        return None
+    said: list[str] = []
+
+    class _ToRos2(ast.NodeTransformer):
+        def visit_UnaryOp(self, node: ast.UnaryOp) -> ast.AST:
+            if isinstance(node.op, ast.Not) and _ros2_call(node.operand) == "(not rclpy.ok())":
+                said.append(f"{ast.unparse(node)} is rclpy.ok()")
+                return ast.parse("rclpy.ok()", mode="eval").body
+            return self.generic_visit(node)
+
+        def visit_Call(self, node: ast.Call) -> ast.AST:
+            ros2 = _ros2_call(node)
+            if ros2 is None:
+                return self.generic_visit(node)
+            said.append(f"{ast.unparse(node)} is {ros2}")
+            return ast.parse(ros2, mode="eval").body
+
+    translated = _ToRos2().visit(copy.deepcopy(statement))
+    whole = not any(isinstance(n, ast.Name) and n.id == "rospy" for n in ast.walk(translated))
+    message = (
+        "rospy is ROS 1's client library, and this skill runs on ROS 2 through rclpy and the "
+        "skeleton's node (self.node): "
+        + (
+            "; ".join(said)
+            if said
+            else "durations are rclpy.duration.Duration(seconds=...), times "
+            "self.node.get_clock().now(), sleeps time.sleep(...), logging "
+            "self.node.get_logger().info(...)"
+        )
+    )
+    return message, ast.unparse(translated) if whole and said else None
 
 
 def self_attribute(node: ast.AST) -> str | None:
