@@ -346,6 +346,34 @@ def test_a_message_field_given_a_number_is_an_error(
 
 
 @pytest.mark.parametrize(
+    ("helper", "call"),
+    [
+        (  # the MR-1 move-forward of the evaluation at d678df9: a lambda kept on the skill
+            "        self._clipped = lambda v: min(abs(v), self.LINEAR_VELOCITY_MAX)\n",
+            "self._clipped(self.in_linear_velocity)",
+        ),
+        ("", "self._clamp(self.in_linear_velocity)"),  # a method annotated -> float
+        ("", "self._halved(self.in_linear_velocity)"),  # a method that returns arithmetic
+    ],
+)
+def test_a_message_field_given_what_a_numeric_helper_returns_is_an_error(
+    move_forward: tuple[Capability, SkillSpec], helper: str, call: str
+) -> None:
+    methods = (
+        "    def _clamp(self, v) -> float:\n        return v\n\n"
+        "    def _halved(self, v):\n        return v / 2.0\n\n"
+        "    @execute\n"
+    )
+    source = GOOD.replace("    @execute\n", methods, 1).replace(
+        "        command = Twist()\n        command.linear.x = speed",
+        helper + f"        pace = {call}\n        command = Twist(linear=pace)",
+    )
+    assert "command = Twist(linear=pace)" in source
+    (found,) = [f for f in run(source, move_forward).findings if "is a message" in f.message]
+    assert found.replacement == "command = Twist(linear=Vector3(x=pace))"
+
+
+@pytest.mark.parametrize(
     ("made", "fix"),
     [
         ("Twist(forward, turn)", "command = Twist(linear=forward, angular=turn)"),

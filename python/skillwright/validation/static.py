@@ -1018,6 +1018,7 @@ def _check_fields(
     _check_yaw_arguments(ctx, cls, bindings)
     _check_heading_arguments(ctx, cls, bindings)
     numeric_attributes = _numeric_attributes(cls)
+    numeric_attributes |= _numeric_callables(cls, numeric_attributes)
     known = _with_transforms(catalog)
     helpers = {name for name, key in returns.items() if key.endswith(".Result")}
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
@@ -1027,7 +1028,7 @@ def _check_fields(
         visitor.generic_visit(method)
         visitor.report()
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        numbers = _numeric_names(method) | numeric_attributes
+        numbers = _numeric_names(method, numeric_attributes) | numeric_attributes
         statement_of = simple_statements(method)
         published = {
             id(call.args[0]): ast.unparse(call.func)
@@ -1432,15 +1433,51 @@ def _is_zero(node: ast.expr) -> bool:
 _NUMERIC_CALLS = {"min", "max", "abs", "float", "int", "round", "sum", "len"}
 
 
-def _numeric_names(function: ast.FunctionDef) -> set[str]:
-    """Local names the function assigns numbers to (``speed = min(a, b)``), in order."""
+def _numeric_names(function: ast.FunctionDef, known: AbstractSet[str] = frozenset()) -> set[str]:
+    """Local names the function assigns numbers to (``speed = min(a, b)``), in order;
+    ``known`` are the attributes and methods of the class known to hold or give one."""
     names: set[str] = set()
     for node in ast.walk(function):
         if isinstance(node, ast.Assign) and len(node.targets) == 1:
             target = node.targets[0]
-            if isinstance(target, ast.Name) and _is_scalar(node.value, names):
+            if isinstance(target, ast.Name) and _is_scalar(node.value, names | known):
                 names.add(target.id)
     return names
+
+
+_NUMERIC_ANNOTATIONS = frozenset({"float", "int"})
+
+
+def _numeric_callables(cls: ast.ClassDef, attributes: AbstractSet[str]) -> set[str]:
+    """``self.<name>()`` for the methods of the class that return a number (annotated so, or
+    every value they return is one) and the lambdas it keeps on itself that do: the MR-1
+    move-forward of the evaluation at d678df9 kept ``self._clipped_speed = lambda speed:
+    min(...)`` and published ``Twist(linear=self._clipped_speed(v))``."""
+    out: set[str] = set()
+    methods = [n for n in cls.body if isinstance(n, ast.FunctionDef)]
+    for method in methods:
+        annotation = ast.unparse(method.returns) if method.returns is not None else None
+        values = [
+            n.value for n in ast.walk(method) if isinstance(n, ast.Return) and n.value is not None
+        ]
+        numbers = _numeric_names(method, attributes) | attributes
+        if annotation in _NUMERIC_ANNOTATIONS or (
+            annotation is None and values and all(_is_scalar(v, numbers) for v in values)
+        ):
+            out.add(f"self.{method.name}()")
+    for method in methods:
+        for node in ast.walk(method):
+            if (
+                isinstance(node, ast.Assign)
+                and isinstance(node.value, ast.Lambda)
+                and _is_scalar(node.value.body, attributes)
+            ):
+                out |= {
+                    f"{ast.unparse(t)}()"
+                    for t in node.targets
+                    if ast.unparse(t).startswith("self.")
+                }
+    return out
 
 
 def _numeric_attributes(cls: ast.ClassDef) -> set[str]:
@@ -1483,7 +1520,9 @@ def _is_scalar(node: ast.expr, numbers: AbstractSet[str] = frozenset()) -> bool:
         func = node.func
         if isinstance(func, ast.Name):
             return func.id in _NUMERIC_CALLS
-        return isinstance(func, ast.Attribute) and ast.unparse(func.value) == "math"
+        return isinstance(func, ast.Attribute) and (
+            ast.unparse(func.value) == "math" or f"{ast.unparse(func)}()" in numbers
+        )
     return False
 
 
