@@ -23,6 +23,7 @@ from keyword import kwlist
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.spec.model import PACKML_STATES, SkillSpec
+from skillwright.validation.equality import check_equality
 from skillwright.validation.first_messages import check_first_messages
 from skillwright.validation.loops import check_waits
 from skillwright.validation.model import (
@@ -2183,16 +2184,20 @@ def check_skill(
         _check_handles(ctx, cls)
         _check_goal_results(ctx, cls)
         _check_timers(ctx, cls)
-        ctx.findings += check_names(source, tree, cls, imports)
-        ctx.findings += check_waits(cls)
-        ctx.findings += check_stale_conditions(cls)
-        ctx.findings += check_stops(cls)
-        ctx.findings += check_filtered_positions(cls)
-        ctx.findings += check_angle_units(cls, capability)
-        ctx.findings += check_unsent(cls)
-        ctx.findings += check_first_messages(cls, methods)
-        ctx.findings += check_settling(cls)
-        ctx.findings += check_views(cls, tree)
+        for findings in (
+            check_names(source, tree, cls, imports),
+            check_waits(cls),
+            check_stale_conditions(cls),
+            check_stops(cls),
+            check_filtered_positions(cls),
+            check_angle_units(cls, capability),
+            check_unsent(cls),
+            check_first_messages(cls, methods),
+            check_settling(cls),
+            check_views(cls, tree),
+            check_equality(cls, capability),
+        ):
+            ctx.findings += findings
         if catalog is not None:
             _check_fields(ctx, cls, uses, catalog, imports)
             _check_constants(ctx, cls, catalog, imports)

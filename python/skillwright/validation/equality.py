@@ -1,0 +1,287 @@
+"""A measured value tested for exact equality (check ``equality``).
+
+Odometry, scans and transforms carry floating-point readings with noise: a velocity the
+robot reaches is 0.2994 or 0.3008, never the 0.3 it was asked for. The default model's
+cap2skill set-velocity in the evaluation at d678df9 looped ``while True`` until
+``velocity == self.out_velocity``, the latter just read from the odometry, so the loop ran
+until the state's deadline and the run failed on a robot that had done what it was told.
+
+A comparison with ``==`` or ``!=`` is flagged when one side is a measured number: a
+coordinate or component (``x``, ``y``, ``z``, ``w``) of a field of a latest message
+(``self.X_msg``, which a callback keeps), a reading of ``ranges``, the skeleton's
+``self._yaw(...)``, arithmetic on those, or a name or attribute the class assigns from one.
+Tests against ``None``, strings, booleans and upper-case constants (``GoalStatus.
+STATUS_SUCCEEDED``, a status code) are not measurements and are left alone. In a loop's
+condition or in the ``if`` that leaves a loop it is an error (the loop most likely never
+ends); elsewhere a warning. Where the other side has a unit the capability states (an input,
+an output, or a local copied from one), the fix tests for closeness within a tolerance of
+that unit instead.
+"""
+
+from __future__ import annotations
+
+import ast
+import copy
+from collections.abc import Mapping
+
+from skillwright.capability.model import Capability
+from skillwright.generation.names import snake_case
+from skillwright.validation.first_messages import latest_messages
+from skillwright.validation.model import Finding
+from skillwright.validation.names import self_attribute
+from skillwright.validation.syntax import statement_holding
+
+__all__ = ["check_equality"]
+
+_COMPONENTS = frozenset({"x", "y", "z", "w"})
+_READINGS = frozenset({"_yaw"})
+
+_TOLERANCES = {
+    "m": 0.01,
+    "m/s": 0.01,
+    "rad": 0.01,
+    "rad/s": 0.01,
+    "°": 1.0,
+    "deg": 1.0,
+    "s": 0.1,
+}
+"""How close is close enough, by the unit the capability states."""
+
+
+def check_equality(cls: ast.ClassDef, capability: Capability) -> list[Finding]:
+    """Findings (check ``equality``) for measured numbers compared with ``==`` or ``!=``."""
+    latest = latest_messages(cls)
+    latest |= _message_parts(cls, latest)
+    measured = _measured_names(cls, latest)
+    units = _units(capability)
+    findings = []
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        aliases = _aliases(method, units)
+        exits = _loop_exits(method)
+        for node in ast.walk(method):
+            if not (
+                isinstance(node, ast.Compare)
+                and len(node.ops) == 1
+                and isinstance(node.ops[0], ast.Eq | ast.NotEq)
+            ):
+                continue
+            left, right = node.left, node.comparators[0]
+            sides = [(left, right), (right, left)]
+            found = next(
+                (
+                    (reading, other)
+                    for reading, other in sides
+                    if _is_measured(reading, latest, measured) and _is_number_like(other)
+                ),
+                None,
+            )
+            statement = statement_holding(method, node)
+            if found is None or statement is None:
+                continue
+            reading, other = found
+            unit = _unit_of(other, units, aliases)
+            in_loop_exit = id(statement) in exits
+            findings.append(_finding(statement, node, reading, other, unit, in_loop_exit))
+    return findings
+
+
+def _finding(
+    statement: ast.stmt,
+    compare: ast.Compare,
+    reading: ast.expr,
+    other: ast.expr,
+    unit: str | None,
+    in_loop_exit: bool,
+) -> Finding:
+    equal = isinstance(compare.ops[0], ast.Eq)
+    message = (
+        f"`{ast.unparse(compare)}` tests a measured value, `{ast.unparse(reading)}`, for exact "
+        "equality: readings carry noise and are never exactly the number asked for"
+        + (", so this loop most likely never ends" if in_loop_exit else "")
+        + f"; test closeness instead: abs({ast.unparse(reading)} - {ast.unparse(other)}) "
+        + ("<" if equal else ">=")
+        + " tolerance"
+    )
+    replacement = None
+    if unit is not None:
+        tolerance = _TOLERANCES[unit]
+        message += f" (the fix uses {tolerance} {unit})"
+        close = ast.parse(
+            f"abs({ast.unparse(reading)} - {ast.unparse(other)}) "
+            f"{'<' if equal else '>='} {tolerance}",
+            mode="eval",
+        ).body
+        replacement = ast.unparse(_replaced(statement, compare, close))
+    return Finding(
+        check="equality",
+        severity="error" if in_loop_exit else "warning",
+        line=compare.lineno,
+        column=compare.col_offset + 1,
+        message=message,
+        replacement=replacement if in_loop_exit or unit is not None else None,
+    )
+
+
+def _replaced(statement: ast.stmt, old: ast.expr, new: ast.expr) -> ast.stmt:
+    memo: dict[int, object] = {}
+    changed = copy.deepcopy(statement, memo)
+    target = memo[id(old)]
+
+    class _Swap(ast.NodeTransformer):
+        def visit(self, node: ast.AST) -> ast.AST:
+            return new if node is target else self.generic_visit(node)
+
+    swapped = _Swap().visit(changed)
+    assert isinstance(swapped, ast.stmt)
+    return ast.fix_missing_locations(swapped)
+
+
+def _is_measured(node: ast.expr, latest: set[str], measured: set[str]) -> bool:
+    """Whether ``node`` is, or computes from, a measured number."""
+    if isinstance(node, ast.Name):
+        return node.id in measured
+    if isinstance(node, ast.Attribute):
+        name = self_attribute(node)
+        if name is not None:
+            return f"self.{name}" in measured
+        return node.attr in _COMPONENTS and _reads_latest(node, latest)
+    if isinstance(node, ast.Subscript):
+        holder = node.value
+        return (
+            isinstance(holder, ast.Attribute)
+            and holder.attr == "ranges"
+            and _reads_latest(holder, latest)
+        )
+    if isinstance(node, ast.Call):
+        if isinstance(node.func, ast.Attribute) and self_attribute(node.func) in _READINGS:
+            return True
+        if isinstance(node.func, ast.Name) and node.func.id in ("abs", "float", "round"):
+            return any(_is_measured(a, latest, measured) for a in node.args)
+        return False
+    if isinstance(node, ast.BinOp):
+        return _is_measured(node.left, latest, measured) or _is_measured(
+            node.right, latest, measured
+        )
+    if isinstance(node, ast.UnaryOp):
+        return _is_measured(node.operand, latest, measured)
+    return False
+
+
+def _reads_latest(node: ast.expr, latest: set[str]) -> bool:
+    """Whether the attribute chain ``node`` starts at a latest message (``self.odom_msg``)
+    or at a name the class assigns a part of one to (``here =
+    self.odom_msg.pose.pose.position``; the names are in ``latest`` too, see
+    :func:`_message_parts`)."""
+    while isinstance(node, ast.Attribute | ast.Subscript):
+        if self_attribute(node) in latest:
+            return True
+        node = node.value
+    return isinstance(node, ast.Name) and node.id in latest
+
+
+def _message_parts(cls: ast.ClassDef, latest: set[str]) -> set[str]:
+    """Local names the class assigns a latest message or a part of one to."""
+    out: set[str] = set()
+    for node in ast.walk(cls):
+        if (
+            isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and isinstance(node.targets[0], ast.Name)
+            and isinstance(node.value, ast.Attribute)
+            and _reads_latest(node.value, latest)
+        ):
+            out.add(node.targets[0].id)
+    return out
+
+
+def _measured_names(cls: ast.ClassDef, latest: set[str]) -> set[str]:
+    """Local names and ``self.<name>`` attributes the class assigns a measured number to."""
+    measured: set[str] = set()
+    assignments = [
+        n
+        for n in ast.walk(cls)
+        if isinstance(n, ast.Assign) and len(n.targets) == 1 and not isinstance(n.value, ast.Lambda)
+    ]
+    for _ in range(3):  # a name from a name from a reading
+        for node in assignments:
+            target = node.targets[0]
+            key = (
+                target.id
+                if isinstance(target, ast.Name)
+                else f"self.{name}"
+                if (name := self_attribute(target)) is not None
+                else None
+            )
+            if key is not None and _is_direct(node.value, latest, measured):
+                measured.add(key)
+    return measured
+
+
+def _is_direct(node: ast.expr, latest: set[str], measured: set[str]) -> bool:
+    """A measured number read from a message itself (not a local holding a message)."""
+    if isinstance(node, ast.Attribute) and self_attribute(node) is None:
+        chain: ast.expr = node
+        while isinstance(chain, ast.Attribute | ast.Subscript):
+            if self_attribute(chain) in latest:
+                return node.attr in _COMPONENTS
+            chain = chain.value
+        return False
+    return _is_measured(node, latest, measured)
+
+
+def _is_number_like(node: ast.expr) -> bool:
+    """Not ``None``, a string, a boolean or an upper-case constant (a status code)."""
+    if isinstance(node, ast.Constant):
+        return isinstance(node.value, int | float) and not isinstance(node.value, bool)
+    if isinstance(node, ast.Attribute) and node.attr.isupper():
+        return False
+    return isinstance(node, ast.Name | ast.Attribute | ast.BinOp | ast.UnaryOp | ast.Call)
+
+
+def _units(capability: Capability) -> dict[str, str]:
+    """``self.<attribute>`` of each input and output with a unit that has a tolerance."""
+    out = {}
+    for parameter in (*capability.inputs, *capability.outputs):
+        for component in parameter.components:
+            unit = (component.unit or parameter.element.unit or "").strip()
+            if unit in _TOLERANCES:
+                out[f"self.{snake_case(component.name)}"] = unit
+    return out
+
+
+def _aliases(method: ast.FunctionDef, units: Mapping[str, str]) -> dict[str, str]:
+    """Local names the method copies an input or output into (``velocity =
+    self.in_velocity``), with its unit."""
+    out = {}
+    for node in ast.walk(method):
+        if (
+            isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and isinstance(node.targets[0], ast.Name)
+            and ast.unparse(node.value) in units
+        ):
+            out[node.targets[0].id] = units[ast.unparse(node.value)]
+    return out
+
+
+def _unit_of(node: ast.expr, units: Mapping[str, str], aliases: Mapping[str, str]) -> str | None:
+    if isinstance(node, ast.Name):
+        return aliases.get(node.id)
+    return units.get(ast.unparse(node))
+
+
+def _loop_exits(method: ast.FunctionDef) -> set[int]:
+    """Ids of the ``while`` statements of ``method`` and of the ``if`` statements in a loop
+    body whose body leaves the loop (``break`` or ``return``)."""
+    out: set[int] = set()
+    for loop in ast.walk(method):
+        if not isinstance(loop, ast.While | ast.For):
+            continue
+        if isinstance(loop, ast.While):
+            out.add(id(loop))
+        for node in ast.walk(loop):
+            if isinstance(node, ast.If) and any(
+                isinstance(s, ast.Break | ast.Return) for s in node.body
+            ):
+                out.add(id(node))
+    return out
