@@ -44,9 +44,7 @@ def test_a_loop_left_when_a_reading_equals_the_input_is_an_error_with_the_closen
     assert finding.severity == "error"
     assert "`velocity == self.out_linear_velocity` tests a measured value" in finding.message
     assert "this loop most likely never ends" in finding.message
-    assert finding.replacement == (
-        "if abs(self.out_linear_velocity - velocity) < 0.01:\n    break"
-    )
+    assert finding.replacement == ("if abs(self.out_linear_velocity - velocity) < 0.01:\n    break")
 
 
 def test_a_loop_condition_on_a_reading_not_equal_to_the_input_is_an_error(
