@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import ast
 import copy
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 from skillwright.capability.model import Capability
 from skillwright.generation.names import snake_case
@@ -31,10 +31,10 @@ from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
 from skillwright.validation.syntax import statement_holding
 
-__all__ = ["check_equality"]
+__all__ = ["check_equality", "measurements"]
 
 _COMPONENTS = frozenset({"x", "y", "z", "w"})
-_READINGS = frozenset({"_yaw"})
+_READINGS = frozenset({"_yaw", "_closest_reading"})
 
 _TOLERANCES = {
     "m": 0.01,
@@ -48,11 +48,18 @@ _TOLERANCES = {
 """How close is close enough, by the unit the capability states."""
 
 
-def check_equality(cls: ast.ClassDef, capability: Capability) -> list[Finding]:
-    """Findings (check ``equality``) for measured numbers compared with ``==`` or ``!=``."""
+def measurements(cls: ast.ClassDef) -> Callable[[ast.expr], bool]:
+    """Whether an expression of the class is, or computes from, a measured number (see the
+    module's text)."""
     latest = latest_messages(cls)
     latest |= _message_parts(cls, latest)
     measured = _measured_names(cls, latest)
+    return lambda node: _is_measured(node, latest, measured)
+
+
+def check_equality(cls: ast.ClassDef, capability: Capability) -> list[Finding]:
+    """Findings (check ``equality``) for measured numbers compared with ``==`` or ``!=``."""
+    is_measured = measurements(cls)
     units = _units(capability)
     findings = []
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
@@ -71,7 +78,7 @@ def check_equality(cls: ast.ClassDef, capability: Capability) -> list[Finding]:
                 (
                     (reading, other)
                     for reading, other in sides
-                    if _is_measured(reading, latest, measured) and _is_number_like(other)
+                    if is_measured(reading) and _is_number_like(other)
                 ),
                 None,
             )
@@ -147,15 +154,21 @@ def _is_measured(node: ast.expr, latest: set[str], measured: set[str]) -> bool:
         return node.attr in _COMPONENTS and _reads_latest(node, latest)
     if isinstance(node, ast.Subscript):
         holder = node.value
+        if isinstance(holder, ast.Call):  # self._closest_reading(scan)[0]
+            return _is_measured(holder, latest, measured)
         return (
             isinstance(holder, ast.Attribute)
             and holder.attr == "ranges"
             and _reads_latest(holder, latest)
         )
     if isinstance(node, ast.Call):
-        if isinstance(node.func, ast.Attribute) and self_attribute(node.func) in _READINGS:
+        called = self_attribute(node.func)
+        if called in _READINGS or f"self.{called}()" in measured:
             return True
-        if isinstance(node.func, ast.Name) and node.func.id in ("abs", "float", "round"):
+        function = node.func
+        if (isinstance(function, ast.Name) and function.id in ("abs", "float", "round")) or (
+            isinstance(function, ast.Attribute) and ast.unparse(function.value) == "math"
+        ):
             return any(_is_measured(a, latest, measured) for a in node.args)
         return False
     if isinstance(node, ast.BinOp):
@@ -214,6 +227,14 @@ def _measured_names(cls: ast.ClassDef, latest: set[str]) -> set[str]:
             )
             if key is not None and _is_direct(node.value, latest, measured):
                 measured.add(key)
+        for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+            returned = [
+                n.value
+                for n in ast.walk(method)
+                if isinstance(n, ast.Return) and n.value is not None
+            ]
+            if returned and all(_is_measured(v, latest, measured) for v in returned):
+                measured.add(f"self.{method.name}()")
     return measured
 
 

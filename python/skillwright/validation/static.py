@@ -33,6 +33,7 @@ from skillwright.validation.model import (
     FieldTree,
     Finding,
 )
+from skillwright.validation.motion import check_motion
 from skillwright.validation.names import (
     COMPOUND_STATEMENTS,
     check_names,
@@ -2196,6 +2197,7 @@ def check_skill(
             check_settling(cls),
             check_views(cls, tree),
             check_equality(cls, capability),
+            check_motion(cls, methods),
         ):
             ctx.findings += findings
         if catalog is not None:
