@@ -26,17 +26,38 @@ def _motion(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:
     return [f for f in report.findings if f.check == "motion"]
 
 
+def _commanding_only_in_completing() -> str:
+    """The good skill with its drive's command sent in completing, after the loop."""
+    log = '        self.node.get_logger().info(f"{self.in_distance} m asked'
+    assert log in GOOD
+    return GOOD.replace(PUBLISH_IN_LOOP, "", 1).replace(
+        log, "        self.cmd_vel_publisher.publish(Twist(linear=Vector3(x=0.1)))\n" + log, 1
+    )
+
+
 def test_the_good_skill_commands_its_motion(move_forward: tuple[Capability, SkillSpec]) -> None:
     assert PUBLISH_IN_LOOP in GOOD
     assert _motion(GOOD, move_forward) == []
+
+
+def test_a_skill_that_never_commands_the_velocity_asked_for_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # the cap2skill collision avoidance of the evaluation at d678df9 slept for the time
+    # asked and stopped the base: nothing ever published a velocity
+    source = GOOD.replace(PUBLISH_IN_LOOP, "", 1)
+    [finding] = _motion(source, move_forward)
+    assert source.splitlines()[finding.line - 1].strip() == "def execute(self) -> None:"
+    assert "the capability asks for a velocity (inLinearVelocity (m/s))" in finding.message
+    assert "the robot never moves" in finding.message
 
 
 def test_a_loop_waiting_for_progress_nothing_commands_is_an_error(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
     # the cap2skill rotate of the evaluation at d678df9 published nothing and waited for the
-    # heading until the deadline; here the drive's command is built and never sent
-    source = GOOD.replace(PUBLISH_IN_LOOP, "", 1)
+    # heading until the deadline; here the drive's command is built and sent only later
+    source = _commanding_only_in_completing()
     [finding] = _motion(source, move_forward)
     assert source.splitlines()[finding.line - 1].strip() == (
         "while self._travelled() < self.in_distance:"
@@ -73,7 +94,7 @@ def test_a_command_sent_elsewhere_on_the_path_counts(
 def test_a_loop_that_only_waits_for_a_first_message_is_no_motion(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:
-    source = GOOD.replace(PUBLISH_IN_LOOP, "", 1).replace(
+    source = _commanding_only_in_completing().replace(
         "        while self._travelled() < self.in_distance:\n            time.sleep(0.05)\n",
         "        while self.odom_msg is None:\n            time.sleep(0.05)\n",
         1,

@@ -1,4 +1,11 @@
-"""A loop that waits for the robot to move when nothing commands it to (check ``motion``).
+"""A skill that never commands the motion its capability asks for, and a loop that waits for
+the robot to move when nothing commands it to (check ``motion``).
+
+The default model's cap2skill collision avoidance in the evaluation at d678df9 copied its
+velocity inputs into its outputs, slept for the requested time and stopped the base: no
+velocity was ever published, and the simulation saw a robot that never moved. A skill whose
+capability takes a speed (an input in m/s or rad/s) and which has a velocity publisher is
+flagged when no method of it publishes a command other than a zero one or sends a goal.
 
 The default model's cap2skill rotate in the evaluation at d678df9 read the heading once and
 then looped ``while math.degrees(abs(self._closest_reading(self.scan_msg)[1] - last_yaw)) <
@@ -20,6 +27,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Callable, Mapping
 
+from skillwright.capability.model import Capability
 from skillwright.validation.equality import measurements
 from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
@@ -32,12 +40,35 @@ _SENDS = ("send_goal", "call_async", "call")
 _ORDER = frozenset({ast.Lt, ast.Gt, ast.LtE, ast.GtE})
 
 
-def check_motion(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef]) -> list[Finding]:
-    """Findings (check ``motion``) for loops that wait for progress nothing commands."""
+def check_motion(
+    cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef], capability: Capability
+) -> list[Finding]:
+    """Findings (check ``motion``) for a skill that never commands the velocity its
+    capability asks for, and for loops that wait for progress nothing commands."""
     publishers = _velocity_publishers(cls)
     if not publishers:
         return []
     methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
+    speeds = _speed_inputs(capability)
+    execute = states.get("execute")
+    if (
+        speeds
+        and execute is not None
+        and _written(execute)
+        and not any(_commands(m, methods) for m in methods.values())
+    ):
+        handles = ", ".join(f"self.{p}" for p in sorted(publishers))
+        return [
+            error_at(
+                "motion",
+                execute,
+                f"the capability asks for a velocity ({', '.join(speeds)}), but no method of "
+                f"the skill publishes one other than zero on {handles} or sends a goal: the "
+                "robot never moves. Publish the command in execute (command = Twist(), its "
+                f"fields from the inputs, self.{sorted(publishers)[0]}.publish(command)) and "
+                "stop the base when done",
+            )
+        ]
     is_measured = measurements(cls)
     findings: list[Finding] = []
     for state in ("starting", "execute"):
@@ -66,6 +97,33 @@ def check_motion(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef]) -> li
                 )
             )
     return findings
+
+
+_SPEEDS = frozenset({"m/s", "rad/s", "°/s", "deg/s"})
+
+
+def _speed_inputs(capability: Capability) -> list[str]:
+    """``inVelocityX (m/s)`` for each input of the capability that is a speed."""
+    return [
+        f"{component.name} ({unit})"
+        for parameter in capability.inputs
+        for component in parameter.components
+        if (unit := (component.unit or parameter.element.unit or "").strip()) in _SPEEDS
+    ]
+
+
+def _written(method: ast.FunctionDef) -> bool:
+    """Whether ``method`` has a statement other than a docstring, ``pass``, ``...`` or a
+    ``raise NotImplementedError`` (the skeleton's placeholder, which its own check reports)."""
+    for statement in method.body:
+        if isinstance(statement, ast.Pass) or (
+            isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant)
+        ):
+            continue
+        if isinstance(statement, ast.Raise) and "NotImplementedError" in ast.unparse(statement):
+            continue
+        return True
+    return False
 
 
 def _velocity_publishers(cls: ast.ClassDef) -> set[str]:

@@ -2197,7 +2197,7 @@ def check_skill(
             check_settling(cls),
             check_views(cls, tree),
             check_equality(cls, capability),
-            check_motion(cls, methods),
+            check_motion(cls, methods, capability),
         ):
             ctx.findings += findings
         if catalog is not None:
