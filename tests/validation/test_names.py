@@ -872,3 +872,15 @@ def test_rospy_is_named_as_ros_1_with_the_rclpy_statement_where_there_is_one(
         assert "rclpy.duration.Duration(seconds=...)" in finding.message or (
             "rospy.Duration(1.0) is rclpy.duration.Duration(seconds=1.0)" in finding.message
         )
+
+
+def test_a_method_replaced_by_its_value_is_kept_in_a_local(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # the MR-1 collision avoidance of the evaluation at 3ec2321:
+    # self._closest_reading = self._closest_reading(self.scan_msg), then a call: TypeError
+    source = stopping_with("        self._travelled = self._travelled()\n")
+    [finding] = [f for f in _names(source, move_forward) if "is a method" in f.message]
+    assert source.splitlines()[finding.line - 1].strip() == "self._travelled = self._travelled()"
+    assert finding.replacement == "travelled = self._travelled()"
+    assert "every later self._travelled(...) raises TypeError" in finding.message

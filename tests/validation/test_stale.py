@@ -59,6 +59,56 @@ def test_a_reading_taken_once_before_the_loop_is_taken_again_at_its_end() -> Non
     ]
 
 
+def test_a_while_true_left_on_values_worked_out_from_a_reading_taken_once_reads_it_again() -> None:
+    # MR-1 rotate of the evaluation at 3ec2321: the remaining angle was worked out on every
+    # pass from a heading read once before the loop, and stayed 2 rad for 400 passes
+    [finding] = _stale(
+        """
+        def execute(self):
+            current = self._yaw()
+            target = (current + self.in_angle) % (2 * math.pi)
+            while True:
+                remaining = (target - current) % (2 * math.pi)
+                if remaining < 0.01:
+                    break
+                self.cmd_vel_publisher.publish(command)
+                time.sleep(0.05)
+        """
+    )
+    assert "`remaining < 0.01`, comes from current, target" in finding.message
+    assert "the fix repeats `current = self._yaw()` at the start of each pass" in finding.message
+    assert finding.replacement is not None
+    assert finding.replacement.splitlines()[:3] == [
+        "while True:",
+        "    current = self._yaw()",
+        "    remaining = (target - current) % (2 * math.pi)",
+    ]
+
+
+@pytest.mark.parametrize(
+    "loop",
+    [
+        # read again in the loop
+        "while True:\n"
+        "    current = self._yaw()\n"
+        "    if abs(target - current) < 0.01:\n"
+        "        break\n"
+        "    time.sleep(0.05)\n",
+        # decided on a reading itself
+        "while True:\n    if abs(target - self._yaw()) < 0.01:\n        break\n    time.sleep(0.05)\n",
+        # a pass counter changes
+        "while True:\n    i = i + 1\n    if i > 10:\n        break\n    time.sleep(0.05)\n",
+    ],
+)
+def test_a_while_true_whose_exit_can_change_is_left_alone(loop: str) -> None:
+    body = "\n".join("            " + line for line in loop.splitlines())
+    execute = (
+        "\n        def execute(self):\n            current = self._yaw()\n"
+        "            target = current + 1.0\n            i = 0\n" + body + "\n"
+    )
+    assert _stale(execute) == []
+
+
 def test_a_stale_name_without_a_reading_to_repeat_is_left_to_the_model() -> None:
     [finding] = _stale(
         """

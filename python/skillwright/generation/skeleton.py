@@ -716,11 +716,11 @@ _POSITION_GOAL = [
     '        orientation."""',
     "        region = SolidPrimitive()",
     "        region.type = SolidPrimitive.SPHERE",
-    "        region.dimensions = [tolerance]",
+    "        region.dimensions = [float(tolerance)]",
     "        target = Pose()",
-    "        target.position.x = x",
-    "        target.position.y = y",
-    "        target.position.z = z",
+    "        target.position.x = float(x)",
+    "        target.position.y = float(y)",
+    "        target.position.z = float(z)",
     "        target.orientation.w = 1.0",
     "        constraint = PositionConstraint()",
     "        constraint.header.frame_id = frame",
@@ -745,8 +745,8 @@ _POSE_GOAL = [
     '        stays zero, which Nav2 reads as the latest transform."""',
     "        goal = NavigateToPose.Goal()",
     "        goal.pose.header.frame_id = frame",
-    "        goal.pose.pose.position.x = x",
-    "        goal.pose.pose.position.y = y",
+    "        goal.pose.pose.position.x = float(x)",
+    "        goal.pose.pose.position.y = float(y)",
     "        goal.pose.pose.orientation.z = math.sin(yaw / 2.0)",
     "        goal.pose.pose.orientation.w = math.cos(yaw / 2.0)",
     "        return goal",
@@ -754,7 +754,9 @@ _POSE_GOAL = [
 """A Nav2 goal from a point and a heading. The MR-1 demo's navigate-to-point once built a
 bare ``Pose()``, set a header and a ``pose`` on it and handed it to the send helper, and two
 repairs did not mend it: a goal is a PoseStamped inside a Goal, with the heading as a
-quaternion, three layers a small model confuses."""
+quaternion, three layers a small model confuses. The coordinates go through ``float``: a
+message's float field refuses an int, and the MR-1 mapping of the evaluation at 3ec2321 laid
+its grid out with ``range()``."""
 
 
 def _action_helpers(interface: InterfaceRef) -> dict[str, list[str]]:

@@ -1485,4 +1485,31 @@ def check_names(
         findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
         findings += _modules_as_numbers(tree, cls)
         findings += _mismatched_calls(cls) + _none_only_attributes(cls) + _used_nothing(cls)
+        findings += _overwritten_methods(cls)
+    return findings
+
+
+def _overwritten_methods(cls: ast.ClassDef) -> list[Finding]:
+    """A method of the class replaced by a value (``self._closest_reading =
+    self._closest_reading(self.scan_msg)``, the MR-1 collision avoidance of the evaluation at
+    3ec2321): every later call of it raises TypeError ('tuple' object is not callable). The
+    fix keeps the value in a local of the method's name."""
+    methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef | ast.AsyncFunctionDef)}
+    findings = []
+    for node in ast.walk(cls):
+        if not isinstance(node, ast.Assign) or len(node.targets) != 1:
+            continue
+        name = self_attribute(node.targets[0])
+        if name not in methods:
+            continue
+        local = name.strip("_") or "value"
+        findings.append(
+            _finding(
+                node,
+                f"self.{name} is a method of the skill, and this assignment replaces it with a "
+                f"value: every later self.{name}(...) raises TypeError (the value is not "
+                f"callable). Keep the value in a local: {local} = {ast.unparse(node.value)}",
+                f"{local} = {ast.unparse(node.value)}",
+            )
+        )
     return findings

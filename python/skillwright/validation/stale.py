@@ -43,10 +43,94 @@ def check_stale_conditions(cls: ast.ClassDef) -> list[Finding]:
     for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
         for loop in ast.walk(method):
             if isinstance(loop, ast.While):
-                finding = _stale(cls, method, loop)
+                finding = _stale(cls, method, loop) or _stale_exit(cls, method, loop)
                 if finding is not None:
                     findings.append(finding)
     return findings
+
+
+def _stale_exit(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> Finding | None:
+    """``while True:`` whose ``if TEST: break`` decides on names nothing in the loop reads
+    again: TEST's own names, through the values the loop works out from others before it
+    (``remaining = (target - current) % (2 * math.pi)`` from ``current`` read once before
+    the loop, the MR-1 rotate of the evaluation at 3ec2321). The fix reads again, first thing
+    in each pass, the names last read from the skill before the loop."""
+    if not (isinstance(loop.test, ast.Constant) and loop.test.value is True):
+        return None
+    for index, statement in enumerate(loop.body):
+        if not (
+            isinstance(statement, ast.If)
+            and not statement.orelse
+            and any(isinstance(s, ast.Break | ast.Return) for s in statement.body)
+        ):
+            continue
+        worked_out = {
+            s.targets[0].id: s
+            for s in loop.body[:index]
+            if isinstance(s, ast.Assign)
+            and len(s.targets) == 1
+            and isinstance(s.targets[0], ast.Name)
+        }
+        roots = _roots(statement.test, worked_out)
+        if roots is None:
+            continue
+        names, attributes = roots
+        if not names or names & _assigned(loop.body) or names & _used_as_objects(method):
+            continue
+        if attributes & _set_meanwhile(cls, loop):
+            continue
+        ordered = sorted(names)
+        readings = [r for name in ordered if (r := _reading_before(method, loop, name))]
+        message = (
+            f"the test that leaves this loop, `{ast.unparse(statement.test)}`, comes from "
+            f"{', '.join(ordered)}, which nothing in the loop changes: every pass tests the "
+            "same values, so the loop ends only by raising (its timeout). Read them again "
+            "inside the loop"
+        )
+        replacement = None
+        if readings:
+            fixed = copy.deepcopy(loop)
+            fixed.body = [*(copy.deepcopy(r) for r in readings), *fixed.body]
+            replacement = ast.unparse(ast.fix_missing_locations(fixed))
+            message += (
+                "; the fix repeats "
+                + ", ".join(f"`{ast.unparse(r)}`" for r in readings)
+                + " at the start of each pass"
+            )
+        return error_at("stale", loop, message, replacement)
+    return None
+
+
+def _roots(test: ast.expr, worked_out: dict[str, ast.Assign]) -> tuple[set[str], set[str]] | None:
+    """The local names and skill attributes ``test`` decides on once the values the loop
+    works out before it (``worked_out``) are followed back; None when it reads anything
+    else."""
+    names, attributes = _condition_names(test)
+    if not names and not attributes:
+        return None
+    roots: set[str] = set()
+    pending = list(names)
+    seen: set[str] = set()
+    while pending:
+        name = pending.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        assignment = worked_out.get(name)
+        if assignment is None:
+            roots.add(name)
+            continue
+        more, more_attributes = _condition_names(assignment.value)
+        if not more and not more_attributes and not _constant(assignment.value):
+            return None
+        pending.extend(more)
+        attributes |= more_attributes
+    return roots, attributes
+
+
+def _constant(value: ast.expr) -> bool:
+    """Whether ``value`` is worked out from literals alone."""
+    return not any(isinstance(n, ast.Name | ast.Attribute | ast.Call) for n in ast.walk(value))
 
 
 def _stale(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> Finding | None:
