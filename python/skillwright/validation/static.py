@@ -40,6 +40,7 @@ from skillwright.validation.names import (
     self_attribute,
     simple_statements,
 )
+from skillwright.validation.patience import check_zero_timeouts
 from skillwright.validation.positions import check_filtered_positions
 from skillwright.validation.settle import check_settling
 from skillwright.validation.sources import measuring_sources
@@ -2198,6 +2199,7 @@ def check_skill(
             check_views(cls, tree),
             check_equality(cls, capability),
             check_motion(cls, methods, capability),
+            check_zero_timeouts(cls),
         ):
             ctx.findings += findings
         if catalog is not None:
