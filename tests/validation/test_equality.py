@@ -4,20 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from skillwright.capability import Capability, load_capability
-from skillwright.spec import SkillSpec, load_spec
+from skillwright.capability import Capability
+from skillwright.spec import SkillSpec
 from skillwright.validation.model import Finding
 from skillwright.validation.static import check_skill
-from tests.conftest import SHIPPED_CAPABILITIES
 from tests.validation.test_static import CATALOG, GOOD
 
 EXECUTE_DOC = '        """Drive until the distance is covered, then stop."""\n'
-
-
-@pytest.fixture(scope="module")
-def move_forward() -> tuple[Capability, SkillSpec]:
-    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
-    return capability, load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
 
 
 def _equality(statements: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from skillwright.capability import Capability, load_capability
-from skillwright.spec import SkillSpec, load_spec
+from skillwright.capability import Capability
+from skillwright.spec import SkillSpec
 from skillwright.validation.model import Finding
 from skillwright.validation.static import check_skill
-from tests.conftest import SHIPPED_CAPABILITIES
 from tests.validation.test_static import CATALOG, GOOD
 
 WAIT_IN_STARTING = (
@@ -18,12 +17,6 @@ WAIT_IN_STARTING = (
 )
 EXECUTE_DOC = '        """Drive until the distance is covered, then stop."""\n'
 WAIT = 'self._wait_until(lambda: self.odom_msg is not None, 2.0, "odom_msg")'
-
-
-@pytest.fixture(scope="module")
-def move_forward() -> tuple[Capability, SkillSpec]:
-    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
-    return capability, load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
 
 
 def _waits(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:

@@ -4,20 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from skillwright.capability import Capability, load_capability
-from skillwright.spec import SkillSpec, load_spec
+from skillwright.capability import Capability
+from skillwright.spec import SkillSpec
 from skillwright.validation.model import Finding
 from skillwright.validation.static import check_skill
-from tests.conftest import SHIPPED_CAPABILITIES
 from tests.validation.test_static import CATALOG, GOOD
 
 PUBLISH_IN_LOOP = "            self.cmd_vel_publisher.publish(command)\n"
-
-
-@pytest.fixture(scope="module")
-def move_forward() -> tuple[Capability, SkillSpec]:
-    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
-    return capability, load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
 
 
 def _motion(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:

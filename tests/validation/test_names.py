@@ -4,18 +4,11 @@ from __future__ import annotations
 
 import pytest
 
-from skillwright.capability import Capability, load_capability
-from skillwright.spec import SkillSpec, load_spec
+from skillwright.capability import Capability
+from skillwright.spec import SkillSpec
 from skillwright.validation.model import CheckReport, Finding
 from skillwright.validation.static import check_skill
-from tests.conftest import SHIPPED_CAPABILITIES
 from tests.validation.test_static import CATALOG, GOOD
-
-
-@pytest.fixture(scope="module")
-def move_forward() -> tuple[Capability, SkillSpec]:
-    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
-    return capability, load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
 
 
 def _check(source: str, inputs: tuple[Capability, SkillSpec]) -> CheckReport:

@@ -47,12 +47,6 @@ CATALOG = Catalog(
 )
 
 
-@pytest.fixture(scope="module")
-def move_forward() -> tuple[Capability, SkillSpec]:
-    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
-    return capability, load_spec(SHIPPED_CAPABILITIES / "move-forward.spec.yaml")
-
-
 def run(source: str, inputs: tuple[Capability, SkillSpec], **kwargs: object) -> CheckReport:
     capability, spec = inputs
     return check_skill(

@@ -31,6 +31,7 @@ from skillwright.capability.model import Capability
 from skillwright.validation.equality import measurements
 from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
+from skillwright.validation.stops import zero_velocity
 from skillwright.validation.syntax import error_at, self_method
 
 __all__ = ["check_motion"]
@@ -156,7 +157,7 @@ def _commands(
         if not isinstance(inner, ast.Call) or not isinstance(inner.func, ast.Attribute):
             continue
         attr = inner.func.attr
-        if attr == "publish" and inner.args and not _zero(inner.args[0]):
+        if attr == "publish" and inner.args and not zero_velocity(inner.args[0]):
             return True
         if attr.startswith(_SENDS):
             return True
@@ -170,16 +171,6 @@ def _commands(
         ):
             return True
     return False
-
-
-def _zero(message: ast.expr) -> bool:
-    return (
-        isinstance(message, ast.Call)
-        and isinstance(message.func, ast.Name)
-        and message.func.id in _VELOCITY
-        and not message.args
-        and not message.keywords
-    )
 
 
 def _progress_test(loop: ast.While, is_measured: Callable[[ast.expr], bool]) -> ast.expr | None:

@@ -21,7 +21,7 @@ import ast
 from skillwright.validation.model import Finding
 from skillwright.validation.syntax import blocks, error_at, self_method
 
-__all__ = ["check_stops"]
+__all__ = ["check_stops", "zero_velocity"]
 
 _VELOCITY = frozenset({"Twist", "TwistStamped"})
 
@@ -121,9 +121,11 @@ def _leaves(block: list[ast.stmt]) -> bool:
 
 
 def _zero(call: ast.Call) -> bool:
-    if not call.args:
-        return False
-    message = call.args[0]
+    return bool(call.args) and zero_velocity(call.args[0])
+
+
+def zero_velocity(message: ast.expr) -> bool:
+    """Whether ``message`` is a new ``Twist()`` or ``TwistStamped()``: every speed zero."""
     return (
         isinstance(message, ast.Call)
         and isinstance(message.func, ast.Name)
