@@ -94,3 +94,80 @@ def test_a_loop_that_only_waits_for_a_first_message_is_no_motion(
     )
     assert "while self.odom_msg is None:" in source
     assert _motion(source, move_forward) == []
+
+
+def _published_once_before_the_loop() -> str:
+    """The good skill with its drive's command published once, before the loop that waits
+    for the distance, and never in it."""
+    source = GOOD.replace(PUBLISH_IN_LOOP, "", 1).replace(
+        "        while self._travelled() < self.in_distance:\n",
+        "        self.cmd_vel_publisher.publish(command)\n"
+        "        while self._travelled() < self.in_distance:\n",
+        1,
+    )
+    assert source != GOOD
+    return source
+
+
+def test_a_command_published_once_before_a_waiting_loop_is_an_error(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # the MR-1 move forward of the evaluation at 1840a63: the base's driver drops a command
+    # that is not repeated, the robot stood still and execute ran into its deadline
+    source = _published_once_before_the_loop()
+    [finding] = _motion(source, move_forward)
+    lines = source.splitlines()
+    assert lines[finding.line - 1].strip() == "time.sleep(0.05)"
+    assert lines[finding.line - 2].strip() == "while self._travelled() < self.in_distance:"
+    assert "(self.cmd_vel_publisher.publish(command) on line" in finding.message
+    assert "never again while the loop waits" in finding.message
+    assert finding.replacement == "self.cmd_vel_publisher.publish(command)\ntime.sleep(0.05)"
+
+
+def test_a_while_true_left_by_a_branch_that_stops_is_a_waiting_loop(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = _published_once_before_the_loop().replace(
+        "        while self._travelled() < self.in_distance:\n            time.sleep(0.05)\n",
+        "        while True:\n"
+        "            if self._travelled() >= self.in_distance:\n"
+        "                self.cmd_vel_publisher.publish(Twist(linear=Vector3(x=0.0)))\n"
+        "                break\n"
+        "            time.sleep(0.05)\n",
+        1,
+    )
+    assert "while True:" in source
+    [finding] = _motion(source, move_forward)
+    assert source.splitlines()[finding.line - 1].strip() == "while True:"
+    assert finding.replacement is None  # an `if` comes first: the message says what to do
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        # a timer of the skill may repeat the command
+        (
+            "    @starting\n",
+            "    def _tick(self):\n        pass\n\n    @starting\n",
+        ),
+        # the command before the loop is a stop: the loop waits for the robot to settle
+        (
+            "        self.cmd_vel_publisher.publish(command)\n        while",
+            "        self.cmd_vel_publisher.publish(Twist(linear=Vector3(x=0.0)))\n        while",
+        ),
+    ],
+)
+def test_a_command_repeated_elsewhere_or_a_stop_is_no_one_shot(
+    move_forward: tuple[Capability, SkillSpec], old: str, new: str
+) -> None:
+    source = _published_once_before_the_loop().replace(old, new, 1)
+    if "_tick" in new:
+        source = source.replace(
+            "        deadline = time.time() + 2.0\n",
+            "        self.timer = self.node.create_timer(0.05, self._tick)\n"
+            "        deadline = time.time() + 2.0\n",
+            1,
+        )
+        assert "create_timer" in source
+    assert source != _published_once_before_the_loop()
+    assert not [f for f in _motion(source, move_forward) if "goes out once" in f.message]

@@ -20,6 +20,17 @@ that leaves it, compares a measured number (see :func:`~skillwright.validation.e
 measurements`) with ``<``, ``>``, ``<=`` or ``>=`` (it waits for progress), and neither that
 state, nor ``starting`` before it, nor a method of the skill either calls, publishes a command
 other than a zero one or sends a goal or a request.
+
+The default model's MR-1 move forward in the evaluation at 1840a63 published its forward
+command once, before a ``while True`` loop that summed the odometry's steps until the distance
+was covered, and never again: the run's base, like ros2_control's diff_drive_controller,
+drops a command that is not repeated within half a second, so the robot stood still after
+0.5 s and the state ran into its deadline (the simulated MR-1, whose driver holds the last
+command, drove on, which a real base would not). A ``while`` loop of any method that sleeps,
+spins or calls a wait helper is flagged when the last velocity command published in its block
+before it is not a stop, and the loop neither publishes on that publisher (outside the
+branches that leave it) nor commands otherwise, and no timer of the skill could repeat it. The
+fix publishes the same command at the start of every pass.
 """
 
 from __future__ import annotations
@@ -31,8 +42,8 @@ from skillwright.capability.model import Capability
 from skillwright.validation.equality import measurements
 from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
-from skillwright.validation.stops import zero_velocity
-from skillwright.validation.syntax import error_at, self_method
+from skillwright.validation.stops import loop_publishes, zero_velocity
+from skillwright.validation.syntax import blocks, error_at, self_method
 
 __all__ = ["check_motion"]
 
@@ -70,8 +81,8 @@ def check_motion(
                 "stop the base when done",
             )
         ]
+    findings = _repeated_nowhere(cls, publishers, methods)
     is_measured = measurements(cls)
-    findings: list[Finding] = []
     for state in ("starting", "execute"):
         method = states.get(state)
         if method is None:
@@ -98,6 +109,105 @@ def check_motion(
                 )
             )
     return findings
+
+
+def _repeated_nowhere(
+    cls: ast.ClassDef, publishers: set[str], methods: Mapping[str, ast.FunctionDef]
+) -> list[Finding]:
+    """Findings for loops that wait while the motion command published once before them
+    is never published again (see the module's text); none when a timer of the skill could
+    repeat it."""
+    if any(isinstance(n, ast.Attribute) and n.attr == "create_timer" for n in ast.walk(cls)):
+        return []
+    handles = {f"self.{p}" for p in publishers}
+    is_measured = measurements(cls)
+    findings = []
+    for method in methods.values():
+        for block in blocks(method):
+            for index, loop in enumerate(block):
+                if not isinstance(loop, ast.While) or not _awaits_motion(loop, is_measured):
+                    continue
+                sent = _last_motion(block[:index], handles)
+                if sent is None or _commands(loop, methods) or _publishes_on(loop, sent[0]):
+                    continue
+                findings.append(_repeat_finding(loop, *sent))
+    return findings
+
+
+def _repeat_finding(loop: ast.While, handle: str, call: ast.Call) -> Finding:
+    command = ast.unparse(call.args[0])
+    publish = f"{handle}.publish({command})"
+    first = loop.body[0]
+    plain = isinstance(first, ast.Expr | ast.Assign | ast.AugAssign | ast.AnnAssign)
+    return error_at(
+        "motion",
+        first if plain else loop,
+        f"the velocity command goes out once, before this loop ({publish} on line "
+        f"{call.lineno}), and never again while the loop waits: a base driver stops when a "
+        "command is not repeated within its timeout (half a second for ros2_control's "
+        "diff_drive_controller), so the robot halts and what the loop waits for never comes. "
+        "Publish the command again at the start of every pass",
+        f"{publish}\n{ast.unparse(first)}" if plain else None,
+    )
+
+
+def _awaits_motion(loop: ast.While, is_measured: Callable[[ast.expr], bool]) -> bool:
+    """Whether ``loop`` waits for the robot to get somewhere: it sleeps, spins or calls a
+    wait helper, and it compares a reading for progress or runs ``while True`` until a
+    branch leaves it (a loop that waits for a first message is not one)."""
+    waits = False
+    for node in ast.walk(loop):
+        if isinstance(node, ast.Call):
+            func = node.func
+            name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
+            waits = waits or name in {"sleep", "spin_once"} or name.startswith("_wait")
+    forever = isinstance(loop.test, ast.Constant) and loop.test.value is True
+    return waits and (forever or _progress_test(loop, is_measured) is not None)
+
+
+def _last_motion(before: list[ast.stmt], handles: set[str]) -> tuple[str, ast.Call] | None:
+    """(handle, call) of the last velocity command published in ``before``, when it is not a
+    stop."""
+    calls = [
+        node
+        for statement in before
+        for node in ast.walk(statement)
+        if isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and node.func.attr == "publish"
+        and ast.unparse(node.func.value) in handles
+        and len(node.args) == 1
+    ]
+    if not calls:
+        return None
+    last = max(calls, key=lambda c: (c.lineno, c.col_offset))
+    if _is_stop(last.args[0]):
+        return None
+    return ast.unparse(last.func.value), last
+
+
+def _is_stop(message: ast.expr) -> bool:
+    """A zero ``Twist()``, or ``Twist(linear=Vector3(x=0.0))`` and the like: a velocity
+    message built with zeros only."""
+    if zero_velocity(message):
+        return True
+    numbers = [
+        n.value
+        for n in ast.walk(message)
+        if isinstance(n, ast.Constant) and isinstance(n.value, int | float)
+    ]
+    names = [n for n in ast.walk(message) if isinstance(n, ast.Name)]
+    return (
+        bool(numbers)
+        and all(v == 0 for v in numbers)
+        and all(n.id in _VELOCITY or n.id == "Vector3" for n in names)
+    )
+
+
+def _publishes_on(loop: ast.While, handle: str) -> bool:
+    """Whether ``loop`` publishes on ``handle`` outside the branches that leave it (a stop
+    on every pass included: the check ``stops`` judges those)."""
+    return any(publisher == handle for publisher, _ in loop_publishes(loop.body, {}))
 
 
 _SPEEDS = frozenset({"m/s", "rad/s", "°/s", "deg/s"})
@@ -157,7 +267,7 @@ def _commands(
         if not isinstance(inner, ast.Call) or not isinstance(inner.func, ast.Attribute):
             continue
         attr = inner.func.attr
-        if attr == "publish" and inner.args and not zero_velocity(inner.args[0]):
+        if attr == "publish" and inner.args and not _is_stop(inner.args[0]):
             return True
         if attr.startswith(_SENDS):
             return True

@@ -21,7 +21,7 @@ import ast
 from skillwright.validation.model import Finding
 from skillwright.validation.syntax import blocks, error_at, self_method
 
-__all__ = ["check_stops", "zero_velocity"]
+__all__ = ["check_stops", "loop_publishes", "zero_velocity"]
 
 _VELOCITY = frozenset({"Twist", "TwistStamped"})
 
@@ -43,7 +43,7 @@ def check_stops(cls: ast.ClassDef) -> list[Finding]:
 def _stopper(method: ast.FunctionDef) -> str | None:
     """The publisher a method of the skill only ever commands zero velocity on (the
     skeleton's ``_stop_base``), if it is one such method."""
-    calls = [p for p in _publishes(method.body, {}) if p[0] is not None]
+    calls = [p for p in loop_publishes(method.body, {}) if p[0] is not None]
     publishers = {p for p, _ in calls}
     if len(publishers) != 1 or not all(_zero(call) for _, call in calls):
         return None
@@ -51,7 +51,7 @@ def _stopper(method: ast.FunctionDef) -> str | None:
 
 
 def _stopping(loop: ast.While, before: list[ast.stmt], stoppers: dict[str, str]) -> list[Finding]:
-    publishes = _publishes(loop.body, stoppers)
+    publishes = loop_publishes(loop.body, stoppers)
     findings = []
     for publisher in {p for p, _ in publishes}:
         mine = [call for p, call in publishes if p == publisher]
@@ -78,7 +78,7 @@ def _stopping(loop: ast.While, before: list[ast.stmt], stoppers: dict[str, str])
     return findings
 
 
-def _publishes(body: list[ast.stmt], stoppers: dict[str, str]) -> list[tuple[str, ast.Call]]:
+def loop_publishes(body: list[ast.stmt], stoppers: dict[str, str]) -> list[tuple[str, ast.Call]]:
     """(publisher, call) of the ``publish`` calls in ``body``, and of the calls of
     ``stoppers`` (method -> the publisher it commands zero on), outside the branches that
     leave the loop and outside nested functions."""
