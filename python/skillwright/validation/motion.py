@@ -169,21 +169,19 @@ def _last_motion(before: list[ast.stmt], handles: set[str]) -> tuple[str, ast.Ca
     """(handle, call) of the last velocity command published in ``before``, when it is not a
     stop."""
     calls = [
-        node
+        (handle, node)
         for statement in before
         for node in ast.walk(statement)
         if isinstance(node, ast.Call)
         and isinstance(node.func, ast.Attribute)
         and node.func.attr == "publish"
-        and ast.unparse(node.func.value) in handles
+        and (handle := ast.unparse(node.func.value)) in handles
         and len(node.args) == 1
     ]
     if not calls:
         return None
-    last = max(calls, key=lambda c: (c.lineno, c.col_offset))
-    if _is_stop(last.args[0]):
-        return None
-    return ast.unparse(last.func.value), last
+    handle, last = max(calls, key=lambda c: (c[1].lineno, c[1].col_offset))
+    return None if _is_stop(last.args[0]) else (handle, last)
 
 
 def _is_stop(message: ast.expr) -> bool:

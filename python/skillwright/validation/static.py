@@ -23,6 +23,7 @@ from keyword import kwlist
 
 from skillwright.capability.model import Capability, Parameter
 from skillwright.spec.model import PACKML_STATES, SkillSpec
+from skillwright.validation.bearings import check_bearings
 from skillwright.validation.equality import check_equality
 from skillwright.validation.first_messages import check_first_messages
 from skillwright.validation.loops import check_waits
@@ -2200,6 +2201,7 @@ def check_skill(
             check_equality(cls, capability),
             check_motion(cls, methods, capability),
             check_zero_timeouts(cls),
+            check_bearings(cls),
         ):
             ctx.findings += findings
         if catalog is not None:

@@ -1,0 +1,120 @@
+"""A bearing of the skeleton's closest reading offset by a scan's ``angle_min`` again (check
+``bearings``).
+
+The skeleton's ``self._closest_reading(scan)`` returns ``(range, bearing)`` with the bearing
+already counted from the scanner's x axis: ``scan.angle_min + index * scan.angle_increment``.
+The default model's MR-1 get-distance-to-nearest-object in the evaluation at 1840a63 then
+wrote ``self.out_angle = scan[1] - self.scan_msg.angle_min``: the MR-1's scan starts at -pi,
+so every bearing it reported was off by pi (an obstacle ahead came out as behind). The
+simulation saw it; this check says why before anything runs.
+
+An error stands at each ``+`` or ``-`` of such a bearing (``self._closest_reading(...)[1]``,
+a local holding the call's result indexed ``[1]``, or the second name it was unpacked into)
+with the ``angle_min`` of anything, when the class's ``_closest_reading`` itself counts from
+``angle_min``. The fix is the statement with the bearing as it is.
+"""
+
+from __future__ import annotations
+
+import ast
+import copy
+
+from skillwright.validation.model import Finding
+from skillwright.validation.names import simple_statements
+from skillwright.validation.syntax import self_method
+
+__all__ = ["check_bearings"]
+
+_CLOSEST = "_closest_reading"
+
+
+def check_bearings(cls: ast.ClassDef) -> list[Finding]:
+    """Findings (check ``bearings``) for a closest reading's bearing offset by ``angle_min``
+    once more."""
+    helper = next(
+        (n for n in cls.body if isinstance(n, ast.FunctionDef) and n.name == _CLOSEST), None
+    )
+    if helper is None or not any(_is_angle_min(n) for n in ast.walk(helper)):
+        return []
+    statement_of = simple_statements(cls)
+    findings = []
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef) and n is not helper):
+        results, bearings = _holders(method)
+        for node in ast.walk(method):
+            if not (isinstance(node, ast.BinOp) and isinstance(node.op, ast.Add | ast.Sub)):
+                continue
+            sides = (node.left, node.right)
+            bearing = next((s for s in sides if _is_bearing(s, results, bearings)), None)
+            other = node.right if bearing is node.left else node.left
+            statement = statement_of.get(id(node))
+            if bearing is None or not _is_angle_min(other) or statement is None:
+                continue
+            findings.append(
+                Finding(
+                    check="bearings",
+                    severity="error",
+                    line=statement.lineno,
+                    column=statement.col_offset + 1,
+                    message=f"`{ast.unparse(node)}` offsets the bearing of self.{_CLOSEST}"
+                    f"(...) by {ast.unparse(other)} again, but the helper already counts it "
+                    f"from angle_min (0 along the scanner's x axis, positive to the left): "
+                    f"the result is off by angle_min (pi for a scan that starts at -pi). Use "
+                    f"the bearing as it is, {ast.unparse(bearing)}",
+                    replacement=_without(statement, node, bearing),
+                )
+            )
+    return findings
+
+
+def _holders(method: ast.FunctionDef) -> tuple[set[str], set[str]]:
+    """Locals of ``method`` given the helper's whole result, and those given its bearing
+    (the second of two names it is unpacked into)."""
+    results: set[str] = set()
+    bearings: set[str] = set()
+    for node in ast.walk(method):
+        if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
+            continue
+        if not (isinstance(node.value, ast.Call) and self_method(node.value) == _CLOSEST):
+            continue
+        target = node.targets[0]
+        if isinstance(target, ast.Name):
+            results.add(target.id)
+        elif (
+            isinstance(target, ast.Tuple)
+            and len(target.elts) == 2
+            and isinstance(target.elts[1], ast.Name)
+        ):
+            bearings.add(target.elts[1].id)
+    return results, bearings
+
+
+def _is_bearing(node: ast.expr, results: set[str], bearings: set[str]) -> bool:
+    if isinstance(node, ast.Name):
+        return node.id in bearings
+    if not (
+        isinstance(node, ast.Subscript)
+        and isinstance(node.slice, ast.Constant)
+        and node.slice.value == 1
+    ):
+        return False
+    held = node.value
+    return (isinstance(held, ast.Name) and held.id in results) or (
+        isinstance(held, ast.Call) and self_method(held) == _CLOSEST
+    )
+
+
+def _is_angle_min(node: ast.AST) -> bool:
+    return isinstance(node, ast.Attribute) and node.attr == "angle_min"
+
+
+def _without(statement: ast.stmt, offset: ast.BinOp, bearing: ast.expr) -> str:
+    """``statement`` with ``offset`` replaced by ``bearing``."""
+    where = (offset.lineno, offset.col_offset, offset.end_lineno, offset.end_col_offset)
+
+    class _Swap(ast.NodeTransformer):
+        def visit_BinOp(self, node: ast.BinOp) -> ast.AST:
+            if (node.lineno, node.col_offset, node.end_lineno, node.end_col_offset) == where:
+                return copy.deepcopy(bearing)
+            return self.generic_visit(node)
+
+    return ast.unparse(_Swap().visit(copy.deepcopy(statement)))
