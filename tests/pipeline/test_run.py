@@ -16,6 +16,8 @@ from skillwright.errors import (
     ModelFileMissingError,
     OperationCancelledError,
 )
+from skillwright.interfaces.load import load_inventory
+from skillwright.interfaces.sources.report import report_from_inventory
 from skillwright.llm.base import GenerationOptions, Prompt, TextStream
 from skillwright.pipeline import GenerationRecord, GenerationRequest, retrieve, run_generation
 from skillwright.pipeline.events import (
@@ -96,6 +98,40 @@ def test_retrieval_hits_and_the_users_pins_and_drops_are_recorded(tmp_path: Path
     assert outcome.record.retrieval.dropped == ["/odom"]
     assert len([h for h in hits if not h.pinned or h.score is not None]) >= 2
     assert "/scan" in outcome.skill_path.read_text(encoding="utf-8")
+
+
+def _report_with_a_twin(tmp_path: Path) -> Path:
+    """The MR-1 as a report lists it (no endpoint counts), with a second velocity topic."""
+    base = load_inventory(RECORDING)
+    driver = base.interface("/cmd_vel").model_copy(update={"name": "/driver/cmd_vel"})
+    inventory = base.model_copy(update={"interfaces": [*base.interfaces, driver]})
+    document, _ = report_from_inventory(inventory)
+    report = tmp_path / "report.json"
+    report.write_text(json.dumps(document), encoding="utf-8")
+    return report
+
+
+@pytest.mark.parametrize("pinned", [(), ("/cmd_vel",), ("/driver/cmd_vel",)])
+def test_a_velocity_topic_the_report_cannot_tell_from_another_is_recorded_and_warned_about(
+    tmp_path: Path, pinned: tuple[str, ...]
+) -> None:
+    events: list[Event] = []
+    outcome = run_generation(
+        request(
+            tmp_path / "out",
+            stem="move-forward",
+            skeleton=True,
+            interfaces=_report_with_a_twin(tmp_path),
+            pinned=pinned,
+        ),
+        on_event=events.append,
+    )
+    [velocity] = [h for h in outcome.record.retrieval.hits if h.name == "/cmd_vel"]
+    assert velocity.twins == ["/driver/cmd_vel"]
+    warnings = [e.message for e in events if isinstance(e, Notice) and e.level == "warning"]
+    warned = [w for w in warnings if "chosen over /driver/cmd_vel" in w]
+    # a topic the user pinned, or one of its twins, is their choice: nothing to warn about
+    assert len(warned) == (0 if pinned else 1)
 
 
 @pytest.mark.parametrize("min_share", [0.1, 0.0])

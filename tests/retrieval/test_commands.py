@@ -14,6 +14,8 @@ from click.testing import CliRunner
 from skillwright.cli import main
 from skillwright.console import err_console, out_console
 from skillwright.interfaces.inventory import InfrastructureFlag, Interface, Inventory, Resource
+from skillwright.interfaces.load import load_inventory
+from skillwright.interfaces.sources.report import report_from_inventory
 from tests.conftest import REPO_ROOT, SHIPPED_CAPABILITIES
 from tests.interfaces.test_load import cut_recording
 
@@ -225,3 +227,27 @@ def test_a_model_without_rerank_is_refused() -> None:
     code, _, err = invoke(*ROTATE, "--interfaces", MR1, "--no-dense", "--model", "coder")
     assert code == 2
     assert "--model names the re-ranking model; add --rerank" in err
+
+
+def test_a_report_that_cannot_tell_two_velocity_topics_apart_is_warned_about(
+    tmp_path: Path,
+) -> None:
+    # the Stretch as the reference tool's report lists it: its driver's /stretch/cmd_vel
+    # beside Nav2's /cmd_vel, and no counts to say which one the driver reads
+    base = load_inventory(Path(MR1))
+    velocity = base.interface("/cmd_vel")
+    driver = velocity.model_copy(update={"name": "/stretch/cmd_vel"})
+    inventory = base.model_copy(update={"interfaces": [*base.interfaces, driver]})
+    document, _ = report_from_inventory(inventory)
+    report = tmp_path / "stretch_report.json"
+    report.write_text(json.dumps(document))
+    code, out, err = invoke(*ROTATE, *ROTATE_SPEC, "--interfaces", str(report), "--no-dense")
+    assert code == 0, err
+    assert "/cmd_vel" in table_names(out)
+    assert (
+        "warning: /cmd_vel (geometry_msgs/msg/Twist) was chosen over /stretch/cmd_vel of the "
+        "same type by its name alone" in " ".join(err.split())
+    )
+    code, out, err = invoke(*ROTATE, *ROTATE_SPEC, "--interfaces", MR1, "--no-dense")
+    assert code == 0, err
+    assert "warning" not in err  # the recording's one velocity topic has no twin

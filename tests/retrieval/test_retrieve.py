@@ -21,7 +21,7 @@ from skillwright.interfaces.inventory import (
     Resource,
 )
 from skillwright.interfaces.load import load_inventory
-from skillwright.retrieval.retrieve import Ranking, rank_interfaces
+from skillwright.retrieval.retrieve import Ranking, rank_interfaces, twin_notes
 from skillwright.spec import SkillSpec, load_spec, parse_spec
 from tests.conftest import SHIPPED_CAPABILITIES
 
@@ -426,3 +426,38 @@ def test_the_second_scanner_of_a_split_view_follows_the_first_but_a_version_does
     # counted as alternatives, the second scanner gains as little as the versions
     alike = rank_interfaces(inventory, capability, k=5, ranking=Ranking(split_view_factor=0))
     assert {h.name: h.score for h in alike}["/scan2"] == 0
+
+
+def _stretch_without_counts() -> Inventory:
+    """The Stretch of the test above as a report lists it: no endpoint counts."""
+    base = behaviour_inventory()
+    driver = Interface(name="/stretch/cmd_vel", kind="topic", type_name="geometry_msgs/msg/Twist")
+    return base.model_copy(update={"interfaces": [*base.interfaces, driver]})
+
+
+def test_a_command_topic_a_list_without_counts_cannot_tell_apart_is_named_a_twin() -> None:
+    hits = rank_interfaces(_stretch_without_counts(), forward_capability(), k=2)
+    assert [h.name for h in hits] == ["/cmd_vel", "/odom"]
+    assert hits[0].twins == ("/stretch/cmd_vel",)
+    assert hits[1].twins == ()
+    [note] = twin_notes(hits)
+    assert note.startswith("/cmd_vel (geometry_msgs/msg/Twist) was chosen over /stretch/cmd_vel")
+    assert "`ros2 topic info -v /cmd_vel`" in note
+    assert note.endswith("generate with --drop /cmd_vel --pin /stretch/cmd_vel")
+
+
+def test_counts_or_another_type_make_no_twins() -> None:
+    # the live graph's counts tell the two apart (the test above ranks the driver's first)
+    counted = _stretch_without_counts()
+    counted = counted.model_copy(
+        update={
+            "interfaces": [
+                i.model_copy(update={"endpoints": Endpoints(publishers=1, subscribers=1)})
+                for i in counted.interfaces
+            ]
+        }
+    )
+    assert all(not h.twins for h in rank_interfaces(counted, forward_capability(), k=4))
+    # a behaviour action and a velocity topic are not twins, nor is a plain Twist without
+    # a competitor in the list
+    assert all(not h.twins for h in rank_interfaces(behaviour_inventory(), forward_capability()))

@@ -87,6 +87,11 @@ class HitRecord(_Model):
     judgement: str | None = Field(
         default=None, description="The re-ranking model's reason; null when not asked."
     )
+    twins: list[str] = Field(
+        default_factory=list,
+        description="Topics of the same type the interface list cannot tell apart from this "
+        "one (no endpoint counts): one of them may be the one the robot uses.",
+    )
     pinned: bool = Field(default=False, description="Forced in by the user.")
     set_aside: bool = Field(
         default=False,

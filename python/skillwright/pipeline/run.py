@@ -323,6 +323,7 @@ def _with_pins(hits: list[Hit], inventory: Inventory, pinned: Sequence[str]) -> 
             reason=h.reason,
             needed=h.needed,
             judgement=h.judgement,
+            twins=list(h.twins),
             pinned=h.name in pinned,
         )
         for h in hits
@@ -790,6 +791,8 @@ def _retrieval_stage(
 ]:
     """Ranks (and with ``request.rerank`` loads the model and re-ranks); the model loaded
     for re-ranking is returned for generation."""
+    from skillwright.retrieval.retrieve import twin_notes
+
     method = "hybrid" if request.dense else "lexical"
     loaded: _Loaded | None = None
     detail = f"top {request.k} interfaces ({method}{', re-ranked' if request.rerank else ''})"
@@ -824,6 +827,10 @@ def _retrieval_stage(
             s.append(f"re-ranked: {reranking.summary()}")
             for note in reranking.notes:
                 stages.emit(Notice("warning", note))
+        given = [h for h in hits if h.name in {c.name for c in chosen_hits if not c.set_aside}]
+        undecided = [h for h in given if not {h.name, *h.twins} & set(request.pinned)]
+        for note in twin_notes(undecided):
+            stages.emit(Notice("warning", note))
     return hits, method, reranking, chosen_hits, loaded
 
 

@@ -96,7 +96,7 @@ def retrieve(
     from skillwright.errors import InvalidArgumentError
     from skillwright.interfaces.load import load_inventory, read_warnings
     from skillwright.retrieval.rerank import DEPTH
-    from skillwright.retrieval.retrieve import candidates, rank_interfaces
+    from skillwright.retrieval.retrieve import candidates, rank_interfaces, twin_notes
     from skillwright.spec.loader import load_spec
 
     capability = load_capability(capability_file, capability_iri=capability_iri).capability
@@ -147,6 +147,7 @@ def retrieve(
         )
     else:
         _print_table(inventory, len(pool), include_infrastructure, method, hits)
+    warn(twin_notes(hits))
 
 
 def _rerank(

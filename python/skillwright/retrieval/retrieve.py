@@ -147,6 +147,9 @@ class Hit:
     it was not asked or gave no usable answer."""
     judgement: str | None = None
     """The re-ranking model's reason for its verdict; ``None`` when it was not asked."""
+    twins: tuple[str, ...] = ()
+    """Candidates the interface list cannot tell apart from this hit (see :func:`twins`):
+    one of them may be the topic the robot actually uses."""
 
 
 def candidates(inventory: Inventory, include_infrastructure: bool = False) -> list[Interface]:
@@ -444,6 +447,12 @@ def rank_interfaces(
         interface = pool[best]
         hits.append(
             Hit(
+                twins=twins(
+                    interface,
+                    [pool[j] for j in remaining],
+                    relevance[best],
+                    [relevance[j] for j in remaining],
+                ),
                 name=interface.name,
                 kind=interface.kind,
                 type_name=interface.type_name,
@@ -458,6 +467,60 @@ def rank_interfaces(
         picked.append(interface)
         covered = [max(c, row[best]) for c, row in zip(covered, scores.mixed, strict=True)]
     return hits
+
+
+TWIN_SHARE = 0.8
+"""A candidate is a twin of a hit when it scores at least this share of the hit's relevance."""
+
+_TWIN_FAMILIES = frozenset({"geometry_msgs/msg/Twist", "nav_msgs/msg/Odometry"})
+"""The base's command and measurement, where the wrong one of two topics leaves the robot
+standing or the skill reading nothing."""
+
+
+def twins(
+    hit: Interface,
+    others: Sequence[Interface],
+    relevance: float,
+    others_relevance: Sequence[float],
+) -> tuple[str, ...]:
+    """The topics of ``others`` a list without endpoint counts cannot tell apart from
+    ``hit``: a base velocity command or odometry topic of the same type, in the same role,
+    scoring at least :data:`TWIN_SHARE` of its relevance, both without publisher and
+    subscriber counts. A report carries no counts; on a Stretch Nav2's behaviour server
+    publishes a ``/cmd_vel`` that nothing reads beside the driver's ``/stretch/cmd_vel``, and
+    on a Spot the controller server subscribes to an ``/odom`` that nothing publishes beside
+    the driver's ``/odometry``: by name the first of each looks like the one to use, and
+    only the user, or the live graph, can say."""
+    family = _family(hit.type_name)
+    if hit.kind != "topic" or hit.endpoints is not None or family not in _TWIN_FAMILIES:
+        return ()
+    role = interface_role(hit)
+    return tuple(
+        other.name
+        for other, score in zip(others, others_relevance, strict=True)
+        if other.kind == "topic"
+        and other.endpoints is None
+        and _family(other.type_name) == family
+        and interface_role(other) == role
+        and score >= TWIN_SHARE * relevance
+    )
+
+
+def twin_notes(hits: Sequence[Hit]) -> list[str]:
+    """A warning for each hit with :attr:`Hit.twins`: what to check and how to swap."""
+    notes = []
+    for hit in hits:
+        if not hit.twins:
+            continue
+        others = ", ".join(hit.twins)
+        first = hit.twins[0]
+        notes.append(
+            f"{hit.name} ({hit.type_name}) was chosen over {others} of the same type by its "
+            "name alone: the interface list has no publisher or subscriber counts to tell "
+            f"which one the robot uses. Check with `ros2 topic info -v {hit.name}`; if it is "
+            f"{first}, generate with --drop {hit.name} --pin {first}"
+        )
+    return notes
 
 
 def _type_factor(candidate: Interface, picked: Sequence[Interface], ranking: Ranking) -> float:
