@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Any
 
@@ -9,6 +10,8 @@ import pytest
 from textual.widgets import DataTable, Static
 
 from skillwright.errors import OperationCancelledError
+from skillwright.interfaces.load import load_inventory
+from skillwright.interfaces.sources.report import report_from_inventory
 from skillwright.pipeline import retrieve
 from skillwright.tui.screens.retrieval import RetrievalPane
 from tests.tui.conftest import (
@@ -70,6 +73,26 @@ async def test_ranking_shows_the_engines_hits_with_scores_and_reasons(workspace:
         assert first[2:6] == [hit.name, hit.kind, hit.type_name, f"{hit.score:.2f}"]
         assert first[8] == hit.reason
         assert "3 interfaces ranked for Move forward (BM25 only" in _status(app)
+
+
+async def test_a_velocity_topic_the_report_cannot_tell_apart_is_marked_in_the_table(
+    workspace: Path,
+) -> None:
+    base = load_inventory(workspace / "recordings" / "mr1")
+    driver = base.interface("/cmd_vel").model_copy(update={"name": "/driver/cmd_vel"})
+    inventory = base.model_copy(update={"interfaces": [*base.interfaces, driver]})
+    document, _ = report_from_inventory(inventory)
+    (workspace / "report.json").write_text(json.dumps(document), encoding="utf-8")
+    preset_session(workspace, **{**INPUTS, "interfaces": "report.json"}, k=4)
+    app = app_for(workspace)
+    async with running(app, (160, 48)) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+r")
+        await wait_until(pilot, lambda: len(app.loaded.hits) == 4)
+        row = pane.rows.index("/cmd_vel")
+        reason = str(app.query_one("#retrieval-table", DataTable).get_row_at(row)[8])
+        assert reason.startswith("not told apart from /driver/cmd_vel (the list has no endpoint")
+        assert "check which topic the robot uses for /cmd_vel (p pins, x drops)" in _status(app)
 
 
 async def test_pinned_interfaces_are_listed_and_dropped_ones_left_out(workspace: Path) -> None:

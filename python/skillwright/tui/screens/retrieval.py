@@ -30,6 +30,13 @@ def _row(mark: str, name: str, reason: str) -> list[Text]:
     return [Text(c) for c in (mark, "", name, "", "", "", "", "", reason)]
 
 
+def _twins_note(twins: tuple[str, ...]) -> str:
+    """What a hit's reason starts with when the interface list cannot tell it from others."""
+    if not twins:
+        return ""
+    return f"not told apart from {', '.join(twins)} (the list has no endpoint counts); "
+
+
 class RetrievalPane(Pane):
     """Ranked interfaces with scores and reasons; ``p`` pins, ``x`` drops."""
 
@@ -135,10 +142,16 @@ class RetrievalPane(Pane):
         how = "embeddings + BM25" if message.dense else "BM25 only"
         if self._without_spec:
             how += "; the specification is not valid, so it was left out"
+        twinned = [h.name for h in message.hits if h.twins]
+        check = (
+            f"; check which topic the robot uses for {', '.join(twinned)} (p pins, x drops)"
+            if twinned
+            else ""
+        )
         self.query_one("#retrieval-status", Static).update(
             f"{len(message.hits)} interfaces ranked for "
             f"{self.sw.loaded.capability.capability.label if self.sw.loaded.capability else '?'}"
-            f" ({how})"
+            f" ({how}){check}"
         )
         self.show_table()
 
@@ -159,7 +172,7 @@ class RetrievalPane(Pane):
                 f"{hit.score:.2f}",
                 dense,
                 f"{hit.lexical:.2f}",
-                hit.reason,
+                _twins_note(hit.twins) + hit.reason,
             )
             table.add_row(*(Text(c) for c in cells))
             self.rows.append(hit.name)
