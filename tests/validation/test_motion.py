@@ -171,3 +171,46 @@ def test_a_command_repeated_elsewhere_or_a_stop_is_no_one_shot(
         assert "create_timer" in source
     assert source != _published_once_before_the_loop()
     assert not [f for f in _motion(source, move_forward) if "goes out once" in f.message]
+
+
+def _drives_for_a_time(sleep: str) -> str:
+    """The good skill driving open-loop: the command published once, then a sleep."""
+    source = _published_once_before_the_loop().replace(
+        "        while self._travelled() < self.in_distance:\n            time.sleep(0.05)\n",
+        f"        {sleep}\n",
+        1,
+    )
+    assert sleep in source
+    return source
+
+
+def test_a_command_published_once_and_slept_on_is_an_error_with_a_loop_as_the_fix(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # the cap2skill move forward of the evaluation at 1840a63, as the paper's skill does it:
+    # publish, time.sleep(time_value), stop; the robot moved for half a second of it
+    source = _drives_for_a_time("time.sleep(self.in_distance / speed)")
+    [finding] = _motion(source, move_forward)
+    assert source.splitlines()[finding.line - 1].strip() == "time.sleep(self.in_distance / speed)"
+    assert "then sleeps for self.in_distance / speed s" in finding.message
+    assert finding.replacement == (
+        "deadline = time.monotonic() + self.in_distance / speed\n"
+        "while time.monotonic() < deadline:\n"
+        "    self.cmd_vel_publisher.publish(command)\n"
+        "    time.sleep(0.05)"
+    )
+
+
+@pytest.mark.parametrize(
+    "sleep",
+    [
+        "time.sleep(0.2)",  # within the driver's half second
+        "for _ in range(20):\n            self.cmd_vel_publisher.publish(command)\n"
+        "            time.sleep(self.in_distance / 20)",  # repeated in a loop
+    ],
+)
+def test_a_short_sleep_or_one_in_a_loop_that_publishes_is_fine(
+    move_forward: tuple[Capability, SkillSpec], sleep: str
+) -> None:
+    source = _drives_for_a_time(sleep)
+    assert not [f for f in _motion(source, move_forward) if "goes out once" in f.message]

@@ -31,6 +31,11 @@ spins or calls a wait helper is flagged when the last velocity command published
 before it is not a stop, and the loop neither publishes on that publisher (outside the
 branches that leave it) nor commands otherwise, and no timer of the skill could repeat it. The
 fix publishes the same command at the start of every pass.
+
+The same command published once and followed, in the same block and outside any loop, by a
+``time.sleep`` of more than half a second (or of a duration worked out at run time) is the
+open-loop drive of the paper's move forward: the robot moves for half a second of the time
+asked. The fix publishes it every 0.05 s until the time is up.
 """
 
 from __future__ import annotations
@@ -123,15 +128,67 @@ def _repeated_nowhere(
     is_measured = measurements(cls)
     findings = []
     for method in methods.values():
+        looped = {
+            id(node.body) for node in ast.walk(method) if isinstance(node, ast.For | ast.While)
+        }
         for block in blocks(method):
-            for index, loop in enumerate(block):
-                if not isinstance(loop, ast.While) or not _awaits_motion(loop, is_measured):
+            for index, statement in enumerate(block):
+                duration = _long_sleep(statement)
+                if duration is not None and id(block) not in looped:
+                    sent = _last_motion(block[:index], handles)
+                    if sent is not None:
+                        findings.append(_sleep_finding(statement, duration, *sent))
+                    continue
+                if not isinstance(statement, ast.While):
+                    continue
+                if not _awaits_motion(statement, is_measured):
                     continue
                 sent = _last_motion(block[:index], handles)
-                if sent is None or _commands(loop, methods) or _publishes_on(loop, sent[0]):
+                if (
+                    sent is None
+                    or _commands(statement, methods)
+                    or _publishes_on(statement, sent[0])
+                ):
                     continue
-                findings.append(_repeat_finding(loop, *sent))
+                findings.append(_repeat_finding(statement, *sent))
     return findings
+
+
+_HOLD = 0.5
+"""The longest a base driver keeps a velocity command it has not heard again (ros2_control's
+diff_drive_controller's default ``cmd_vel_timeout``)."""
+
+
+def _long_sleep(statement: ast.stmt) -> ast.expr | None:
+    """The duration of ``time.sleep(duration)`` when that is the statement and the duration is
+    not a number of at most :data:`_HOLD` seconds."""
+    if not (
+        isinstance(statement, ast.Expr)
+        and isinstance(call := statement.value, ast.Call)
+        and ast.unparse(call.func) == "time.sleep"
+        and len(call.args) == 1
+    ):
+        return None
+    duration = call.args[0]
+    if isinstance(duration, ast.Constant) and isinstance(duration.value, int | float):
+        return duration if duration.value > _HOLD else None
+    return duration
+
+
+def _sleep_finding(sleep: ast.stmt, duration: ast.expr, handle: str, call: ast.Call) -> Finding:
+    command = ast.unparse(call.args[0])
+    publish = f"{handle}.publish({command})"
+    return error_at(
+        "motion",
+        sleep,
+        f"the velocity command goes out once ({publish} on line {call.lineno}) and the state "
+        f"then sleeps for {ast.unparse(duration)} s: a base driver stops when a command is not "
+        f"repeated within its timeout (half a second for ros2_control's "
+        "diff_drive_controller), so the robot moves for half a second at most. Publish the "
+        "command every 0.05 s until the time is up",
+        f"deadline = time.monotonic() + {ast.unparse(duration)}\n"
+        f"while time.monotonic() < deadline:\n    {publish}\n    time.sleep(0.05)",
+    )
 
 
 def _repeat_finding(loop: ast.While, handle: str, call: ast.Call) -> Finding:
