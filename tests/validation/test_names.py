@@ -644,6 +644,28 @@ def test_a_documented_method_called_wrongly_is_found_at_the_call(
     [finding] = _names(source, move_forward)
     assert source.splitlines()[finding.line - 1].strip() == "self._stop()"
     assert "missing a required argument: 'timeout'" in finding.message
+    # the timeout is all it leaves out: the fix gives it the helpers' two seconds
+    assert finding.replacement == "self._stop(2.0)"
+
+
+def test_a_documented_helper_missing_more_than_its_timeout_gets_no_fix(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    helper = (
+        "    def _look(self, target, source, timeout):\n"
+        '        """Looks a transform up."""\n'
+        "        return target, source, timeout\n\n"
+        "    @stopping\n"
+    )
+    source = stopping_with(
+        '        self.seen = self._look("map")\n        self.both = self._look("map", "base")[0]\n'
+    ).replace("    @stopping\n", helper, 1)
+    found = {f.line: f.replacement for f in _names(source, move_forward)}
+    lines = source.splitlines()
+    assert {lines[line - 1].strip(): fix for line, fix in found.items()} == {
+        'self.seen = self._look("map")': None,
+        'self.both = self._look("map", "base")[0]': "self.both = self._look('map', 'base', 2.0)[0]",
+    }
 
 
 def test_a_helper_missing_the_parameter_its_call_gives_is_found_and_defaults_count(

@@ -26,6 +26,7 @@ from skillwright.spec.model import PACKML_STATES, SkillSpec
 from skillwright.validation.bearings import check_bearings
 from skillwright.validation.equality import check_equality
 from skillwright.validation.first_messages import check_first_messages
+from skillwright.validation.frames import check_frames
 from skillwright.validation.loops import check_waits
 from skillwright.validation.model import (
     SEQUENCE_METHODS,
@@ -2202,6 +2203,7 @@ def check_skill(
             check_motion(cls, methods, capability),
             check_zero_timeouts(cls),
             check_bearings(cls),
+            check_frames(cls),
         ):
             ctx.findings += findings
         if catalog is not None:

@@ -1,0 +1,123 @@
+"""The robot's pose asked of tf the wrong way round (check ``frames``).
+
+The skeleton's ``self._transform(target_frame, source_frame, timeout)`` gives the transform
+that takes ``source_frame`` into ``target_frame``: ``self._transform("map", "base_link", 2.0)``
+is where the robot stands in the map. The default model's cap2skill get-position in the
+evaluation at 48572ae wrote ``self.out_position_x = self._transform("base_link",
+"map").transform.translation.x``: the map's origin seen from the robot, which is the robot's
+position only while it stands at the origin facing along x, and its negative when it stands
+elsewhere facing that way.
+
+An error stands at each statement that stores in an output (``self.out_...``) the translation
+or rotation of a transform asked with the robot's base frame as the target and a world frame
+(``map``, ``odom``, ``world``) as the source, read from the call itself or from a local the
+method gave its result. The finding stands at the statement that asks tf; the fix swaps the
+two frames there.
+"""
+
+from __future__ import annotations
+
+import ast
+import copy
+
+from skillwright.validation.model import Finding
+from skillwright.validation.names import self_attribute, simple_statements
+from skillwright.validation.syntax import self_method
+
+__all__ = ["check_frames"]
+
+_TRANSFORM = "_transform"
+_BASE_FRAMES = frozenset({"base_link", "base_footprint", "base"})
+_WORLD_FRAMES = frozenset({"map", "odom", "world"})
+_PARTS = frozenset({"translation", "rotation"})
+
+
+def check_frames(cls: ast.ClassDef) -> list[Finding]:
+    """Findings (check ``frames``) for the robot's pose asked of tf the wrong way round and
+    stored in an output."""
+    statement_of = simple_statements(cls)
+    findings = []
+    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+        reversed_locals = {
+            target.id: node.value
+            for node in ast.walk(method)
+            if isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and isinstance(target := node.targets[0], ast.Name)
+            and isinstance(node.value, ast.Call)
+            and _reversed(node.value)
+        }
+        flagged: set[int] = set()
+        for node in ast.walk(method):
+            if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
+                continue
+            output = self_attribute(node.targets[0])
+            if output is None or not output.startswith("out_"):
+                continue
+            call = _pose_read(node.value, reversed_locals)
+            statement = None if call is None else statement_of.get(id(call))
+            if call is None or statement is None or id(call) in flagged:
+                continue
+            flagged.add(id(call))
+            target, source = (ast.literal_eval(a) for a in call.args[:2])
+            findings.append(
+                Finding(
+                    check="frames",
+                    severity="error",
+                    line=statement.lineno,
+                    column=statement.col_offset + 1,
+                    message=f"self.{_TRANSFORM}({target!r}, {source!r}, ...) is the transform "
+                    f"from {source} into {target}: its translation is where {source}'s origin "
+                    f"lies seen from the robot, not where the robot stands in {source} (read "
+                    f"for self.{output}). Ask self.{_TRANSFORM}({source!r}, {target!r}, ...) "
+                    f"for the robot's pose in {source}",
+                    replacement=_swapped(statement, call),
+                )
+            )
+    return findings
+
+
+def _reversed(call: ast.Call) -> bool:
+    """Whether ``call`` is ``self._transform(<base frame>, <world frame>, ...)``."""
+    if self_method(call) != _TRANSFORM or len(call.args) < 2:
+        return False
+    target, source = call.args[:2]
+    return (
+        isinstance(target, ast.Constant)
+        and target.value in _BASE_FRAMES
+        and isinstance(source, ast.Constant)
+        and source.value in _WORLD_FRAMES
+    )
+
+
+def _pose_read(value: ast.expr, reversed_locals: dict[str, ast.Call]) -> ast.Call | None:
+    """The reversed call whose ``.transform.translation`` or ``.transform.rotation`` the
+    expression ``value`` reads, if it reads one."""
+    for node in ast.walk(value):
+        if not (
+            isinstance(node, ast.Attribute)
+            and node.attr in _PARTS
+            and isinstance(node.value, ast.Attribute)
+            and node.value.attr == "transform"
+        ):
+            continue
+        held = node.value.value
+        if isinstance(held, ast.Call) and _reversed(held):
+            return held
+        if isinstance(held, ast.Name) and held.id in reversed_locals:
+            return reversed_locals[held.id]
+    return None
+
+
+def _swapped(statement: ast.stmt, call: ast.Call) -> str:
+    """``statement`` with the first two arguments of ``call`` swapped."""
+    where = (call.lineno, call.col_offset, call.end_lineno, call.end_col_offset)
+
+    class _Swap(ast.NodeTransformer):
+        def visit_Call(self, node: ast.Call) -> ast.AST:
+            self.generic_visit(node)
+            if (node.lineno, node.col_offset, node.end_lineno, node.end_col_offset) == where:
+                node.args[0], node.args[1] = node.args[1], node.args[0]
+            return node
+
+    return ast.unparse(_Swap().visit(copy.deepcopy(statement)))
