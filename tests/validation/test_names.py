@@ -899,3 +899,35 @@ def test_a_method_replaced_by_its_value_is_kept_in_a_local(
     assert source.splitlines()[finding.line - 1].strip() == "self._travelled = self._travelled()"
     assert finding.replacement == "travelled = self._travelled()"
     assert "every later self._travelled(...) raises TypeError" in finding.message
+
+
+@pytest.mark.parametrize(
+    ("statements", "replacement"),
+    [
+        # the MR-1 get-position of the evaluation at cf9631a
+        (
+            "        self.node.get_logger().info(\n"
+            '            f"heading: {self.in_distance:.2f}, timestamp: {self._stamp:.2f}"\n'
+            "        )\n",
+            "self.node.get_logger().info(f'heading: {self.in_distance:.2f}')",
+        ),
+        (
+            '        print(f"took {self._elapsed} s")\n',
+            "print(f'')",
+        ),
+    ],
+)
+def test_a_log_line_reading_an_attribute_nothing_sets_loses_that_field(
+    move_forward: tuple[Capability, SkillSpec], statements: str, replacement: str
+) -> None:
+    [finding] = _names(stopping_with(statements), move_forward)
+    assert "is never set in this class" in finding.message
+    assert finding.replacement == replacement
+
+
+def test_an_attribute_nothing_sets_outside_a_log_line_gets_no_such_fix(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    [finding] = _names(stopping_with("        self.out_distance = self._stamp\n"), move_forward)
+    assert "self._stamp is never set in this class" in finding.message
+    assert finding.replacement is None

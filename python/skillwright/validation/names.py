@@ -621,9 +621,58 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
                 f"{', '.join(helpers) or 'none'}"
             )
         unlimited = name.isupper() and not any(d.isupper() for d in defined)
-        fix = _without_limit(cls, node, name) if unlimited else _underscored(cls, node, defined)
+        fix = (
+            _without_limit(cls, node, name)
+            if unlimited
+            else _underscored(cls, node, defined) or _unlogged(cls, node)
+        )
         findings.append(_finding(node, message, fix))
     return findings
+
+
+_LOG_CALLS = frozenset({"debug", "info", "warning", "warn", "error", "fatal", "print"})
+_LABEL_ENDS = (", ", "; ", " (", "\n")
+
+
+def _unlogged(cls: ast.ClassDef, node: ast.Attribute) -> str | None:
+    """The log line holding ``node`` in an f-string's field without that field and its label
+    (the default model's MR-1 get-position in the evaluation at cf9631a logged
+    ``f"heading: {self.out_heading:.2f}, timestamp: {self._transform_time:.2f}"``, an
+    attribute nothing sets, and its repair wrote the line again): a log line reports, and one
+    value less is better than a state that raises AttributeError. The text after the field up
+    to the next separator (its unit) goes with it."""
+    statement = simple_statements(cls).get(id(node))
+    if not (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)):
+        return None
+    func = statement.value.func
+    called = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
+    if called not in _LOG_CALLS:
+        return None
+    where = (node.lineno, node.col_offset, node.end_lineno, node.end_col_offset)
+
+    def holds(field: ast.expr) -> bool:
+        return any(
+            (n.lineno, n.col_offset, n.end_lineno, n.end_col_offset) == where
+            for n in ast.walk(field)
+            if isinstance(n, ast.Attribute)
+        )
+
+    fixed = copy.deepcopy(statement)
+    for text in (n for n in ast.walk(fixed) if isinstance(n, ast.JoinedStr)):
+        for index, part in enumerate(text.values):
+            if not (isinstance(part, ast.FormattedValue) and holds(part.value)):
+                continue
+            label = text.values[index - 1] if index else None
+            if isinstance(label, ast.Constant) and isinstance(label.value, str):
+                cut = max(label.value.rfind(end) for end in _LABEL_ENDS)
+                label.value = label.value[:cut] if cut >= 0 else ""
+            unit = text.values[index + 1] if index + 1 < len(text.values) else None
+            if isinstance(unit, ast.Constant) and isinstance(unit.value, str):
+                ends = [at for end in _LABEL_ENDS if (at := unit.value.find(end)) >= 0]
+                unit.value = unit.value[min(ends) :] if ends else ""
+            del text.values[index]
+            return ast.unparse(fixed)
+    return None
 
 
 def _underscored(cls: ast.ClassDef, node: ast.Attribute, defined: set[str]) -> str | None:
