@@ -43,6 +43,8 @@ def test_probe_sees_rclpy_semantics_in_virtual_time(mr1_inventory: Inventory) ->
         "covariance 36 True",
         "logger TypeError",
         "publish Expected <class 'geometry_msgs.msg.Twist'>, got <class 'geometry_msgs.msg.Vector3'>",
+        # tf2's words for a frame that does not exist, and the frames the robot has
+        "tf ['arm_base_link', 'base_link']",
     ]
 
 

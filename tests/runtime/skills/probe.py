@@ -9,7 +9,9 @@ import time
 import rclpy
 from rclpy.duration import Duration
 from rclpy.qos import qos_profile_sensor_data
+from rclpy.time import Time
 from rclpy.wait_for_message import wait_for_message
+from tf2_ros import Buffer, LookupException, TransformListener
 
 from pyskillup.decorators.decorators import *
 from pyskillup.decorator_check.decorator_check import ROS2Skill
@@ -106,3 +108,11 @@ class Probe(ROS2Skill):
             publisher.publish(Vector3())
         except TypeError as error:
             log(f"publish {error}")
+        buffer = Buffer()
+        listener = TransformListener(buffer, self.node)
+        time.sleep(0.5)
+        try:
+            buffer.lookup_transform("earth", "base_link", Time())
+        except LookupException as error:
+            log(f"tf {str(error).split('(frames on /tf so far: ')[1].split(', ')[:2]}")
+        del listener

@@ -108,9 +108,13 @@ class Buffer:
         known = set(self._parents) | {p for p, _, _ in self._parents.values()}
         for frame in (target, source):
             if frame not in known:
+                # tf2's own words, then (the sandbox's addition) the frames the robot does
+                # have, so that a repair can pick one: the paper's robot has no map frame.
+                have = ", ".join(sorted(known)) or "none yet"
                 raise LookupException(
                     f'"{frame}" passed to lookupTransform argument '
                     f"{'target_frame' if frame == target else 'source_frame'} does not exist. "
+                    f"(frames on /tf so far: {have})"
                 )
         target_chain = self._chain(target)
         source_chain = self._chain(source)
