@@ -259,3 +259,41 @@ def test_a_second_run_that_cannot_run_leaves_the_first_runs_findings(
 
     with pytest.raises(GenerationCancelledError):
         probe_waits(first, source, cancelled, SCENARIO.deadlines.state)
+
+
+def test_a_lookup_of_a_frame_the_robot_lacks_is_told_so_without_a_second_run(
+    inventory: Inventory,
+) -> None:
+    # cap2skill get-position of the evaluation at cf9631a asked a robot without a map frame
+    source = HEAD.format(
+        imports="from rclpy.time import Time\n"
+        "from tf2_ros import Buffer, TransformException, TransformListener\n",
+        body=(
+            "        buffer = Buffer()\n"
+            "        self.listener = TransformListener(buffer, self.node)\n"
+            "        deadline = time.monotonic() + 1.0\n"
+            "        while True:\n"
+            "            try:\n"
+            "                buffer.lookup_transform('earth', 'base_link', Time())\n"
+            "                break\n"
+            "            except TransformException as error:\n"
+            "                if time.monotonic() > deadline:\n"
+            "                    raise RuntimeError(\n"
+            "                        f'no transform from base_link to earth within 1 s ({error})'\n"
+            "                    ) from None\n"
+            "            time.sleep(0.05)\n"
+        ),
+    )
+    runs = Runs(inventory)
+    first = runs(source)
+    report = probe_waits(first, source, runs, SCENARIO.deadlines.state)
+    assert len(runs.sources) == 1
+    [finding] = [f for f in report.findings if f.check == "run.exception"]
+    assert '"earth" passed to lookupTransform argument target_frame does not exist.' in (
+        finding.message
+    )
+    assert "(frames on /tf so far: arm_base_link, base_link," in finding.message
+    assert finding.message.endswith(
+        "the frame is not in the robot's tf tree, so no longer wait brings it: ask for one of "
+        "the frames /tf has (named above)"
+    )

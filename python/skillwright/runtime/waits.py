@@ -32,6 +32,7 @@ the 1.5B model kept those numbers through every repair that said they were too s
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from typing import Any
 
@@ -45,6 +46,8 @@ from skillwright.validation.watch import diagnose, samples, watch_at, watched
 
 __all__ = ["MARGIN", "PROBE_SHARE", "probe_waits"]
 
+_MISSING_FRAME = re.compile(r"passed to lookupTransform argument \w+ does not exist")
+"""tf2's words for a frame its tree does not have (the sandbox adds the frames it has)."""
 PROBE_SHARE = 0.8
 """Share of the scenario's deadline per state that the second run allows the wait."""
 MARGIN = 3.0
@@ -67,6 +70,14 @@ def probe_waits(
         if parsed is None:
             continue
         state, seconds, head = parsed
+        if _MISSING_FRAME.search(head):
+            findings[index] = finding.model_copy(
+                update={
+                    "message": f"{head}; the frame is not in the robot's tf tree, so no "
+                    "longer wait brings it: ask for one of the frames /tf has (named above)"
+                }
+            )
+            continue
         if seconds * 2 > probe_seconds:
             continue
         site = timeout_site(code, finding.line, finding.stack, seconds)
