@@ -297,3 +297,57 @@ def test_a_lookup_of_a_frame_the_robot_lacks_is_told_so_without_a_second_run(
         "the frame is not in the robot's tf tree, so no longer wait brings it: ask for one of "
         "the frames /tf has (named above)"
     )
+
+
+def _pose_in(frame: str) -> str:
+    """execute asks the skeleton's tf helper for the robot's pose in ``frame``."""
+    return HEAD.format(
+        imports="from rclpy.time import Time\n"
+        "from tf2_ros import Buffer, TransformException, TransformListener\n",
+        body=(
+            "        self.tf_buffer = Buffer()\n"
+            "        self.listener = TransformListener(self.tf_buffer, self.node)\n"
+            f"        self.x = self._transform('{frame}', 'base_link', 1.0).transform.translation.x\n"
+            "\n"
+            "    def _transform(self, target_frame, source_frame, timeout):\n"
+            '        """The skeleton\'s helper."""\n'
+            "        deadline = time.monotonic() + timeout\n"
+            "        while True:\n"
+            "            try:\n"
+            "                return self.tf_buffer.lookup_transform(target_frame, source_frame, Time())\n"
+            "            except TransformException as error:\n"
+            "                if time.monotonic() > deadline:\n"
+            "                    raise RuntimeError(\n"
+            "                        f'no transform from {source_frame} to {target_frame} '\n"
+            "                        f'within {timeout:g} s ({error})'\n"
+            "                    ) from None\n"
+            "            time.sleep(0.05)\n"
+        ),
+    )
+
+
+@pytest.mark.parametrize("frame", ["map", "earth"])
+def test_a_robot_without_a_map_is_asked_for_its_pose_in_odom(
+    inventory: Inventory, frame: str
+) -> None:
+    # The paper's robot runs no localisation: its tf tree (in the simulation) has odom and
+    # no map. Here the world's root frame is named otherwise, so map does not exist.
+    source = _pose_in(frame)
+    scenario = quick(world="kinematic", world_options={"map_frame": "world"})
+
+    def runs(code: str) -> RunReport:
+        return run_skill(Path("subject.py"), inventory, source=code, scenario=scenario)
+
+    first = runs(source)
+    [finding] = [
+        f for f in probe_waits(first, source, runs, 10.0).findings if f.check == "run.exception"
+    ]
+    assert "the frame is not in the robot's tf tree" in finding.message
+    if frame == "map":
+        assert finding.line == line_of(source, "self._transform('map'")
+        assert finding.replacement == (
+            "self.x = self._transform('odom', 'base_link', 1.0).transform.translation.x"
+        )
+        assert finding.message.endswith("the line now asks for odom")
+    else:
+        assert finding.replacement is None
