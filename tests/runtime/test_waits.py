@@ -308,6 +308,7 @@ def _pose_in(frame: str) -> str:
             "        self.tf_buffer = Buffer()\n"
             "        self.listener = TransformListener(self.tf_buffer, self.node)\n"
             f"        self.x = self._transform('{frame}', 'base_link', 1.0).transform.translation.x\n"
+            f"        self.y = self._transform('{frame}', 'base_link', 1.0).transform.translation.y\n"
             "\n"
             "    def _transform(self, target_frame, source_frame, timeout):\n"
             '        """The skeleton\'s helper."""\n'
@@ -339,9 +340,10 @@ def test_a_robot_without_a_map_is_asked_for_its_pose_in_odom(
         return run_skill(Path("subject.py"), inventory, source=code, scenario=scenario)
 
     first = runs(source)
-    [finding] = [
+    finding, *others = [
         f for f in probe_waits(first, source, runs, 10.0).findings if f.check == "run.exception"
     ]
+    assert len(others) == (1 if frame == "map" else 0)
     assert "the frame is not in the robot's tf tree" in finding.message
     if frame == "map":
         assert finding.line == line_of(source, "self._transform('map'")
@@ -349,5 +351,15 @@ def test_a_robot_without_a_map_is_asked_for_its_pose_in_odom(
             "self.x = self._transform('odom', 'base_link', 1.0).transform.translation.x"
         )
         assert finding.message.endswith("the line now asks for odom")
+        # the run stopped at x; y, which asks the same, gets the same fix
+        [other] = [
+            f
+            for f in probe_waits(first, source, runs, 10.0).findings
+            if f.replacement and "self.y" in f.replacement
+        ]
+        assert other.line == line_of(source, "self.y = self._transform(")
+        assert other.replacement == (
+            "self.y = self._transform('odom', 'base_link', 1.0).transform.translation.y"
+        )
     else:
         assert finding.replacement is None

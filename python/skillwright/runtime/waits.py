@@ -74,6 +74,8 @@ def probe_waits(
         state, seconds, head = parsed
         if _MISSING_FRAME.search(head):
             findings[index] = _missing_frame(finding, head, code)
+            if findings[index].replacement is not None:
+                added += _other_map_lookups(findings[index], code)
             continue
         if seconds * 2 > probe_seconds:
             continue
@@ -175,6 +177,29 @@ def _missing_frame(finding: Finding, head: str, code: str) -> Finding:
             "stack": (),
         }
     )
+
+
+def _other_map_lookups(fixed: Finding, code: str) -> list[Finding]:
+    """The same fix for every other line of the file that asks tf for ``map`` the same way
+    (the run stops at the first; cap2skill get-position asked for x and y in two lookups)."""
+    out = []
+    for number, text in enumerate(code.splitlines(), start=1):
+        line = text.strip()
+        asked = [q for q in ("'map'", '"map"') if line.count(q) == 1]
+        if (
+            number == fixed.line
+            or "self._transform(" not in line
+            or len(asked) != 1
+            or not _whole_statement(line)
+        ):
+            continue
+        replacement = line.replace(asked[0], asked[0].replace("map", "odom"))
+        out.append(
+            fixed.model_copy(
+                update={"line": number, "replacement": replacement, "message": fixed.message}
+            )
+        )
+    return out
 
 
 def _whole_statement(line: str) -> bool:
