@@ -827,8 +827,9 @@ def _retrieval_stage(
             s.append(f"re-ranked: {reranking.summary()}")
             for note in reranking.notes:
                 stages.emit(Notice("warning", note))
-        given = [h for h in hits if h.name in {c.name for c in chosen_hits if not c.set_aside}]
-        undecided = [h for h in given if not {h.name, *h.twins} & set(request.pinned)]
+        given = {c.name for c in chosen_hits if not c.set_aside}
+        pinned = set(request.pinned)
+        undecided = [h for h in hits if h.name in given and not {h.name, *h.twins} & pinned]
         for note in twin_notes(undecided):
             stages.emit(Notice("warning", note))
     return hits, method, reranking, chosen_hits, loaded

@@ -158,20 +158,14 @@ def _missing_frame(finding: Finding, head: str, code: str) -> Finding:
     # a helper's raise is reported with the state's call of it outermost in the stack
     at = finding.stack[0] if finding.stack else finding.line
     lines = code.splitlines()
-    line = lines[at - 1].strip() if 0 < at <= len(lines) else ""
-    asked = [quote for quote in ("'map'", '"map"') if line.count(quote) == 1]
-    if (
-        '"map" passed' not in head
-        or "odom" not in frames
-        or len(asked) != 1
-        or not _whole_statement(line)
-    ):
+    fixed = _in_odom(lines[at - 1]) if 0 < at <= len(lines) else None
+    if '"map" passed' not in head or "odom" not in frames or fixed is None:
         return finding.model_copy(update={"message": message})
     return finding.model_copy(
         update={
             "message": f"{message}; this robot has no map (no localisation runs), so its pose "
             "is in odom, which drifts with the wheels: the line now asks for odom",
-            "replacement": line.replace(asked[0], asked[0].replace("map", "odom")),
+            "replacement": fixed,
             "line": at,
             "column": 0,
             "stack": (),
@@ -182,33 +176,29 @@ def _missing_frame(finding: Finding, head: str, code: str) -> Finding:
 def _other_map_lookups(fixed: Finding, code: str) -> list[Finding]:
     """The same fix for every other line of the file that asks tf for ``map`` the same way
     (the run stops at the first; cap2skill get-position asked for x and y in two lookups)."""
-    out = []
-    for number, text in enumerate(code.splitlines(), start=1):
-        line = text.strip()
-        asked = [q for q in ("'map'", '"map"') if line.count(q) == 1]
-        if (
-            number == fixed.line
-            or "self._transform(" not in line
-            or len(asked) != 1
-            or not _whole_statement(line)
-        ):
-            continue
-        replacement = line.replace(asked[0], asked[0].replace("map", "odom"))
-        out.append(
-            fixed.model_copy(
-                update={"line": number, "replacement": replacement, "message": fixed.message}
-            )
-        )
-    return out
+    return [
+        fixed.model_copy(update={"line": number, "replacement": replacement})
+        for number, text in enumerate(code.splitlines(), start=1)
+        if number != fixed.line
+        and "self._transform(" in text
+        and (replacement := _in_odom(text)) is not None
+    ]
 
 
-def _whole_statement(line: str) -> bool:
-    """Whether ``line`` (stripped) is a simple statement on its own."""
+def _in_odom(text: str) -> str | None:
+    """The statement on the line ``text`` with its one ``'map'`` (or ``"map"``) asking for
+    ``odom``, when the line is a whole simple statement that names map once."""
+    line = text.strip()
+    asked = [quote for quote in ("'map'", '"map"') if line.count(quote) == 1]
+    if len(asked) != 1:
+        return None
     try:
         body = ast.parse(line).body
     except SyntaxError:
-        return False
-    return len(body) == 1 and not isinstance(body[0], ast.If | ast.For | ast.While | ast.Try)
+        return None
+    if len(body) != 1 or isinstance(body[0], ast.If | ast.For | ast.While | ast.Try):
+        return None
+    return line.replace(asked[0], asked[0].replace("map", "odom"))
 
 
 def _watched_timeout(finding: Finding, code: str, run: Callable[[str], RunReport]) -> Finding:

@@ -21,7 +21,7 @@ import copy
 
 from skillwright.validation.model import Finding
 from skillwright.validation.names import simple_statements
-from skillwright.validation.syntax import self_method
+from skillwright.validation.syntax import error_at, self_method, with_node_replaced
 
 __all__ = ["check_bearings"]
 
@@ -50,17 +50,15 @@ def check_bearings(cls: ast.ClassDef) -> list[Finding]:
             if bearing is None or not _is_angle_min(other) or statement is None:
                 continue
             findings.append(
-                Finding(
-                    check="bearings",
-                    severity="error",
-                    line=statement.lineno,
-                    column=statement.col_offset + 1,
-                    message=f"`{ast.unparse(node)}` offsets the bearing of self.{_CLOSEST}"
+                error_at(
+                    "bearings",
+                    statement,
+                    f"`{ast.unparse(node)}` offsets the bearing of self.{_CLOSEST}"
                     f"(...) by {ast.unparse(other)} again, but the helper already counts it "
                     f"from angle_min (0 along the scanner's x axis, positive to the left): "
                     f"the result is off by angle_min (pi for a scan that starts at -pi). Use "
                     f"the bearing as it is, {ast.unparse(bearing)}",
-                    replacement=_without(statement, node, bearing),
+                    _as_it_is(statement, node, bearing),
                 )
             )
     return findings
@@ -107,14 +105,6 @@ def _is_angle_min(node: ast.AST) -> bool:
     return isinstance(node, ast.Attribute) and node.attr == "angle_min"
 
 
-def _without(statement: ast.stmt, offset: ast.BinOp, bearing: ast.expr) -> str:
-    """``statement`` with ``offset`` replaced by ``bearing``."""
-    where = (offset.lineno, offset.col_offset, offset.end_lineno, offset.end_col_offset)
-
-    class _Swap(ast.NodeTransformer):
-        def visit_BinOp(self, node: ast.BinOp) -> ast.AST:
-            if (node.lineno, node.col_offset, node.end_lineno, node.end_col_offset) == where:
-                return copy.deepcopy(bearing)
-            return self.generic_visit(node)
-
-    return ast.unparse(_Swap().visit(copy.deepcopy(statement)))
+def _as_it_is(statement: ast.stmt, offset: ast.BinOp, bearing: ast.expr) -> str:
+    """``statement`` with the ``offset`` of ``bearing`` replaced by the bearing alone."""
+    return with_node_replaced(statement, offset, lambda _: copy.deepcopy(bearing))

@@ -18,11 +18,10 @@ two frames there.
 from __future__ import annotations
 
 import ast
-import copy
 
 from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute, simple_statements
-from skillwright.validation.syntax import self_method
+from skillwright.validation.syntax import error_at, self_method, with_node_replaced
 
 __all__ = ["check_frames"]
 
@@ -61,17 +60,15 @@ def check_frames(cls: ast.ClassDef) -> list[Finding]:
             flagged.add(id(call))
             target, source = (ast.literal_eval(a) for a in call.args[:2])
             findings.append(
-                Finding(
-                    check="frames",
-                    severity="error",
-                    line=statement.lineno,
-                    column=statement.col_offset + 1,
-                    message=f"self.{_TRANSFORM}({target!r}, {source!r}, ...) is the transform "
+                error_at(
+                    "frames",
+                    statement,
+                    f"self.{_TRANSFORM}({target!r}, {source!r}, ...) is the transform "
                     f"from {source} into {target}: its translation is where {source}'s origin "
                     f"lies seen from the robot, not where the robot stands in {source} (read "
                     f"for self.{output}). Ask self.{_TRANSFORM}({source!r}, {target!r}, ...) "
                     f"for the robot's pose in {source}",
-                    replacement=_swapped(statement, call),
+                    with_node_replaced(statement, call, _swapped),
                 )
             )
     return findings
@@ -109,15 +106,8 @@ def _pose_read(value: ast.expr, reversed_locals: dict[str, ast.Call]) -> ast.Cal
     return None
 
 
-def _swapped(statement: ast.stmt, call: ast.Call) -> str:
-    """``statement`` with the first two arguments of ``call`` swapped."""
-    where = (call.lineno, call.col_offset, call.end_lineno, call.end_col_offset)
-
-    class _Swap(ast.NodeTransformer):
-        def visit_Call(self, node: ast.Call) -> ast.AST:
-            self.generic_visit(node)
-            if (node.lineno, node.col_offset, node.end_lineno, node.end_col_offset) == where:
-                node.args[0], node.args[1] = node.args[1], node.args[0]
-            return node
-
-    return ast.unparse(_Swap().visit(copy.deepcopy(statement)))
+def _swapped(call: ast.expr) -> ast.expr:
+    """``call`` (a copy) with its first two arguments swapped."""
+    if isinstance(call, ast.Call):
+        call.args[0], call.args[1] = call.args[1], call.args[0]
+    return call

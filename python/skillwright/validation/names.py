@@ -30,7 +30,7 @@ from collections.abc import Iterator
 
 from skillwright.spec.model import PACKML_STATES
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import statement_holding
+from skillwright.validation.syntax import statement_holding, with_node_replaced
 
 __all__ = [
     "COMPOUND_STATEMENTS",
@@ -1541,16 +1541,13 @@ def _with_timeout(
         return None
     if len(call.args) != parameters.index("timeout") or len(call.args) + 1 != len(parameters):
         return None
-    where = (call.lineno, call.col_offset, call.end_lineno, call.end_col_offset)
 
-    class _Add(ast.NodeTransformer):
-        def visit_Call(self, node: ast.Call) -> ast.AST:
-            self.generic_visit(node)
-            if (node.lineno, node.col_offset, node.end_lineno, node.end_col_offset) == where:
-                node.args.append(ast.Constant(HELPER_TIMEOUT))
-            return node
+    def timed(node: ast.expr) -> ast.expr:
+        if isinstance(node, ast.Call):
+            node.args.append(ast.Constant(HELPER_TIMEOUT))
+        return node
 
-    return ast.unparse(_Add().visit(copy.deepcopy(statement)))
+    return with_node_replaced(statement, call, timed)
 
 
 def check_names(

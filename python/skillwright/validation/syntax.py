@@ -3,10 +3,19 @@
 from __future__ import annotations
 
 import ast
+import copy
+from collections.abc import Callable
 
 from skillwright.validation.model import Finding
 
-__all__ = ["blocks", "error_at", "self_method", "skips_its_end", "statement_holding"]
+__all__ = [
+    "blocks",
+    "error_at",
+    "self_method",
+    "skips_its_end",
+    "statement_holding",
+    "with_node_replaced",
+]
 
 
 def error_at(
@@ -68,3 +77,29 @@ def self_method(call: ast.Call) -> str | None:
     if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
         return func.attr if func.value.id == "self" else None
     return None
+
+
+def with_node_replaced(
+    statement: ast.stmt, node: ast.expr, new: Callable[[ast.expr], ast.expr]
+) -> str:
+    """The text of ``statement`` with ``node`` (an expression in it) replaced by what ``new``
+    makes of a copy of it."""
+    where = (node.lineno, node.col_offset, node.end_lineno, node.end_col_offset)
+
+    class _Replace(ast.NodeTransformer):
+        def visit(self, part: ast.AST) -> ast.AST:
+            if (
+                isinstance(part, ast.expr)
+                and (
+                    part.lineno,
+                    part.col_offset,
+                    part.end_lineno,
+                    part.end_col_offset,
+                )
+                == where
+                and type(part) is type(node)
+            ):
+                return new(part)
+            return self.generic_visit(part)
+
+    return ast.unparse(_Replace().visit(copy.deepcopy(statement)))
