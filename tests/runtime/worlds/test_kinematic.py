@@ -73,6 +73,52 @@ def test_a_goal_outside_the_map_frame_is_rejected(mr1_inventory: Inventory) -> N
     assert answers[0]["accepted"] is False
 
 
+def _without_localisation(inventory: Inventory) -> Inventory:
+    """The MR-1 with neither its map nor its map pose: odometry is all it knows."""
+    kept = [i for i in inventory.interfaces if i.name not in {"/map", "/pose"}]
+    return inventory.model_copy(update={"interfaces": kept})
+
+
+def _frames(graph: GraphHost, tf: int, until: float) -> set[tuple[str, str]]:
+    return {
+        (t["header"]["frame_id"], t["child_frame_id"])
+        for _, d in deliveries_until(graph, until)
+        if d["id"] == tf
+        for t in d["data"]["transforms"]
+    }
+
+
+@pytest.mark.parametrize(
+    ("localised", "options", "frames"),
+    [
+        (True, {}, {("map", "odom"), ("odom", "base_link")}),
+        (False, {}, {("odom", "base_link")}),
+        (False, {"localised": True}, {("map", "odom"), ("odom", "base_link")}),
+        (True, {"localised": False}, {("odom", "base_link")}),
+    ],
+)
+def test_the_map_frame_is_there_only_for_a_robot_with_localisation(
+    mr1_inventory: Inventory, localised: bool, options: dict[str, Any], frames: set[Any]
+) -> None:
+    inventory = mr1_inventory if localised else _without_localisation(mr1_inventory)
+    graph = _world(inventory, **options)
+    tf = endpoint(graph, "subscription", "/tf", "tf2_msgs/msg/TFMessage", reliability="reliable")
+    assert _frames(graph, tf, 0.5) == frames
+
+
+def test_without_localisation_navigation_goals_are_taken_in_odom(
+    mr1_inventory: Inventory,
+) -> None:
+    graph = _world(_without_localisation(mr1_inventory))
+    nav = endpoint(graph, "action_client", "/navigate_to_pose", "nav2_msgs/action/NavigateToPose")
+
+    graph.child_goal(nav, 1, {"pose": {"header": {"frame_id": "map"}}}, False, 3)
+    graph.child_goal(nav, 2, {"pose": {"header": {"frame_id": "odom"}}}, False, 3)
+
+    seen = deliveries_until(graph, 0.1)
+    assert [d["accepted"] for _, d in seen if d["id"] == nav and "accepted" in d] == [False, True]
+
+
 def _arm_goal(x: float, y: float, z: float) -> dict[str, Any]:
     constraint = {
         "header": {"frame_id": "arm_base_link"},

@@ -11,7 +11,13 @@ implementation of the world plug-in API (:mod:`skillwright.runtime`).
 What it takes over, where the robot has them:
 
 * ``odom_topic`` (``nav_msgs/msg/Odometry``; by default every one the robot has) and
-  ``tf_topic`` (``map -> odom -> base``; by default the robot's ``tf``) at ``rate_hz``; the
+  ``tf_topic`` (``map -> odom -> base``; by default the robot's ``tf``) at ``rate_hz``. The
+  ``map`` frame is there only if the robot is ``localised``: by default, if a localisation
+  or SLAM shows in its graph (a pose topic of the type below, or an OccupancyGrid named
+  ``map``), as the simulation decides it. A robot without one has ``odom -> base`` only and
+  takes navigation goals in ``odom``: when every robot had a map here, a skill that asked the
+  paper's robot (no localisation) for its pose in ``map`` passed its run and then found no
+  such frame in the simulation. The
   velocity command on ``cmd_topic`` drives the base (by default the robot's Twist topic named
   like a command, as the simulation binds it: ``/panther/cmd_vel`` on a Husarion Panther,
   where a fixed ``/cmd_vel`` left the base standing and every motion skill failed its run).
@@ -59,6 +65,7 @@ _TF = "tf2_msgs/msg/TFMessage"
 _NAVIGATE = "nav2_msgs/action/NavigateToPose"
 _MOVE_GROUP = "moveit_msgs/action/MoveGroup"
 _POSE = "geometry_msgs/msg/PoseWithCovarianceStamped"
+_GRID = "nav_msgs/msg/OccupancyGrid"
 _SCAN = "sensor_msgs/msg/LaserScan"
 _MOVEIT_SUCCESS = 1  # moveit_msgs/msg/MoveItErrorCodes.SUCCESS
 _MOVEIT_NO_IK_SOLUTION = -31  # moveit_msgs/msg/MoveItErrorCodes.NO_IK_SOLUTION
@@ -113,6 +120,7 @@ class KinematicWorld:
         odom_topic: str | None = None,
         tf_topic: str | None = None,
         map_frame: str = "map",
+        localised: bool | None = None,
         odom_frame: str = "odom",
         base_frame: str = "base_link",
         start: tuple[float, float, float] | list[float] = (0.0, 0.0, 0.0),
@@ -144,6 +152,7 @@ class KinematicWorld:
         self.odom_topic = odom_topic
         self.tf_topic = tf_topic
         self.map_frame = map_frame
+        self.localised = localised
         self.odom_frame = odom_frame
         self.base_frame = base_frame
         self.start = tuple(float(v) for v in start)
@@ -193,6 +202,11 @@ class KinematicWorld:
         if self._tf is not None:
             host.own_topic(self._tf)
         self._poses = _taken(host, _POSE, self.pose_topics, lambda t: not host.scripted(t))
+        self._localised = self.localised
+        if self._localised is None:
+            maps = [g for g in host.topics(_GRID) if g.rsplit("/", 1)[-1] == "map"]
+            self._localised = bool(host.topics(_POSE) or maps)
+        self._global_frame = self.map_frame if self._localised else self.odom_frame
         self._scans = _taken(host, _SCAN, self.scan_topics, lambda t: not host.provided(t))
         self._next_scan = host.now
         if self._cmd is not None and host.type_of(self._cmd) in TWIST_TYPES:
@@ -265,10 +279,10 @@ class KinematicWorld:
         host = self._require_host()
         pose = goal.request.get("pose", {})
         frame = pose.get("header", {}).get("frame_id", "")
-        if frame not in {self.map_frame, "/" + self.map_frame}:
+        if frame not in {self._global_frame, "/" + self._global_frame}:
             goal.reject()
             host.record(
-                "navigation", {"rejected": f"goal frame {frame!r} is not {self.map_frame!r}"}
+                "navigation", {"rejected": f"goal frame {frame!r} is not {self._global_frame!r}"}
             )
             return
         position = pose["pose"]["position"]
@@ -317,7 +331,7 @@ class KinematicWorld:
             feedback = host.message("nav2_msgs/action/NavigateToPose_Feedback")
             feedback["current_pose"]["header"] = {
                 "stamp": host.stamp(self._time),
-                "frame_id": self.map_frame,
+                "frame_id": self._global_frame,
             }
             feedback["current_pose"]["pose"] = self._pose()
             feedback["distance_remaining"] = distance
@@ -425,12 +439,16 @@ class KinematicWorld:
             host.publish(topic, pose)
         if self._tf is not None:
             identity = {"translation": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": _quaternion(0.0)}
-            transforms = [
-                {
-                    "header": {"stamp": stamp, "frame_id": self.map_frame},
-                    "child_frame_id": self.odom_frame,
-                    "transform": identity,
-                },
+            transforms = []
+            if self._localised:
+                transforms.append(
+                    {
+                        "header": {"stamp": stamp, "frame_id": self.map_frame},
+                        "child_frame_id": self.odom_frame,
+                        "transform": identity,
+                    }
+                )
+            transforms += [
                 {
                     "header": {"stamp": stamp, "frame_id": self.odom_frame},
                     "child_frame_id": self.base_frame,
