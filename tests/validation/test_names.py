@@ -404,19 +404,41 @@ def test_an_input_the_capability_does_not_have_is_named_with_the_inputs_it_has(
     ]
 
 
-def test_a_transform_listener_torn_down_is_a_call_left_out(
-    move_forward: tuple[Capability, SkillSpec],
+@pytest.mark.parametrize(
+    ("handle", "words"),
+    [("tf_listener", "a tf2 TransformListener"), ("tf_buffer", "a tf2 Buffer")],
+)
+def test_a_transform_listener_or_buffer_torn_down_is_a_call_left_out(
+    move_forward: tuple[Capability, SkillSpec], handle: str, words: str
 ) -> None:
+    # rclpy's tf2 Buffer has no destroy(): a skill of the evaluation failed its cleanup on it.
     source = stopping_with(
+        "        self.tf_buffer = Buffer()\n"
         "        self.tf_listener = TransformListener(self.tf_buffer, self.node)\n"
-        "        self.tf_listener.destroy()\n"
+        f"        self.{handle}.destroy()\n"
     )
     (found,) = [f for f in _names(source, move_forward) if "destroy" in f.message]
     assert found.message == (
-        "self.tf_listener is a tf2 TransformListener, which has no 'destroy' in rclpy; it needs "
+        f"self.{handle} is {words}, which has no 'destroy' in rclpy; it needs "
         "no teardown of its own: leave the call out"
     )
     assert found.replacement == ""
+
+
+def test_a_tf2_buffer_asked_for_what_it_has_is_not_a_finding(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    source = stopping_with(
+        "        self.tf_buffer = Buffer()\n"
+        "        if self.tf_buffer.can_transform('odom', 'base_link', Time()):\n"
+        "            self.tf_buffer.lookup_transform('odom', 'base_link', Time())\n"
+        "        self.tf_buffer.lookup_frame('odom')\n"
+    )
+    found = [f.message for f in _names(source, move_forward) if "tf_buffer" in f.message]
+    assert found == [
+        "self.tf_buffer is a tf2 Buffer, which has no 'lookup_frame' in rclpy; did you mean "
+        "lookup_transform?"
+    ]
 
 
 @pytest.mark.parametrize("helper", [True, False], ids=["skeleton-helper", "no-helper"])

@@ -150,6 +150,35 @@ RCLPY_API: dict[str, frozenset[str]] = {
     ),
     "rate": frozenset({"sleep", "destroy"}),
     "tf_listener": frozenset({"buffer", "unregister", "node"}),
+    "tf_buffer": frozenset(
+        {
+            "lookup_transform",
+            "lookup_transform_async",
+            "lookup_transform_full",
+            "lookup_transform_full_async",
+            "lookup_transform_core",
+            "lookup_transform_full_core",
+            "can_transform",
+            "can_transform_full",
+            "can_transform_core",
+            "can_transform_full_core",
+            "wait_for_transform_async",
+            "wait_for_transform_full_async",
+            "transform",
+            "transform_full",
+            "registration",
+            "set_transform",
+            "set_transform_static",
+            "clear",
+            "all_frames_as_string",
+            "all_frames_as_yaml",
+            "get_latest_common_time",
+            "clock",
+            "srv",
+            "jump_handle",
+            "time_jump_callback",
+        }
+    ),
     "time": frozenset({"nanoseconds", "seconds_nanoseconds", "to_msg", "from_msg", "clock_type"}),
     "logger": _LOGGER,
 }
@@ -163,6 +192,7 @@ _MAKERS = {
     "create_rate": "rate",
     "ActionClient": "action_client",
     "TransformListener": "tf_listener",
+    "Buffer": "tf_buffer",
     "get_logger": "logger",
 }
 _KIND_WORDS = {
@@ -174,6 +204,7 @@ _KIND_WORDS = {
     "timer": "a Timer",
     "rate": "a Rate",
     "tf_listener": "a tf2 TransformListener",
+    "tf_buffer": "a tf2 Buffer",
     "logger": "the logger",
     "time": "an rclpy Time",
 }
@@ -836,6 +867,8 @@ _KIND_HINTS = {
     "client": "; call the service with call_async(request), which gives a future of the response",
     "tf_listener": "; a TransformListener only fills its buffer: look transforms up in the "
     "buffer (lookup_transform)",
+    "tf_buffer": "; a Buffer holds the transforms its listener receives: lookup_transform and "
+    "can_transform read them",
 }
 
 
@@ -1001,9 +1034,10 @@ def _called_alone(node: ast.Attribute, statement_of: dict[int, ast.stmt]) -> boo
 
 def _teardown_instead(node: ast.Attribute, kind: str, defined: set[str]) -> tuple[str, str] | None:
     """The hint and the statement(s) that do what a made-up teardown call meant: nothing for
-    a TransformListener (it holds no goal or resource of its own to end), the skeleton's
+    a TransformListener or a tf2 Buffer (they hold no goal or resource of their own to end;
+    rclpy's Buffer has no destroy, and a skill that called it failed its cleanup), the skeleton's
     cancel helper for an ActionClient whose helper the class has."""
-    if kind == "tf_listener" and node.attr in _TEARDOWN:
+    if kind in ("tf_listener", "tf_buffer") and node.attr in _TEARDOWN:
         return "; it needs no teardown of its own: leave the call out", ""
     client = self_attribute(node.value)
     if kind != "action_client" or node.attr not in _CANCEL_ALL or client is None:
