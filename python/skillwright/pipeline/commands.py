@@ -108,7 +108,7 @@ def _summary(outcome: Outcome) -> None:
     for column in ("name", "kind", "type", "score", "reason"):
         table.add_column(column, overflow="fold")
     for hit in record.retrieval.hits:
-        score = "pinned" if hit.score is None else f"{hit.score:.3f}"
+        score = f"{hit.score:.3f}" if hit.score is not None else "pinned" if hit.pinned else "added"
         reason = hit.reason
         if hit.judgement is not None:
             verdict = {True: "needed", False: "not needed", None: "no verdict"}[hit.needed]

@@ -77,7 +77,10 @@ class HitRecord(_Model):
     name: str
     kind: str
     type_name: str
-    score: float | None = Field(description="Retrieval score; null for a pinned extra.")
+    score: float | None = Field(
+        description="Retrieval score; null for a pinned extra or one added because a state "
+        "stops the base (its reason says so)."
+    )
     dense: float | None = None
     lexical: float | None = None
     reason: str

@@ -19,6 +19,7 @@ from __future__ import annotations
 import difflib
 import hashlib
 import json
+import re
 import tempfile
 import threading
 import time
@@ -360,6 +361,52 @@ def _set_aside_weak(hits: list[HitRecord], share: float) -> list[HitRecord]:
         else h
         for h in hits
     ]
+
+
+_ASKS_TO_STOP = re.compile(
+    r"zero velocit|velocit(y|ies)\b[^.;]*\b(to|at|of) zero\b|\bstop(s|ping)? the base\b|"
+    r"\bbase stops\b",
+    re.IGNORECASE,
+)
+"""A state sentence that stops the base by its velocity command ("publish a zero velocity
+command", "set the velocity of the robot to zero in all directions")."""
+
+
+def _with_stop_command(
+    hits: list[HitRecord], inventory: Inventory, spec: SkillSpec
+) -> list[HitRecord]:
+    """``hits`` with the base's velocity command added (or taken back from the set-aside)
+    when a state of ``spec`` asks to stop the base and no hit given to the skill commands
+    it. Retrieval ranks what the capability is about; the MR-1's mapping (stopping:
+    "publish a zero velocity command so the base stops") got /map, /scan, Nav2 and the
+    map saver at k=4, and the model then published on a /cmd_vel publisher it never had."""
+    from skillwright.interfaces.roles import TWIST_TYPES, command_topic
+
+    asked = next(
+        ((state, text) for state, text in spec.states.items() if _ASKS_TO_STOP.search(text)),
+        None,
+    )
+    twists = [
+        i.name for i in inventory.interfaces if i.kind == "topic" and i.type_name in TWIST_TYPES
+    ]
+    command = command_topic(twists)
+    given = [h for h in hits if not h.set_aside]
+    if asked is None or command is None or any(h.type_name in TWIST_TYPES for h in given):
+        return hits
+    sentence = next(s for s in re.split(r"(?<=[.;])\s+", asked[1]) if _ASKS_TO_STOP.search(s))
+    why = f"added: {asked[0]} asks to stop the base ({sentence.strip()!r}), by its velocity command"
+    if any(h.name == command for h in hits):
+        return [
+            h.model_copy(update={"set_aside": False, "reason": f"{h.reason}; {why}"})
+            if h.name == command
+            else h
+            for h in hits
+        ]
+    interface = inventory.interface(command, "topic")
+    added = HitRecord(
+        name=command, kind="topic", type_name=interface.type_name, score=None, reason=why
+    )
+    return [*hits, added]
 
 
 def _interface_refs(
@@ -816,8 +863,10 @@ def _retrieval_stage(
             if loaded is not None and loaded[0] is not None:
                 loaded[0].close()
             raise
-        chosen_hits = _set_aside_weak(
-            _with_pins(hits, inventory, request.pinned), request.min_share
+        chosen_hits = _with_stop_command(
+            _set_aside_weak(_with_pins(hits, inventory, request.pinned), request.min_share),
+            inventory,
+            spec,
         )
         s.append(", ".join(h.name for h in chosen_hits if not h.set_aside) or "none")
         weak = [h.name for h in chosen_hits if h.set_aside]
