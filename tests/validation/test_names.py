@@ -953,3 +953,75 @@ def test_an_attribute_nothing_sets_outside_a_log_line_gets_no_such_fix(
     [finding] = _names(stopping_with("        self.out_distance = self._stamp\n"), move_forward)
     assert "self._stamp is never set in this class" in finding.message
     assert finding.replacement is None
+
+
+RESULT_OF = (
+    "    def _result_of(self, future, timeout: float, what: str):\n"
+    '        """Waits for ``future``."""\n'
+    "        return future.result()\n"
+    "\n"
+    "    @execute\n"
+)
+
+
+@pytest.mark.parametrize("helper", [True, False], ids=["skeleton-helper", "no-helper"])
+def test_a_timeout_handed_to_call_async_moves_to_the_wait_for_the_response(
+    move_forward: tuple[Capability, SkillSpec], helper: bool
+) -> None:
+    # The MR-1 mapping of the evaluation: a TypeError in its run.
+    statements = (
+        '        self.saver = self.node.create_client(SaveMap, "/map_saver/save_map")\n'
+        "        self.saved = self.saver.call_async(SaveMap.Request(), 5.0)\n"
+    )
+    source = (
+        with_method(RESULT_OF, statements) if helper else with_method("    @execute\n", statements)
+    )
+    (found,) = [f for f in _names(source, move_forward) if "call_async" in f.message]
+    assert found.message == (
+        "self.saver.call_async(request) takes the request only, not 5.0: it gives a future at "
+        "once; wait for the response with self._result_of(self.saver.call_async(request), 5.0, "
+        '"the response")'
+    )
+    assert found.replacement == (
+        "self.saved = self._result_of(self.saver.call_async(SaveMap.Request()), 5.0, "
+        "'the response')"
+        if helper
+        else None
+    )
+
+
+@pytest.mark.parametrize(
+    ("call", "expected"),
+    [
+        ("self.nav.send_goal_async(goal)", None),
+        ("self.nav.send_goal_async(goal, feedback_callback=self._on_feedback)", None),
+        ("self.nav.wait_for_server(timeout_sec=5.0)", None),
+        (
+            "self.nav.send_goal_async(goal, 5.0)",
+            "self.nav.send_goal_async() takes the goal and a feedback callback, not a timeout "
+            "(5.0): send the goal with self.nav.send_goal_async(goal) and wait for the goal "
+            "handle with self._result_of(future, timeout, what)",
+        ),
+        (
+            "self.nav.wait_for_server(5.0, 1.0)",
+            "self.nav.wait_for_server(timeout_sec=None) does not take these arguments (too many "
+            "positional arguments)",
+        ),
+        (
+            "self.cmd_vel_publisher.publish(Twist(), 10)",
+            "self.cmd_vel_publisher.publish(msg) does not take these arguments (too many "
+            "positional arguments)",
+        ),
+    ],
+)
+def test_calls_of_rclpy_handles_are_held_to_what_rclpy_takes(
+    move_forward: tuple[Capability, SkillSpec], call: str, expected: str | None
+) -> None:
+    source = with_method(
+        '    def _on_feedback(self, message) -> None:\n        """Feedback."""\n\n    @execute\n',
+        '        self.nav = ActionClient(self.node, NavigateToPose, "/navigate_to_pose")\n'
+        "        goal = NavigateToPose.Goal()\n"
+        f"        {call}\n",
+    )
+    found = [f.message for f in _names(source, move_forward) if " take" in f.message]
+    assert found == ([] if expected is None else [expected])

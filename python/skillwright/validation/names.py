@@ -26,7 +26,7 @@ import inspect
 import itertools
 import re
 import symtable
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 from skillwright.spec.model import PACKML_STATES
 from skillwright.validation.model import Finding
@@ -1595,7 +1595,91 @@ def check_names(
         findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
         findings += _modules_as_numbers(tree, cls)
         findings += _mismatched_calls(cls) + _none_only_attributes(cls) + _used_nothing(cls)
-        findings += _overwritten_methods(cls)
+        findings += _overwritten_methods(cls) + _rclpy_calls(cls)
+    return findings
+
+
+def _rclpy_signature(*required: str, **optional: object) -> inspect.Signature:
+    kind = inspect.Parameter.POSITIONAL_OR_KEYWORD
+    return inspect.Signature(
+        [inspect.Parameter(n, kind) for n in required]
+        + [inspect.Parameter(n, kind, default=d) for n, d in optional.items()]
+    )
+
+
+_RCLPY_SIGNATURES = {
+    ("client", "call_async"): _rclpy_signature("request"),
+    ("client", "call"): _rclpy_signature("request", timeout_sec=None),
+    ("client", "wait_for_service"): _rclpy_signature(timeout_sec=None),
+    ("action_client", "send_goal_async"): _rclpy_signature(
+        "goal", feedback_callback=None, goal_uuid=None
+    ),
+    ("action_client", "send_goal"): _rclpy_signature(
+        "goal", feedback_callback=None, goal_uuid=None
+    ),
+    ("action_client", "wait_for_server"): _rclpy_signature(timeout_sec=None),
+    ("publisher", "publish"): _rclpy_signature("msg"),
+}
+"""What rclpy's methods take (Humble and Jazzy), for the calls a model gets wrong."""
+
+
+def _parsed(text: str) -> Callable[[ast.expr], ast.expr]:
+    """What puts the expression ``text`` in the place of another."""
+    expression = ast.parse(text, mode="eval").body
+    return lambda _: expression
+
+
+def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
+    """Calls of rclpy handles' methods with arguments the methods do not take, above all a
+    timeout handed to a call that gives a future at once (the MR-1 mapping of the
+    evaluation: ``client.call_async(request, 5.0)``, a TypeError in its run), and a number
+    where send_goal_async takes its feedback callback. A service call's timeout moves to the
+    skeleton's ``self._result_of``, which waits for the response."""
+    defined, kinds = _class_facts(cls)
+    statement_of = simple_statements(cls)
+    findings = []
+    for call in ast.walk(cls):
+        if not isinstance(call, ast.Call) or not isinstance(call.func, ast.Attribute):
+            continue
+        kind = _receiver_kind(call.func.value, kinds)
+        signature = _RCLPY_SIGNATURES.get((kind or "", call.func.attr))
+        if signature is None or any(isinstance(a, ast.Starred) for a in call.args):
+            continue
+        if any(k.arg is None for k in call.keywords):
+            continue
+        handle = ast.unparse(call.func.value)
+        method = call.func.attr
+        try:
+            bound = signature.bind(*call.args, **{str(k.arg): k.value for k in call.keywords})
+        except TypeError as error:
+            message = f"{handle}.{method}{signature} does not take these arguments ({error})"
+            replacement = None
+            if method == "call_async" and len(call.args) == 2 and not call.keywords:
+                request, timeout = (ast.unparse(a) for a in call.args)
+                message = (
+                    f"{handle}.call_async(request) takes the request only, not {timeout}: it "
+                    "gives a future at once; wait for the response with self._result_of("
+                    f'{handle}.call_async(request), {timeout}, "the response")'
+                )
+                waited = (
+                    f'self._result_of({handle}.call_async({request}), {timeout}, "the response")'
+                )
+                statement = statement_of.get(id(call))
+                if "_result_of" in defined and statement is not None:
+                    replacement = with_node_replaced(statement, call, _parsed(waited))
+            findings.append(_finding(call, message, replacement))
+            continue
+        feedback = bound.arguments.get("feedback_callback")
+        if isinstance(feedback, ast.Constant) and isinstance(feedback.value, int | float):
+            findings.append(
+                _finding(
+                    call,
+                    f"{handle}.{method}() takes the goal and a feedback callback, not a "
+                    f"timeout ({ast.unparse(feedback)}): send the goal with "
+                    f"{handle}.{method}(goal) and wait for the goal handle with "
+                    "self._result_of(future, timeout, what)",
+                )
+            )
     return findings
 
 
