@@ -27,6 +27,7 @@ from skillwright.validation.bearings import check_bearings
 from skillwright.validation.equality import check_equality
 from skillwright.validation.first_messages import check_first_messages
 from skillwright.validation.frames import check_frames
+from skillwright.validation.grace import check_grace
 from skillwright.validation.loops import check_waits
 from skillwright.validation.model import (
     SEQUENCE_METHODS,
@@ -2204,6 +2205,7 @@ def check_skill(
             check_zero_timeouts(cls),
             check_bearings(cls),
             check_frames(cls),
+            check_grace(cls, methods, spec.states),
         ):
             ctx.findings += findings
         if catalog is not None:
