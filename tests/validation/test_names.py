@@ -1025,3 +1025,33 @@ def test_calls_of_rclpy_handles_are_held_to_what_rclpy_takes(
     )
     found = [f.message for f in _names(source, move_forward) if " take" in f.message]
     assert found == ([] if expected is None else [expected])
+
+
+@pytest.mark.parametrize(
+    ("statement", "replacement"),
+    [
+        ('if not self.saved.done():\n            raise RuntimeError("not saved")', ""),
+        ("answer = self.saved.result()", "answer = self.saved"),
+        ("answer = self.saved.result", None),
+    ],
+    ids=["done-guard", "result-call", "result-field"],
+)
+def test_a_future_asked_of_what_result_of_waited_for_is_the_response_itself(
+    move_forward: tuple[Capability, SkillSpec], statement: str, replacement: str | None
+) -> None:
+    # The MR-1 mapping of the evaluation, once its call_async(request, 5.0) was fixed.
+    source = with_method(
+        RESULT_OF,
+        '        self.saver = self.node.create_client(SaveMap, "/map_saver/save_map")\n'
+        '        self.saved = self._result_of(self.saver.call_async(SaveMap.Request()), 5.0, "r")\n'
+        f"        {statement}\n",
+    )
+    found = [f for f in _names(source, move_forward) if "holds what" in f.message]
+    if replacement is None:  # a result's field named result is no future's method
+        assert found == []
+        return
+    (finding,) = found
+    assert finding.message.startswith(
+        "self.saved holds what self._result_of(...) waited for at line "
+    )
+    assert finding.replacement == replacement

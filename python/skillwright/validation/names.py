@@ -30,7 +30,7 @@ from collections.abc import Callable, Iterator
 
 from skillwright.spec.model import PACKML_STATES
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import statement_holding, with_node_replaced
+from skillwright.validation.syntax import self_method, statement_holding, with_node_replaced
 
 __all__ = [
     "COMPOUND_STATEMENTS",
@@ -1595,7 +1595,63 @@ def check_names(
         findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
         findings += _modules_as_numbers(tree, cls)
         findings += _mismatched_calls(cls) + _none_only_attributes(cls) + _used_nothing(cls)
-        findings += _overwritten_methods(cls) + _rclpy_calls(cls)
+        findings += _overwritten_methods(cls) + _rclpy_calls(cls) + _waited_futures(cls)
+    return findings
+
+
+_FUTURE_API = frozenset({"done", "result", "add_done_callback", "cancelled", "exception"})
+"""What an rclpy Future has and the response or result it gives does not."""
+
+
+def _waited_futures(cls: ast.ClassDef) -> list[Finding]:
+    """A future's methods asked of what the skeleton's ``self._result_of(future, ...)``
+    returned: the response (or result) itself, which has none of them. The MR-1 mapping of
+    the evaluation, once its ``call_async(request, 5.0)`` was fixed into a
+    ``self._result_of``, still tested ``if not self.out_map.done(): raise ...`` and raised
+    in its run. A guard that only raises goes; ``X.result()`` becomes ``X``."""
+    calls = {id(n.func): n for n in ast.walk(cls) if isinstance(n, ast.Call) and not n.args}
+    guards = _guards(cls)
+    statement_of = simple_statements(cls)
+    findings = []
+    for method in cls.body:
+        if not isinstance(method, ast.FunctionDef):
+            continue
+        # what a self attribute holds counts in every method, a local in its own
+        waited = {
+            ast.unparse(node.targets[0]): node.lineno
+            for root in (cls, method)
+            for node in ast.walk(root)
+            if isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and (root is method or self_attribute(node.targets[0]) is not None)
+            and isinstance(node.value, ast.Call)
+            and self_method(node.value) == "_result_of"
+        }
+        for node in ast.walk(method):
+            if not (
+                isinstance(node, ast.Attribute)
+                and node.attr in _FUTURE_API
+                and id(node) in calls
+                and ast.unparse(node.value) in waited
+            ):
+                continue
+            held = ast.unparse(node.value)
+            replacement = None
+            guard = guards.get(id(node))
+            statement = statement_of.get(id(node))
+            if guard is not None and node.attr == "done":
+                replacement = without_guard(guard, "")
+            elif node.attr == "result" and statement is not None:
+                replacement = with_node_replaced(statement, calls[id(node)], _parsed(held))
+            findings.append(
+                _finding(
+                    node,
+                    f"{held} holds what self._result_of(...) waited for at line {waited[held]}: "
+                    f"the response or result itself, not a future, and it has no {node.attr!r}; "
+                    f"read its fields ({held}.<field>)",
+                    replacement,
+                )
+            )
     return findings
 
 
