@@ -159,14 +159,23 @@ def test_hits_far_behind_the_best_are_recorded_and_set_aside(
 
 
 @pytest.mark.parametrize(
-    ("stem", "added"), [("mapping", True), ("get-distance-to-nearest-object", False)]
+    ("stem", "dropped", "added"),
+    [
+        ("mapping", (), True),
+        ("mapping", ("/cmd_vel",), False),
+        ("get-distance-to-nearest-object", (), False),
+    ],
+    ids=["mapping", "mapping-dropped", "get-distance"],
 )
 def test_a_state_that_stops_the_base_brings_its_velocity_command(
-    tmp_path: Path, stem: str, added: bool
+    tmp_path: Path, stem: str, dropped: tuple[str, ...], added: bool
 ) -> None:
     # MR-1 mapping: the first 4 are /map, /scan, Nav2 and the map saver, and its stopping
-    # state publishes a zero velocity command; a distance reading moves nothing.
-    outcome = run_generation(request(tmp_path / "out", stem=stem, skeleton=True, pinned=()))
+    # state publishes a zero velocity command, unless the user dropped it; a distance
+    # reading moves nothing.
+    outcome = run_generation(
+        request(tmp_path / "out", stem=stem, skeleton=True, pinned=(), dropped=dropped)
+    )
     hits = outcome.record.retrieval.hits
     extra = [h for h in hits if h.score is None]
     code = outcome.skill_path.read_text(encoding="utf-8")

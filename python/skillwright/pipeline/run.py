@@ -373,13 +373,14 @@ command", "set the velocity of the robot to zero in all directions")."""
 
 
 def _with_stop_command(
-    hits: list[HitRecord], inventory: Inventory, spec: SkillSpec
+    hits: list[HitRecord], inventory: Inventory, spec: SkillSpec, dropped: Collection[str] = ()
 ) -> list[HitRecord]:
     """``hits`` with the base's velocity command added (or taken back from the set-aside)
-    when a state of ``spec`` asks to stop the base and no hit given to the skill commands
-    it. Retrieval ranks what the capability is about; the MR-1's mapping (stopping:
-    "publish a zero velocity command so the base stops") got /map, /scan, Nav2 and the
-    map saver at k=4, and the model then published on a /cmd_vel publisher it never had."""
+    when a state of ``spec`` asks to stop the base, no hit given to the skill commands it and
+    the user did not drop it. Retrieval ranks what the capability is about; the MR-1's
+    mapping (stopping: "publish a zero velocity command so the base stops") got /map, /scan,
+    Nav2 and the map saver at k=4, and the model then published on a /cmd_vel publisher it
+    never had."""
     from skillwright.interfaces.roles import TWIST_TYPES, command_topic
 
     asked = next(
@@ -391,7 +392,9 @@ def _with_stop_command(
     ]
     command = command_topic(twists)
     given = [h for h in hits if not h.set_aside]
-    if asked is None or command is None or any(h.type_name in TWIST_TYPES for h in given):
+    if asked is None or command is None or command in dropped:
+        return hits
+    if any(h.type_name in TWIST_TYPES for h in given):
         return hits
     sentence = next(s for s in re.split(r"(?<=[.;])\s+", asked[1]) if _ASKS_TO_STOP.search(s))
     why = f"added: {asked[0]} asks to stop the base ({sentence.strip()!r}), by its velocity command"
@@ -867,6 +870,7 @@ def _retrieval_stage(
             _set_aside_weak(_with_pins(hits, inventory, request.pinned), request.min_share),
             inventory,
             spec,
+            request.dropped,
         )
         s.append(", ".join(h.name for h in chosen_hits if not h.set_aside) or "none")
         weak = [h.name for h in chosen_hits if h.set_aside]
