@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import ast
 import re
-from collections.abc import Callable
 
 from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
@@ -24,7 +23,7 @@ from skillwright.validation.syntax import (
     error_at,
     self_method,
     statement_holding,
-    with_node_replaced,
+    with_text_in_place,
 )
 
 __all__ = ["check_grace", "stated_seconds"]
@@ -86,10 +85,6 @@ def _timeout_of(call: ast.Call, methods: dict[str, ast.FunctionDef]) -> ast.expr
     return None
 
 
-def _constant(value: float) -> Callable[[ast.expr], ast.expr]:
-    return lambda _: ast.Constant(value)
-
-
 def check_grace(
     cls: ast.ClassDef, states: dict[str, ast.FunctionDef], texts: dict[str, str]
 ) -> list[Finding]:
@@ -120,7 +115,7 @@ def check_grace(
                     f"{state} gives up after {timeout.value:g} s where its specification "
                     f'allows {seconds:g} s ("{sentence}"): a robot that answers later is '
                     f"refused; wait {seconds:g} s",
-                    with_node_replaced(statement, timeout, _constant(seconds)),
+                    with_text_in_place(statement, timeout, repr(seconds)),
                 )
             )
     return findings

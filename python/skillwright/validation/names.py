@@ -26,11 +26,16 @@ import inspect
 import itertools
 import re
 import symtable
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 
 from skillwright.spec.model import PACKML_STATES
 from skillwright.validation.model import Finding
-from skillwright.validation.syntax import self_method, statement_holding, with_node_replaced
+from skillwright.validation.syntax import (
+    self_method,
+    statement_holding,
+    with_node_replaced,
+    with_text_in_place,
+)
 
 __all__ = [
     "COMPOUND_STATEMENTS",
@@ -1642,7 +1647,7 @@ def _waited_futures(cls: ast.ClassDef) -> list[Finding]:
             if guard is not None and node.attr == "done":
                 replacement = without_guard(guard, "")
             elif node.attr == "result" and statement is not None:
-                replacement = with_node_replaced(statement, calls[id(node)], _parsed(held))
+                replacement = with_text_in_place(statement, calls[id(node)], held)
             findings.append(
                 _finding(
                     node,
@@ -1679,12 +1684,6 @@ _RCLPY_SIGNATURES = {
 """What rclpy's methods take (Humble and Jazzy), for the calls a model gets wrong."""
 
 
-def _parsed(text: str) -> Callable[[ast.expr], ast.expr]:
-    """What puts the expression ``text`` in the place of another."""
-    expression = ast.parse(text, mode="eval").body
-    return lambda _: expression
-
-
 def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
     """Calls of rclpy handles' methods with arguments the methods do not take, above all a
     timeout handed to a call that gives a future at once (the MR-1 mapping of the
@@ -1712,17 +1711,17 @@ def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
             replacement = None
             if method == "call_async" and len(call.args) == 2 and not call.keywords:
                 request, timeout = (ast.unparse(a) for a in call.args)
+                waited = 'self._result_of({}.call_async({}), {}, "the response")'
                 message = (
                     f"{handle}.call_async(request) takes the request only, not {timeout}: it "
-                    "gives a future at once; wait for the response with self._result_of("
-                    f'{handle}.call_async(request), {timeout}, "the response")'
-                )
-                waited = (
-                    f'self._result_of({handle}.call_async({request}), {timeout}, "the response")'
+                    "gives a future at once; wait for the response with "
+                    + waited.format(handle, "request", timeout)
                 )
                 statement = statement_of.get(id(call))
                 if "_result_of" in defined and statement is not None:
-                    replacement = with_node_replaced(statement, call, _parsed(waited))
+                    replacement = with_text_in_place(
+                        statement, call, waited.format(handle, request, timeout)
+                    )
             findings.append(_finding(call, message, replacement))
             continue
         feedback = bound.arguments.get("feedback_callback")

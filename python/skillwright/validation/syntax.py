@@ -15,6 +15,7 @@ __all__ = [
     "skips_its_end",
     "statement_holding",
     "with_node_replaced",
+    "with_text_in_place",
 ]
 
 
@@ -103,3 +104,9 @@ def with_node_replaced(
             return self.generic_visit(part)
 
     return ast.unparse(_Replace().visit(copy.deepcopy(statement)))
+
+
+def with_text_in_place(statement: ast.stmt, node: ast.expr, text: str) -> str:
+    """The text of ``statement`` with the expression ``text`` in the place of ``node``."""
+    expression = ast.parse(text, mode="eval").body
+    return with_node_replaced(statement, node, lambda _: expression)
