@@ -1,5 +1,6 @@
 """Typed stubs of the Rust extension ``skillwright._core`` (checked by ``make lint``)."""
 
+from collections.abc import Sequence
 from os import PathLike
 from pathlib import Path
 from typing import Literal, final
@@ -14,8 +15,10 @@ __all__ = [
     "McapSchema",
     "VectorIndex",
     "__version__",
+    "confine_child",
     "index_isa",
     "read_mcap",
+    "seccomp_programs",
     "sha256_file",
 ]
 __version__: str
@@ -205,3 +208,19 @@ def read_mcap(
     ``InputFileNotFoundError``, ``InputFileError``, ``InvalidArgumentError`` (a folder, an
     unknown mode) and ``FileFormatError`` (empty or not an MCAP file; names the offset).
     """
+
+def seccomp_programs() -> tuple[bytes, bytes]:
+    """The sandbox's seccomp allow-list and its fallbacks (``clone3`` answers ``ENOSYS``),
+    as ``struct sock_filter`` records in native byte order (bubblewrap's ``--seccomp FD``).
+    Linux only."""
+
+def confine_child(
+    pid: int,
+    readable: Sequence[str | PathLike[str]],
+    writable: Sequence[str | PathLike[str]],
+    with_base: bool,
+) -> dict[str, object]:
+    """Confines the calling process for good (Landlock where the kernel has it, then the
+    child's seccomp program, after the base ones when ``with_base``); returns
+    ``{"landlock": "enforced" | "partly enforced" | "unavailable", "seccomp": [names]}``.
+    Raises ``OSError`` when the kernel refuses. Linux only; for the sandboxed child."""

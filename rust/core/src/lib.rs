@@ -6,6 +6,8 @@ pub mod digest;
 pub mod error;
 pub mod index;
 pub mod mcap;
+#[cfg(target_os = "linux")]
+pub mod sandbox;
 
 pub use error::{CoreError, CoreResult};
 

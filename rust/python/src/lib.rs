@@ -6,6 +6,8 @@
 mod errors;
 mod index;
 mod mcap;
+#[cfg(target_os = "linux")]
+mod sandbox;
 
 use std::path::PathBuf;
 
@@ -24,5 +26,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sha256_file, m)?)?;
     index::register(m)?;
     mcap::register(m)?;
+    #[cfg(target_os = "linux")]
+    sandbox::register(m)?;
     Ok(())
 }
