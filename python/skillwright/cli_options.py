@@ -8,7 +8,14 @@ from typing import TypeVar
 
 import click
 
-__all__ = ["capability_options", "dense_option", "interfaces_option", "spec_option"]
+__all__ = [
+    "capability_options",
+    "dense_option",
+    "interfaces_option",
+    "isolation_option",
+    "spec_option",
+    "warn_unisolated",
+]
 
 F = TypeVar("F", bound=Callable[..., object])
 
@@ -28,6 +35,31 @@ def dense_option(function: F) -> F:
         "first 4 that the lexical ranking missed, lost four, and costs about a second per "
         "capability.",
     )(function)
+
+
+def isolation_option(function: F) -> F:
+    """``--unsafe-no-isolation`` (as ``unisolated``): skills run without the kernel sandbox."""
+    return click.option(
+        "--unsafe-no-isolation",
+        "unisolated",
+        is_flag=True,
+        help="Run skills WITHOUT the kernel sandbox (their own user, mount, PID and network "
+        "namespaces, a read-only root, seccomp): only the audit hook, the resource limits "
+        "and what the process can do to itself (Landlock, seccomp) remain, and the skill can "
+        "reach your files. Only for a machine whose kernel refuses user namespaces, and only "
+        "for code you have read. The record says so.",
+    )(function)
+
+
+def warn_unisolated() -> None:
+    """The warning every command that runs a skill without isolation prints first."""
+    from skillwright.console import err_console
+
+    err_console().print(
+        "[bold red]warning:[/] --unsafe-no-isolation: the skill runs without the kernel "
+        "sandbox and can read and change what your user can",
+        highlight=False,
+    )
 
 
 def capability_options(function: F) -> F:

@@ -35,6 +35,7 @@ __all__ = [
     "ModelServerError",
     "OperationCancelledError",
     "Ros2UnavailableError",
+    "SandboxUnavailableError",
     "SkillwrightError",
     "SpecError",
 ]
@@ -122,3 +123,9 @@ class GenerationCancelledError(OperationCancelledError):
 class Ros2UnavailableError(SkillwrightError):
     """The live ROS 2 graph cannot be reached: rclpy is not importable (ROS 2 not sourced
     in this shell, or built for another Python) or no node could be started."""
+
+
+class SandboxUnavailableError(SkillwrightError):
+    """The kernel refuses what the skill sandbox is built on (user, mount, PID and network
+    namespaces through bubblewrap), or bubblewrap is missing; the message names the setting
+    to change. Nothing was run."""

@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 from skillwright.interfaces.inventory import Inventory
+from skillwright.runtime.sandbox import MARKER_VARIABLE
 from skillwright.runtime.scenario import Deadlines, RunScenario
 from tests.conftest import SHIPPED_CAPABILITIES
 
@@ -36,3 +37,19 @@ def quick(**changes: object) -> RunScenario:
 def skill_path(name: str) -> Path:
     """A shipped MR-1 skill."""
     return SKILLS / f"{name}.py"
+
+
+def processes_with(marker: str) -> list[int]:
+    """Processes whose environment carries the sandbox marker ``marker``."""
+    found = []
+    needle = f"{MARKER_VARIABLE}={marker}".encode()
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            environment = (entry / "environ").read_bytes()
+        except OSError:
+            continue
+        if needle in environment.split(b"\0"):
+            found.append(int(entry.name))
+    return found

@@ -1,42 +1,26 @@
-"""The sandbox contains hostile skills, reports them at their line, and leaves nothing behind."""
+"""The audit hook reports what a hostile skill tried at its line, and nothing is left behind.
+
+That the host stays untouched, with the hook as shipped and switched off, is
+``test_containment.py``'s to show.
+"""
 
 from __future__ import annotations
 
 import os
 import signal
-import subprocess
-import sys
-import time
-import uuid
 from pathlib import Path
 
 import pytest
 
 from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime.run import run_skill
-from skillwright.runtime.sandbox import CHILD_ROOT, MARKER_VARIABLE, ChildPool
+from skillwright.runtime.sandbox import ChildPool
 from tests.conftest import REPO_ROOT
-from tests.runtime.conftest import quick
+from tests.runtime.conftest import processes_with, quick
 
 ADVERSARIAL = Path(__file__).parent / "adversarial"
 CORPUS = sorted(ADVERSARIAL.glob("*.py"))
 MARK = "# finding: "
-
-
-def _processes_with(marker: str) -> list[int]:
-    """Processes whose environment carries the sandbox marker ``marker``."""
-    found = []
-    needle = f"{MARKER_VARIABLE}={marker}".encode()
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            environment = (entry / "environ").read_bytes()
-        except OSError:
-            continue
-        if needle in environment.split(b"\0"):
-            found.append(int(entry.name))
-    return found
 
 
 def _expected(source: str) -> tuple[str, int]:
@@ -60,7 +44,7 @@ def test_hostile_skill_is_contained_and_reported_at_its_line(
     assert any(f.check == check and f.line == line for f in report.findings), report.findings
     episode = report.trace.episodes[0]
     assert episode.isolation["sandbox"]
-    assert _processes_with(episode.isolation["sandbox"]) == []
+    assert processes_with(episode.isolation["sandbox"]) == []
     assert not Path(episode.isolation["folder"]).exists()
     assert not (REPO_ROOT / "pwned-by-skill.txt").exists()
     assert sorted(p.name for p in Path.home().iterdir()) == home_before
@@ -80,70 +64,6 @@ def test_an_endless_loop_is_interrupted_and_the_stop_path_still_runs(
     states = [(s.name, s.outcome, s.detail) for s in report.trace.episodes[0].states]
     assert ("execute", "interrupted", "busy") in states
     assert ("stopping", "done", None) in states
-
-
-def test_skill_sees_no_network_device_but_loopback(mr1_inventory: Inventory) -> None:
-    path = ADVERSARIAL / "endless_loop.py"
-    source = path.read_text(encoding="utf-8").replace(
-        "        while True:\n            self.count += 1  # finding: run.busy",
-        "        self.node.get_logger().info(str(len(socket.if_nameindex())))",
-    )
-
-    report = run_skill(path, mr1_inventory, source=source, scenario=quick())
-
-    episode = report.trace.episodes[0]
-    if episode.isolation["network"] != "namespace":
-        pytest.skip("this kernel gives the sandbox no network namespace (audit hook only)")
-    logs = [e["text"] for e in episode.events if e["kind"] == "log"]
-    assert logs == ["1"]
-
-
-def test_processes_started_past_the_audit_hook_die_with_the_sandbox(tmp_path: Path) -> None:
-    # Native code could fork without the audit hook seeing it; the PID namespace must then
-    # take every process down with the sandbox, even one in a session of its own.
-    marker = uuid.uuid4().hex
-    script = tmp_path / "escape.py"
-    script.write_text(
-        "import socket, subprocess, sys, time\n"
-        f"sys.path.insert(0, {str(CHILD_ROOT)!r})\n"
-        "from _skillwright_child import boot\n"
-        "isolation = boot._isolate()\n"
-        "if not isolation['pid_namespace']:\n"
-        "    print('no-namespace', flush=True); sys.exit(0)\n"
-        "host, child = socket.socketpair()\n"
-        "boot._enter_pid_namespace(child)\n"
-        "subprocess.Popen(['sleep', '600'], start_new_session=True)\n"
-        "print('ready', flush=True)\n"
-        "time.sleep(600)\n",
-        encoding="utf-8",
-    )
-    process = subprocess.Popen(
-        [sys.executable, str(script)],
-        stdout=subprocess.PIPE,
-        text=True,
-        env={**os.environ, MARKER_VARIABLE: marker},
-        start_new_session=True,
-    )
-    try:
-        assert process.stdout is not None
-        first = process.stdout.readline().strip()
-        if first == "no-namespace":
-            pytest.skip("this kernel allows no PID namespace here")
-        assert first == "ready"
-        # The sandbox, its first process and sleep (which a loaded machine may start late).
-        started = time.monotonic() + 10.0
-        while len(_processes_with(marker)) < 3 and time.monotonic() < started:
-            time.sleep(0.05)
-        assert len(_processes_with(marker)) == 3
-    finally:
-        os.killpg(process.pid, signal.SIGKILL)
-        process.wait(timeout=10)
-        if process.stdout is not None:
-            process.stdout.close()
-    deadline = time.monotonic() + 5.0
-    while _processes_with(marker) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert _processes_with(marker) == []
 
 
 FRESH = """
@@ -178,12 +98,12 @@ def test_children_of_one_fork_server_start_from_untouched_modules(
         server = children.server
         assert server is not None
         marker = server.marker
-        assert _processes_with(marker) != []
+        assert processes_with(marker) != []
     logs = [e["text"] for r in reports for e in r.trace.episodes[0].events if e["kind"] == "log"]
     assert logs == ["fresh", "fresh"]
     folders = {r.trace.episodes[0].isolation["folder"] for r in reports}
     assert len(folders) == 2, "each child has a folder of its own"
-    assert _processes_with(marker) == [], "closing the pool ends the fork server and its children"
+    assert processes_with(marker) == [], "closing the pool ends the fork server and its children"
 
 
 def test_a_fork_server_killed_from_outside_is_replaced(
@@ -200,4 +120,4 @@ def test_a_fork_server_killed_from_outside_is_replaced(
         second = run_skill(skill, mr1_inventory, scenario=quick(), children=children)
         assert children.server is not server
     assert first.findings == second.findings == []
-    assert _processes_with(server.marker) == []
+    assert processes_with(server.marker) == []

@@ -265,8 +265,17 @@ def test_a_state_that_gives_up_on_a_motion_under_way_is_told_its_timeout_was_too
 def test_a_skill_that_writes_garbage_to_the_runtimes_socket_is_a_protocol_finding(
     mr1_inventory: Inventory,
 ) -> None:
-    body = "        os.write(int(sys.argv[1]), b'\\x7f\\xff\\xff\\xff' + b'x' * 64)\n        time.sleep(0.1)"
-    report, _ = run(mr1_inventory, body)
+    body = (
+        "        sockets = [f for f in range(3, 64) if _socket(f)]\n"
+        "        os.write(sockets[0], b'\\x7f\\xff\\xff\\xff' + b'x' * 64)\n"
+        "        time.sleep(0.1)"
+    )
+    imports = (
+        "import stat\n\n\ndef _socket(fd):\n    try:\n"
+        "        return stat.S_ISSOCK(os.fstat(fd).st_mode)\n    except OSError:\n"
+        "        return False\n"
+    )
+    report, _ = run(mr1_inventory, body, imports)
 
     assert [f.check for f in report.findings] == ["run.protocol"]
     assert report.trace.episodes[0].ended == "protocol"

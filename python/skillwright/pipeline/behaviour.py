@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from skillwright.errors import GenerationCancelledError, SkillwrightError
+from skillwright.errors import GenerationCancelledError, SandboxUnavailableError, SkillwrightError
 from skillwright.pipeline.record import (
     RunEpisodeRecord,
     RunRecord,
@@ -56,6 +56,13 @@ RUN_WORLD = "kinematic"
 
 def _digest(code: str) -> str:
     return hashlib.sha256(code.encode("utf-8")).hexdigest()
+
+
+def _isolation(report: RunReport) -> dict[str, str]:
+    """How the sandbox held the skill's first episode, for the record."""
+    held = report.trace.episodes[0].isolation if report.trace.episodes else {}
+    kept = ("namespaces", "seccomp", "landlock", "uid")
+    return {key: str(value) for key, value in held.items() if key in kept}
 
 
 def _errors(findings: list[Finding]) -> int:
@@ -151,8 +158,10 @@ class Behaviour:
         run_seconds: float = 120.0,
         sim_seconds: float = 240.0,
         cancel: threading.Event | None = None,
+        isolated: bool = True,
     ) -> None:
         self.capability = capability
+        self.isolated = isolated
         self.inventory = inventory
         self.skill_path = skill_path
         self.work_dir = work_dir
@@ -213,6 +222,7 @@ class Behaviour:
                         scenario=scenario,
                         source=source,
                         cancel=cancel,
+                        isolated=self.isolated,
                     )
 
                 report = run(code)
@@ -231,6 +241,8 @@ class Behaviour:
                 time.perf_counter() - started,
                 f"stopped after its budget of {self.run_seconds:.0f} s",
             )
+        except SandboxUnavailableError:
+            raise
         except SkillwrightError as error:
             result = RunResult(None, time.perf_counter() - started, f"could not run: {error}")
         self._runs[key] = result
@@ -256,6 +268,7 @@ class Behaviour:
                     output_dir=self.work_dir / key[:16],
                     source=code,
                     cancel=cancel,
+                    isolated=self.isolated,
                 )
             result = SimResult(report, time.perf_counter() - started)
         except GenerationCancelledError:
@@ -266,6 +279,8 @@ class Behaviour:
                 time.perf_counter() - started,
                 f"stopped after its budget of {self.sim_seconds:.0f} s",
             )
+        except SandboxUnavailableError:
+            raise
         except SkillwrightError as error:
             result = SimResult(None, time.perf_counter() - started, f"could not simulate: {error}")
         self._sims[key] = result
@@ -335,6 +350,7 @@ class Behaviour:
             warnings=len(report.findings) - errors,
             findings=report.findings,
             episodes=episodes,
+            isolation=_isolation(report),
             seconds=round(result.seconds, 3),
             repair_runs=self.repair_runs,
         )

@@ -12,7 +12,9 @@ from skillwright.cli_options import (
     capability_options,
     dense_option,
     interfaces_option,
+    isolation_option,
     spec_option,
+    warn_unisolated,
 )
 
 if TYPE_CHECKING:
@@ -226,6 +228,7 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
     help="A models.toml to use instead of the usual ones.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the record as JSON on stdout.")
+@isolation_option
 def generate(
     capability_file: Path,
     capability_iri: str | None,
@@ -246,6 +249,7 @@ def generate(
     out_dir: Path | None,
     models_file: Path | None,
     as_json: bool,
+    unisolated: bool,
 ) -> None:
     """Write a skill for a capability and a specification from the robot's interfaces.
 
@@ -289,7 +293,10 @@ def generate(
         attempts=attempts,
         run=not no_run,
         simulate=not no_sim,
+        isolated=not unisolated,
     )
+    if unisolated and not (no_run and no_sim):
+        warn_unisolated()
     outcome = run_generation(request, on_event=_Progress(err_console()))
     if as_json:
         print_model_json(outcome.record)

@@ -228,6 +228,11 @@ class RunRecord(_Model):
     warnings: int = 0
     findings: list[Finding] = Field(default_factory=list, description="At the skill's lines.")
     episodes: list[RunEpisodeRecord] = Field(default_factory=list)
+    isolation: dict[str, str] = Field(
+        default_factory=dict,
+        description="How the sandbox held the skill: its namespaces (or `none "
+        "(--unsafe-no-isolation)`), the seccomp programs, Landlock, the uid it ran as.",
+    )
     seconds: float | None = Field(default=None, description="Wall time of the run.")
     repair_runs: int = Field(
         default=0, description="Runs made while the model repaired its answers."

@@ -113,6 +113,8 @@ class GenerationRequest:
     """Wall-clock budget of one run."""
     sim_seconds: float = 240.0
     """Wall-clock budget of one simulation."""
+    isolated: bool = True
+    """Run and simulate inside the kernel sandbox; ``False`` is ``--unsafe-no-isolation``."""
 
 
 @dataclass
@@ -919,6 +921,11 @@ def run_generation(
         notes += load.warnings
         notes += unstated_limits(load.capability, spec)
         s.append(f"{load.capability.name}, {spec.name}, {len(inventory.interfaces)} interfaces")
+        if request.isolated and (request.run or request.simulate):
+            # Before minutes of generation: a kernel that refuses the sandbox stops it here.
+            from skillwright.runtime.sandbox import check_isolation
+
+            check_isolation()
     retrieved = _retrieval_stage(request, stages, load, spec, inventory)
     hits, method, reranking, chosen_hits, loaded = retrieved
     chosen = _interface_refs(inventory, [h for h in chosen_hits if not h.set_aside])
@@ -942,6 +949,7 @@ def run_generation(
             run_seconds=request.run_seconds,
             sim_seconds=request.sim_seconds,
             cancel=cancel,
+            isolated=request.isolated,
         )
         model_result = _model_stages(
             request, stages, load, spec, inventory, chosen, behaviour, loaded

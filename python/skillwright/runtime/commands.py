@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from skillwright.cli_options import interfaces_option
+from skillwright.cli_options import interfaces_option, isolation_option, warn_unisolated
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -98,10 +98,10 @@ def _summary(console: Console, path: Path, report: RunReport) -> None:
     warnings = len(report.findings) - errors
     verdict = "[green]passed[/]" if report.passed else "[red]failed[/]"
     isolation = trace.episodes[0].isolation if trace.episodes else {}
-    network = isolation.get("network", "not started")
+    namespaces = isolation.get("namespaces", "not started")
     console.print(
         f"{escape(str(path))}: run {verdict}, {errors} error(s), {warnings} warning(s) "
-        f"(world: {trace.world or 'none'}; network isolation: {network})",
+        f"(world: {trace.world or 'none'}; sandbox namespaces: {namespaces})",
         highlight=False,
         soft_wrap=True,
     )
@@ -139,6 +139,7 @@ def _summary(console: Console, path: Path, report: RunReport) -> None:
     help="Also write the report (findings and trace) as JSON to this file.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
+@isolation_option
 def run(
     skill_file: Path,
     source: Path,
@@ -147,10 +148,12 @@ def run(
     world: str | None,
     out_file: Path | None,
     as_json: bool,
+    unisolated: bool,
 ) -> None:
     """Run SKILL_FILE's PackML states in a sandbox against the robot's simulated graph.
 
-    The skill runs in a separate process without network, with time, memory and file
+    The skill runs in a sandbox the kernel enforces (its own user, mount, PID and network
+    namespaces, a read-only root, seccomp; see the README), with time, memory and file
     limits, in virtual time: starting, execute, completing and resetting, and, when it
     moved the robot, a second time with a Stop during execute. Everything it publishes,
     calls and logs is traced; problems are reported at their line in SKILL_FILE. A state
@@ -168,6 +171,8 @@ def run(
     from skillwright.runtime.scenario import RunScenario, load_scenario
     from skillwright.runtime.waits import probe_waits
 
+    if unisolated:
+        warn_unisolated()
     inputs = parse_inputs(input_values)
     scenario = load_scenario(scenario_file) if scenario_file is not None else None
     inventory = discover_path(source)
@@ -184,6 +189,7 @@ def run(
                 recording=recording,
                 source=source_text,
                 on_progress=progress,
+                isolated=not unisolated,
             )
 
         report = run_once(None, None if as_json else _Progress(err_console()))

@@ -147,6 +147,7 @@ def run_skill(
     on_progress: Callable[[RunProgress], None] | None = None,
     cancel: threading.Event | None = None,
     children: ChildPool | None = None,
+    isolated: bool = True,
 ) -> RunReport:
     """Runs ``skill`` against a simulated graph of ``inventory`` in a sandbox.
 
@@ -159,7 +160,8 @@ def run_skill(
     :class:`~skillwright.errors.GenerationCancelledError`, leaving nothing behind.
     ``children`` hands out the sandboxed processes; a caller running several skills in a
     row passes one pool to all of them (and closes it), so each run's child boots while
-    the previous run goes on. Without it the run keeps its own.
+    the previous run goes on. Without it the run keeps its own, inside the kernel sandbox
+    unless ``isolated`` is false (``--unsafe-no-isolation``).
 
     Raises :class:`~skillwright.errors.InvalidArgumentError` for inputs the skill does
     not take or lacks, and the input-file errors when ``skill`` cannot be read. Problems
@@ -167,6 +169,11 @@ def run_skill(
     """
     path = Path(skill)
     if source is None:
+        if path.is_dir():
+            raise InputFileError(
+                f"skill file {path}: is a folder; give the skill's .py file (the folder "
+                "`skillwright generate` writes holds it as skill.py)"
+            )
         if not path.is_file():
             raise InputFileNotFoundError(f"skill file {path}: no such file; check the path")
         try:
@@ -201,7 +208,7 @@ def run_skill(
     registry = registry_for(inventory)
     files = recording_files(recording) if recording is not None else _default_recording(inventory)
     start = next((s.start_time_ns for s in inventory.sources if s.start_time_ns is not None), None)
-    pool = children if children is not None else ChildPool()
+    pool = children if children is not None else ChildPool(isolated=isolated)
     try:
         episode = Episode(
             source=source,

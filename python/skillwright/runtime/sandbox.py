@@ -1,36 +1,35 @@
-"""Starting the sandboxed child process and making sure nothing of it survives.
+"""Starting the sandboxed children, talking to them, and making sure nothing of them survives.
 
-The child is ``python -I -S -B boot.py``: isolated mode (no user site, no ``PYTHON*``
-variables, no current folder on ``sys.path``), no site-packages, no bytecode written. It
-runs in a new session (its own process group), with a scrubbed environment, in a
-private temporary folder that is also its ``HOME`` and ``TMPDIR``, and holds one end of
-a socketpair. ``boot.py`` then adds namespaces, rlimits and the audit hook before the
-skill's code runs (see there).
+Children come from a fork server (``boot.py --zygote``): it has imported the child's
+modules once and forks a child per run. With isolation (the default) the fork server runs
+inside the kernel boundary of :mod:`skillwright.runtime.isolation` (bubblewrap's
+namespaces, a read-only root of its own, an unprivileged user, seccomp), and every child
+confines itself further before its skill is loaded (Landlock, a seccomp program of its
+own). Without it (``--unsafe-no-isolation``) the same fork server runs as a plain process
+of the host's and only the child's own confinement, the rlimits and the audit hook
+remain; the run's record says which it was.
 
-Children come from a fork server (``boot.py --zygote``, started the same way): it has
-imported the child's modules once and forks a child per run, which then starts its own
-session and isolates itself exactly as a directly started child does. A
-:class:`ChildPool` owns one fork server and keeps the next child started while the
-current one runs.
-
-:meth:`SandboxProcess.close` kills the process group (and, with a PID namespace, every
-process the skill could have started), reaps the child with its resource use, and
-removes the temporary folder.
+A child starts its own session (process group), writes its output to a file of the
+host's, and holds one end of a socketpair; its first byte on that socket carries its
+credentials, so the host learns its process id as the host sees it (the fork server
+lives in a PID namespace of its own). :meth:`SandboxProcess.close` kills the process
+group, has the fork server reap the child and report its resource use, and removes the
+host's folder of the run. A :class:`ChildPool` owns one fork server and keeps the next
+child started while the current one runs.
 """
 
 from __future__ import annotations
 
 import compileall
 import contextlib
-import importlib.util
 import json
 import os
+import select
 import shutil
 import signal
 import socket
+import struct
 import subprocess
-import sys
-import sysconfig
 import tempfile
 import time
 import uuid
@@ -39,6 +38,9 @@ from functools import cache
 from pathlib import Path
 from typing import Any, Final
 
+from skillwright.errors import SandboxUnavailableError
+from skillwright.runtime import isolation
+from skillwright.runtime.isolation import CHILD_ROOT
 from skillwright.runtime.scenario import Limits
 
 __all__ = [
@@ -48,24 +50,23 @@ __all__ = [
     "ForkServer",
     "SandboxError",
     "SandboxProcess",
-    "start_child",
+    "check_isolation",
+    "limits_config",
 ]
 
-CHILD_ROOT: Final = Path(__file__).resolve().with_name("child")
-"""The child's ``sys.path`` root: its own package and the stand-ins."""
-
 MARKER_VARIABLE: Final = "SKILLWRIGHT_SANDBOX"
-"""Environment variable every sandboxed process carries, with the id of the run (or of the
-fork server it came from) as its value (tests find stray processes by it)."""
+"""Environment variable every sandboxed process carries, with the id of the fork server
+it came from as its value (tests find stray processes by it)."""
 
 
 class SandboxError(OSError):
     """The fork server did not answer as it should (it died, or was killed)."""
 
 
-_ALLOWED_PACKAGES: Final = ("numpy",)
 _CLOCK_TICKS: Final = os.sysconf("SC_CLK_TCK")
-"""Third-party packages a skill may import besides ROS 2's, where the host has them."""
+_CREDENTIALS: Final = struct.Struct("3i")
+_READY_SECONDS: Final = 60.0
+"""How long a fork server may take to boot (a loaded machine), and a child to say hello."""
 
 
 @cache
@@ -76,33 +77,23 @@ def _prepare_child_code() -> None:
         compileall.compile_dir(str(CHILD_ROOT), quiet=2, workers=1)
 
 
-@cache
-def allowed_packages() -> tuple[tuple[str, str], ...]:
-    """``(name, folder holding it)`` of the allowed packages installed here."""
-    found = []
-    for name in _ALLOWED_PACKAGES:
-        spec = importlib.util.find_spec(name)
-        if spec is not None and spec.submodule_search_locations:
-            package = Path(next(iter(spec.submodule_search_locations)))
-            found.append((name, str(package.parent)))
-    return tuple(found)
-
-
-def read_roots() -> list[str]:
-    """Folders the child may read: the standard library, its own code, allowed packages."""
-    return list(_read_roots())
-
-
-@cache
-def _read_roots() -> tuple[str, ...]:
-    paths = sysconfig.get_paths()
-    roots = {paths["stdlib"], paths["platstdlib"], str(CHILD_ROOT)}
-    for name, folder in allowed_packages():
-        roots.add(str(Path(folder) / name))
-        roots.update(str(p) for p in Path(folder).glob(f"{name}.libs"))
-        roots.update(str(p) for p in Path(folder).glob(f"{name}-*.dist-info"))
-    roots.update({"/dev/null", "/dev/urandom"})
-    return tuple(sorted(roots))
+def _receive_credentials(
+    sock: socket.socket, timeout: float, size: int
+) -> tuple[bytes, int | None]:
+    """The next ``size`` bytes on ``sock`` (at most one packet of a packet socket) and the
+    process id its sender's credentials give, as this process sees it."""
+    ready, _, _ = select.select([sock], [], [], timeout)
+    if not ready:
+        return b"", None
+    try:
+        data, ancillary, _, _ = sock.recvmsg(size, socket.CMSG_SPACE(_CREDENTIALS.size))
+    except OSError:
+        return b"", None
+    for level, kind, payload in ancillary:
+        if level == socket.SOL_SOCKET and kind == socket.SCM_CREDENTIALS:
+            pid, _, _ = _CREDENTIALS.unpack(payload[: _CREDENTIALS.size])
+            return data, pid
+    return data, None
 
 
 @dataclass
@@ -110,24 +101,39 @@ class SandboxProcess:
     """A running child and what is needed to talk to it and to end it."""
 
     pid: int
-    """Process id of the child (also its process group and session)."""
+    """Process id of the child as the host sees it (also its process group and session)."""
+    inner_pid: int
+    """Its process id in the fork server's PID namespace (what the server reaps)."""
     sock: socket.socket
     temp: Path
+    """The host's folder of the run: the child's output (and, without isolation, the
+    child's scratch folder too)."""
+    scratch: str
+    """The child's scratch folder and ``$HOME``, as the child sees it."""
     marker: str
-    popen: subprocess.Popen[bytes] | None = None
-    """The child when the host started it itself."""
-    server: ForkServer | None = None
+    server: ForkServer
     """The fork server it came from, which reaps it."""
     started: float = field(default_factory=time.monotonic)
     rusage: dict[str, float] = field(default_factory=dict)
     exit_status: int | None = None
+    source: str = ""
+    """The skill's text, which the child writes into its scratch folder."""
+    skill_name: str = "skill.py"
+
+    @property
+    def skill_path(self) -> str:
+        """Where the skill's file is, as the child sees it."""
+        return f"{self.scratch}/{self.skill_name}"
+
+    @property
+    def isolated(self) -> bool:
+        """Whether the child runs inside the kernel boundary."""
+        return self.server.isolated
 
     def running(self) -> bool:
         """Whether the child has not ended yet."""
         if self.exit_status is not None:
             return False
-        if self.popen is not None:
-            return self.popen.poll() is None
         try:
             stat = Path(f"/proc/{self.pid}/stat").read_bytes()
         except OSError:
@@ -135,30 +141,24 @@ class SandboxProcess:
         return stat[stat.rfind(b")") + 2 :][:1] not in (b"Z", b"X")
 
     def cpu_seconds(self) -> float | None:
-        """CPU time the child and its first process (in a PID namespace) have used so far,
-        or ``None`` where ``/proc`` does not say."""
-        total = 0.0
-        pids = [self.pid]
+        """CPU time the child has used so far, or ``None`` where ``/proc`` does not say."""
         try:
-            children = Path(f"/proc/{self.pid}/task/{self.pid}/children")
-            pids += [int(p) for p in children.read_text().split()]
-            for pid in pids:
-                fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-                # utime and stime are fields 14 and 15 of stat, 12 and 13 after the name.
-                total += (int(fields[11]) + int(fields[12])) / _CLOCK_TICKS
+            fields = Path(f"/proc/{self.pid}/stat").read_text().rsplit(")", 1)[1].split()
+            # utime and stime are fields 14 and 15 of stat, 12 and 13 after the name.
+            return (int(fields[11]) + int(fields[12])) / _CLOCK_TICKS
         except (OSError, ValueError, IndexError):
             return None
-        return total
 
     def interrupt(self) -> None:
         """Asks the child to stop the state that runs (it reports where it was)."""
-        with contextlib.suppress(ProcessLookupError):
+        with contextlib.suppress(ProcessLookupError, PermissionError):
             os.kill(self.pid, signal.SIGUSR1)
 
     def place(self, skill_source: str, skill_name: str) -> None:
-        """Writes the skill into the child's folder (before the child is told where it is);
-        the run's wall deadline counts from here."""
-        (self.temp / skill_name).write_text(skill_source, encoding="utf-8")
+        """Gives the child its skill (sent with the answer to its ``hello``); the run's
+        wall deadline counts from here."""
+        self.source = skill_source
+        self.skill_name = skill_name
         self.started = time.monotonic()
 
     def output_tail(self, limit: int = 4000) -> str:
@@ -177,8 +177,6 @@ class SandboxProcess:
         """Kills every process of the child's group, reaps the child, removes its folder."""
         if self.exit_status is not None:
             return
-        # The skill's process (in a PID namespace) is killed before its parent reaps it, so
-        # the parent's resource use may miss it; /proc still counts it at this point.
         seen = self.cpu_seconds()
         with contextlib.suppress(OSError):
             self.sock.close()
@@ -191,27 +189,15 @@ class SandboxProcess:
                 "cpu_seconds": round(max(cpu, seen or 0.0), 3),
                 "max_rss_mb": round(rss_kb / 1024, 1),
             }
-        # The skill runs in a process the child forked (in its own PID namespace where the
-        # kernel allows); SIGKILL reaches it at once but it may take a moment to die on a busy
+        # SIGKILL reaches the child at once, but it may take a moment to die on a busy
         # machine. Nothing of the run may outlive close(), so wait until the group is gone.
         _wait_until_group_gone(self.pid)
         shutil.rmtree(self.temp, ignore_errors=True)
 
     def _reap(self) -> tuple[int, float | None, float]:
         """Waits for the killed child: its exit status, CPU seconds and peak memory (kB)."""
-        if self.popen is not None:
-            if self.popen.returncode is not None:
-                return self.popen.returncode, None, 0.0
-            try:
-                _, status, usage = os.wait4(self.pid, 0)
-            except ChildProcessError:
-                self.popen.returncode = 0
-                return 0, None, 0.0
-            self.popen.returncode = os.waitstatus_to_exitcode(status)
-            return self.popen.returncode, usage.ru_utime + usage.ru_stime, usage.ru_maxrss
-        assert self.server is not None
         try:
-            answer = self.server.reap(self.pid)
+            answer = self.server.reap(self.inner_pid)
         except SandboxError:
             # The server is gone, and its children with it (they die with their parent).
             return -signal.SIGKILL, None, 0.0
@@ -255,11 +241,11 @@ def _wait_until_group_gone(group: int, timeout: float = 5.0) -> None:
         delay = min(2 * delay, 0.01)
 
 
-def _environment(temp: Path, marker: str) -> dict[str, str]:
+def _environment(home: str, marker: str) -> dict[str, str]:
     return {
         "PATH": "/usr/bin:/bin",
-        "HOME": str(temp),
-        "TMPDIR": str(temp),
+        "HOME": home,
+        "TMPDIR": home,
         "LANG": "C.UTF-8",
         "LC_ALL": "C.UTF-8",
         "TZ": "UTC",
@@ -270,73 +256,73 @@ def _environment(temp: Path, marker: str) -> dict[str, str]:
     }
 
 
-def start_child() -> SandboxProcess:
-    """Starts a child in a private temporary folder; it boots (interpreter, namespaces,
-    its own modules) and then waits for the host's answer to its ``hello``, so the skill
-    can be placed (:meth:`SandboxProcess.place`) any time before that answer."""
-    _prepare_child_code()
-    temp = Path(tempfile.mkdtemp(prefix="skillwright-run-")).resolve()
-    marker = uuid.uuid4().hex
-    host_end, child_end = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
+def _pipe_with(data: bytes) -> int:
+    """The read end of a pipe that holds ``data`` and then ends (a seccomp program for
+    bubblewrap; a few kilobytes, well within a pipe's buffer)."""
+    read_end, write_end = os.pipe()
     try:
-        with (temp / "child-output.txt").open("wb") as output:
-            process = subprocess.Popen(
-                [
-                    sys.executable,
-                    "-I",
-                    "-S",
-                    "-B",
-                    str(CHILD_ROOT / "_skillwright_child" / "boot.py"),
-                    str(child_end.fileno()),
-                    str(temp),
-                ],
-                stdin=subprocess.DEVNULL,
-                stdout=output,
-                stderr=subprocess.STDOUT,
-                pass_fds=(child_end.fileno(),),
-                cwd=temp,
-                env=_environment(temp, marker),
-                start_new_session=True,
-            )
-    except BaseException:
-        host_end.close()
-        shutil.rmtree(temp, ignore_errors=True)
-        raise
+        os.write(write_end, data)
     finally:
-        child_end.close()
-    return SandboxProcess(pid=process.pid, sock=host_end, temp=temp, marker=marker, popen=process)
+        os.close(write_end)
+    return read_end
 
 
 class ForkServer:
-    """A running fork server (``boot.py --zygote``) and its end of the control socket.
+    """A running fork server and its end of the control socket.
 
-    Started like a child (its own session, the scrubbed environment, a private folder);
-    :meth:`close` kills it and everything of its process group.
+    ``isolated``: inside bubblewrap's namespaces (see :mod:`skillwright.runtime.isolation`);
+    else a plain process of the host's. Either way it has its own session, a scrubbed
+    environment and a private folder of the host's for its output. The constructor starts
+    it without waiting; the first :meth:`fork` waits until it has booted, and raises
+    :class:`~skillwright.errors.SandboxUnavailableError` when bubblewrap could not build
+    the sandbox. :meth:`close` kills it and everything of its process group.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, *, isolated: bool = True) -> None:
         _prepare_child_code()
+        self.isolated = isolated
         self.temp = Path(tempfile.mkdtemp(prefix="skillwright-forks-")).resolve()
         self.marker = uuid.uuid4().hex
+        self.pid: int | None = None
+        """The fork server's own process id, once it has said it is ready."""
+        self._ready = False
+        root = isolation.layout()
+        as_root = os.getuid() == 0
+        setup = {
+            "core": root.core,
+            "readable": root.readable(),
+            "isolated": isolated,
+            "drop_to": isolation.NOBODY if isolated and as_root else None,
+        }
         host_end, server_end = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        host_end.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 1)
+        self.control = host_end
+        command = [
+            root.interpreter,
+            "-I",
+            "-S",
+            "-B",
+            str(CHILD_ROOT / "_skillwright_child" / "boot.py"),
+            "--zygote",
+            str(server_end.fileno()),
+            json.dumps(setup),
+        ]
+        inherited = [server_end.fileno()]
+        handshake: tuple[int, int] | None = None
+        home = isolation.SCRATCH_ROOT if isolated else str(self.temp)
         try:
+            if isolated:
+                prefix, inherited, handshake = self._bwrap(root, as_root, inherited)
+                command = [*prefix, "--", *command]
             with (self.temp / "server-output.txt").open("wb") as output:
                 self.process = subprocess.Popen(
-                    [
-                        sys.executable,
-                        "-I",
-                        "-S",
-                        "-B",
-                        str(CHILD_ROOT / "_skillwright_child" / "boot.py"),
-                        "--zygote",
-                        str(server_end.fileno()),
-                    ],
+                    command,
                     stdin=subprocess.DEVNULL,
                     stdout=output,
                     stderr=subprocess.STDOUT,
-                    pass_fds=(server_end.fileno(),),
+                    pass_fds=inherited,
                     cwd=self.temp,
-                    env=_environment(self.temp, self.marker),
+                    env=_environment(home, self.marker),
                     start_new_session=True,
                 )
         except BaseException:
@@ -345,7 +331,89 @@ class ForkServer:
             raise
         finally:
             server_end.close()
-        self.control = host_end
+            for fd in inherited[1:]:
+                with contextlib.suppress(OSError):
+                    os.close(fd)
+        if handshake is not None:
+            try:
+                self._map_user(*handshake)
+            except BaseException:
+                self.close()
+                raise
+
+    def _bwrap(
+        self, root: isolation.Layout, as_root: bool, inherited: list[int]
+    ) -> tuple[list[str], list[int], tuple[int, int] | None]:
+        """bubblewrap's command line, the descriptors it inherits, and (started as root)
+        the host's ends of the user-namespace handshake."""
+        from skillwright._core import seccomp_programs
+
+        binary = isolation.bwrap_binary()
+        base, fallbacks = seccomp_programs()
+        base_fd, fallback_fd = _pipe_with(base), _pipe_with(fallbacks)
+        inherited = [*inherited, base_fd, fallback_fd]
+        prefix = [binary, *isolation.bwrap_arguments(root, as_root=as_root)]
+        prefix += ["--add-seccomp-fd", str(base_fd), "--add-seccomp-fd", str(fallback_fd)]
+        if not as_root:
+            return prefix, inherited, None
+        info_read, info_write = os.pipe()
+        block_read, block_write = os.pipe()
+        inherited += [info_write, block_read]
+        prefix += ["--info-fd", str(info_write), "--userns-block-fd", str(block_read)]
+        return prefix, inherited, (info_read, block_write)
+
+    def _map_user(self, info_read: int, block_write: int) -> None:
+        """Writes the map of the user namespace bubblewrap made (started as root): root
+        for its own set-up, nobody for the fork server, which drops to it at once."""
+        try:
+            text = b""
+            deadline = time.monotonic() + _READY_SECONDS
+            while b"child-pid" not in text or not text.rstrip().endswith(b"}"):
+                ready, _, _ = select.select([info_read], [], [], deadline - time.monotonic())
+                chunk = os.read(info_read, 4096) if ready else b""
+                if not chunk:
+                    self.process.wait(timeout=_READY_SECONDS)
+                    raise isolation.unavailable(self._output())
+                text += chunk
+            pid = int(json.loads(text)["child-pid"])
+            nobody = isolation.NOBODY
+            mapping = f"0 0 1\n{nobody} {nobody} 1\n"
+            try:
+                Path(f"/proc/{pid}/setgroups").write_text("allow")
+                Path(f"/proc/{pid}/uid_map").write_text(mapping)
+                Path(f"/proc/{pid}/gid_map").write_text(mapping)
+            except OSError as error:
+                raise isolation.unavailable(
+                    f"bwrap: setting up uid map of the sandbox: {error.strerror}"
+                ) from None
+            os.write(block_write, b"1")
+        finally:
+            os.close(info_read)
+            os.close(block_write)
+
+    def _output(self) -> str:
+        try:
+            return (self.temp / "server-output.txt").read_text(errors="replace")
+        except OSError:
+            return ""
+
+    def wait_ready(self) -> None:
+        """Waits for the server's first word, which carries its process id."""
+        if self._ready:
+            return
+        data, pid = _receive_credentials(self.control, _READY_SECONDS, 64)
+        if data != b"ready":
+            with contextlib.suppress(subprocess.TimeoutExpired):
+                self.process.wait(timeout=5.0)
+            output = self._output()
+            if self.isolated and "bwrap:" in output:
+                raise isolation.unavailable(output)
+            raise SandboxError(
+                "the sandbox's fork server did not start"
+                + (f": {output.strip()[-400:]}" if output.strip() else "")
+            )
+        self.pid = pid
+        self._ready = True
 
     def _ask(self, request: dict[str, object], fds: list[int] | None = None) -> dict[str, Any]:
         data = json.dumps(request).encode("utf-8")
@@ -360,25 +428,53 @@ class ForkServer:
         return reply
 
     def fork(self) -> SandboxProcess:
-        """A new child in a private temporary folder, booting towards its ``hello``."""
+        """A new child with a private folder, booting towards its ``hello``."""
+        self.wait_ready()
         temp = Path(tempfile.mkdtemp(prefix="skillwright-run-")).resolve()
+        scratch = (
+            f"{isolation.SCRATCH_ROOT}/run-{uuid.uuid4().hex[:16]}" if self.isolated else str(temp)
+        )
         host_end, child_end = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
         try:
-            answer = self._ask({"op": "fork", "temp": str(temp)}, [child_end.fileno()])
-            pid = answer.get("pid")
-            if not isinstance(pid, int):
+            host_end.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 1)
+            with (temp / "child-output.txt").open("wb") as output:
+                answer = self._ask(
+                    {"op": "fork", "scratch": scratch, "make": self.isolated},
+                    [child_end.fileno(), output.fileno()],
+                )
+            inner = answer.get("pid")
+            if not isinstance(inner, int):
                 raise SandboxError(f"the sandbox's fork server refused a child: {answer}")
+            child_end.close()
+            # Exactly the one byte: the child may have sent its hello right after it.
+            first, pid = _receive_credentials(host_end, _READY_SECONDS, 1)
+            if first != b"\0" or pid is None:
+                with contextlib.suppress(SandboxError):
+                    self.reap(inner)
+                tail = (temp / "child-output.txt").read_text(errors="replace").strip()
+                raise SandboxError(
+                    "a sandboxed child did not start" + (f": {tail[-400:]}" if tail else "")
+                )
+            host_end.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 0)
         except BaseException:
             host_end.close()
             shutil.rmtree(temp, ignore_errors=True)
             raise
         finally:
             child_end.close()
-        return SandboxProcess(pid=pid, sock=host_end, temp=temp, marker=self.marker, server=self)
+        return SandboxProcess(
+            pid=pid,
+            inner_pid=inner,
+            sock=host_end,
+            temp=temp,
+            scratch=scratch,
+            marker=self.marker,
+            server=self,
+        )
 
     def reap(self, pid: int) -> dict[str, Any]:
-        """Waits for child ``pid`` (killed already): ``status``, ``cpu_seconds``,
-        ``max_rss_kb``."""
+        """Kills child ``pid`` (its id in the server's namespace) if it still runs, waits for it:
+        ``status``, ``cpu_seconds``, ``max_rss_kb``."""
         return self._ask({"op": "reap", "pid": pid})
 
     def alive(self) -> bool:
@@ -387,9 +483,11 @@ class ForkServer:
 
     def cpu_seconds(self) -> float | None:
         """CPU time the server itself has used (booting, forking; not its children's), or
-        ``None`` where ``/proc`` does not say."""
+        ``None`` where ``/proc`` does not say (or before it is ready)."""
+        if self.pid is None:
+            return None
         try:
-            stat = Path(f"/proc/{self.process.pid}/stat").read_text()
+            stat = Path(f"/proc/{self.pid}/stat").read_text()
             fields = stat.rsplit(")", 1)[1].split()
             return (int(fields[11]) + int(fields[12])) / _CLOCK_TICKS
         except (OSError, ValueError, IndexError):
@@ -415,13 +513,13 @@ class ChildPool:
     keeps one core busy at a time (host or child), so the spare started while a run goes
     on boots on the other core and the next run finds it waiting. Every child is used
     once; :meth:`close` ends the spare nobody took and the fork server.
-    ``ahead=False`` starts each child only when it is taken; ``fork=False`` starts each
-    child as a fresh interpreter (what a run cost before the fork server).
+    ``ahead=False`` starts each child only when it is taken. ``isolated=False`` runs the
+    fork server without the kernel boundary (``--unsafe-no-isolation``).
     """
 
-    def __init__(self, *, ahead: bool = True, fork: bool = True) -> None:
+    def __init__(self, *, ahead: bool = True, isolated: bool = True) -> None:
         self.ahead = ahead
-        self.fork = fork
+        self.isolated = isolated
         self._spare: SandboxProcess | None = None
         self._server: ForkServer | None = None
 
@@ -433,28 +531,28 @@ class ChildPool:
     def warm(self) -> None:
         """Starts the fork server without waiting for it, so that it boots (on another
         core) while the caller prepares its first run."""
-        if self.fork and self._server is None:
-            self._server = ForkServer()
+        if self._server is None:
+            self._server = ForkServer(isolated=self.isolated)
 
     def _start(self) -> SandboxProcess:
-        if not self.fork:
-            return start_child()
         if self._server is not None and not self._server.alive():
             self._server.close()
             self._server = None
         if self._server is None:
-            self._server = ForkServer()
+            self._server = ForkServer(isolated=self.isolated)
         try:
             return self._server.fork()
+        except SandboxUnavailableError:
+            raise
         except SandboxError:
             # A server that died (killed from outside) is replaced once.
             self._server.close()
-            self._server = ForkServer()
+            self._server = ForkServer(isolated=self.isolated)
             return self._server.fork()
 
     def take(self, skill_source: str, skill_name: str = "skill.py") -> SandboxProcess:
-        """A booted (or booting) child holding a private copy of the skill
-        (``<temp>/<skill_name>``)."""
+        """A booted (or booting) child that gets ``skill_source`` as its skill
+        (``<scratch>/<skill_name>``)."""
         child, self._spare = self._spare, None
         if child is not None and not child.running():
             child.close()
@@ -487,6 +585,17 @@ class ChildPool:
 
     def __exit__(self, *_: object) -> None:
         self.close()
+
+
+def check_isolation() -> None:
+    """Starts a sandboxed fork server and ends it: raises
+    :class:`~skillwright.errors.SandboxUnavailableError` (naming the kernel setting) where
+    the sandbox cannot be built, before a caller spends minutes on what it would run."""
+    server = ForkServer(isolated=True)
+    try:
+        server.wait_ready()
+    finally:
+        server.close()
 
 
 def limits_config(limits: Limits) -> dict[str, int]:

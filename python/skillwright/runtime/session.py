@@ -14,6 +14,7 @@ import base64
 import marshal
 import re
 import select
+import signal
 import threading
 import time
 import warnings
@@ -25,16 +26,11 @@ from typing import TYPE_CHECKING, Any
 
 from skillwright.errors import GenerationCancelledError
 from skillwright.runtime.graph import GraphHost
+from skillwright.runtime.isolation import layout
 from skillwright.runtime.protocol import ProtocolError, Wire
 from skillwright.runtime.recorder import Recorder
 from skillwright.runtime.report import EpisodeTrace, RunProgress, StateRun
-from skillwright.runtime.sandbox import (
-    ChildPool,
-    SandboxProcess,
-    allowed_packages,
-    limits_config,
-    read_roots,
-)
+from skillwright.runtime.sandbox import ChildPool, SandboxProcess, limits_config
 from skillwright.runtime.typesys import MOTION_TYPES, is_zero_motion
 
 if TYPE_CHECKING:
@@ -189,6 +185,13 @@ def compiled(source: str) -> str | None:
     return base64.b64encode(marshal.dumps(code)).decode("ascii")
 
 
+def _signal_name(signum: int) -> str:
+    try:
+        return f"{signal.Signals(signum).name} (signal {signum})"
+    except ValueError:
+        return f"signal {signum}"
+
+
 class Episode:
     """Runs one episode of a skill; see :meth:`run`."""
 
@@ -259,13 +262,15 @@ class Episode:
         self._settling = False
         self._done = False
         self._startup: float | None = None
-        self._progress(plan, "episode-start")
+        self._output_tail = ""
         started = time.monotonic()
         child: SandboxProcess | None = None
         try:
-            # The child boots while the world is built (on the other core, if idle).
+            # The child boots while the world is built (on the other core, if idle). A
+            # sandbox the kernel refuses stops the run here, before anything says it began.
             child = self._children.take(self._source, self._skill_name)
             self._child = child
+            self._progress(plan, "episode-start")
             world = self._world_factory()
             if world is not None:
                 self._graph.attach_world(world)
@@ -273,6 +278,8 @@ class Episode:
         finally:
             self._graph.close()
             if child is not None:
+                # Read before close() removes the folder the output is in.
+                self._output_tail = child.output_tail()
                 child.close()
                 trace.resources = child.rusage
             trace.wall_seconds = round(time.monotonic() - started, 3)
@@ -357,21 +364,36 @@ class Episode:
         trace = self._result.trace
         trace.ended = "crashed"
         status = child.exit_status
-        state = self._recorder.state or "load"
         if status is not None and status < 0:
-            how = f"was killed by signal {-status}"
-            if -status in (9, 24):
-                how += " (the CPU-time limit, or the memory limit hit outside Python)"
+            how = f"was killed by {_signal_name(-status)} ({self._kill_cause(child, -status)})"
         else:
-            how = f"exited with status {status}"
-        tail = child.output_tail().strip()
+            how = f"exited with status {status} (os._exit, or a crash)"
+        where = f"during {self._recorder.state}" if self._recorder.state else "while it loaded"
+        line = self._recorder.line
+        seen = f"; the last line it reported was {line}" if line else ""
+        tail = self._output_tail.strip()
         detail = f"; its last output: {tail[-300:]}" if tail else ""
-        self._recorder.finding(
-            "run.exit",
-            f"the skill's process {how} during {state}, last seen at line {self._recorder.line} "
-            f"(os._exit, a crash, or a limit){detail}",
-        )
+        self._recorder.finding("run.exit", f"the skill's process {how} {where}{seen}{detail}")
         self._end_state("killed", "crashed")
+
+    def _kill_cause(self, child: SandboxProcess, signum: int) -> str:
+        """What the resource use says of why the child got ``signum``."""
+        limits = self._scenario.limits
+        cpu = child.rusage.get("cpu_seconds")
+        if signum in (signal.SIGKILL, signal.SIGXCPU) and cpu is not None:
+            if cpu >= 0.9 * limits.cpu_seconds:
+                return f"the CPU-time limit of {limits.cpu_seconds} s"
+            if signum == signal.SIGKILL:
+                return (
+                    f"no limit: it used {cpu:.2f} of {limits.cpu_seconds} s of CPU; a signal "
+                    "it sent itself (os.kill, os.killpg) or the machine's out-of-memory killer"
+                )
+        if signum in (signal.SIGSEGV, signal.SIGBUS, signal.SIGABRT, signal.SIGILL):
+            return (
+                f"a crash in native code, such as the memory limit of {limits.memory_mb} MB "
+                "hit outside Python"
+            )
+        return "a signal it sent itself, or a limit"
 
     def _busy_message(self, frames: list[Any] | None) -> str:
         where = ""
@@ -404,15 +426,16 @@ class Episode:
     def _config(self) -> dict[str, Any]:
         limits = limits_config(self._scenario.limits)
         return {
-            "skill": str(self._child.temp / self._skill_name),
+            "skill": self._child.skill_path,
+            "source": self._source,
             "code": compiled(self._source),
             "class": self._info.class_name,
             "inputs": self._inputs,
             "outputs": [{"name": v.name, "attr": v.attr} for v in self._info.outputs],
             "epoch_ns": self._epoch_ns,
             "limits": limits,
-            "read_roots": read_roots(),
-            "packages": dict(allowed_packages()),
+            "read_roots": layout().readable(),
+            "packages": dict(layout().packages),
             "message_packages": self._registry.packages(),
             "settle": self._scenario.settle,
             "stop_at_complete": self._plan.stop_at_complete,
@@ -437,10 +460,19 @@ class Episode:
         if isinstance(line, int) and line > 0:
             recorder.line = line
         if op == "hello":
-            self._result.trace.isolation = {
+            # What the child says of its own confinement, then what the host knows itself.
+            reported = {
                 k: v
                 for k, v in dict(frame.get("isolation") or {}).items()
-                if isinstance(v, (str, bool))
+                if isinstance(v, (str, bool)) and k in ("landlock", "seccomp", "uid")
+            }
+            self._result.trace.isolation = {
+                **reported,
+                "namespaces": "user, mount, pid, network, ipc, uts"
+                if self._child.isolated
+                else "none (--unsafe-no-isolation)",
+                "sandbox": self._child.marker,
+                "folder": str(self._child.temp),
             }
             if self._prepare_next:
                 self._children.prepare()

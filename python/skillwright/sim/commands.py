@@ -8,11 +8,19 @@ from typing import TYPE_CHECKING
 
 import click
 
-from skillwright.cli_options import capability_options, interfaces_option, spec_option
+from skillwright.cli_options import (
+    capability_options,
+    interfaces_option,
+    isolation_option,
+    spec_option,
+    warn_unisolated,
+)
 
 if TYPE_CHECKING:
     from rich.console import Console
 
+    from skillwright.capability.model import Capability
+    from skillwright.interfaces.inventory import Inventory
     from skillwright.sim.report import ValidationProgress, ValidationReport
 
 __all__ = ["print_report", "validate"]
@@ -88,6 +96,40 @@ def print_report(console: Console, report: ValidationReport) -> None:
     )
 
 
+def _static_checks_first(
+    skill_file: Path, capability: Capability, spec_file: Path, inventory: Inventory, as_json: bool
+) -> None:
+    """With ``--spec``: the static checks, and exit 1 without running when they fail."""
+    from skillwright.console import out_console, print_model_json
+    from skillwright.errors import InputFileError
+    from skillwright.spec.loader import load_spec
+    from skillwright.validation.catalog import catalog_from_inventory
+    from skillwright.validation.commands import print_findings
+    from skillwright.validation.static import check_skill
+
+    try:
+        text = skill_file.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputFileError(f"skill file {skill_file}: cannot be read as UTF-8 text") from error
+    static = check_skill(
+        text,
+        capability=capability,
+        spec=load_spec(spec_file),
+        catalog=catalog_from_inventory(inventory),
+        path=str(skill_file),
+    )
+    if not static.passed:
+        if as_json:
+            print_model_json(static)
+        else:
+            print_findings(out_console(), static.path, static.findings)
+            out_console().print(
+                f"{skill_file}: the static checks failed; the skill was not run",
+                highlight=False,
+            )
+        sys.exit(1)
+
+
 @click.command("validate")
 @click.argument("skill_file", type=click.Path(path_type=Path))
 @capability_options
@@ -113,6 +155,7 @@ def print_report(console: Console, report: ValidationReport) -> None:
 )
 @click.option("--no-plot", is_flag=True, help="Do not draw the trajectory plots.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
+@isolation_option
 def validate(
     skill_file: Path,
     capability_file: Path,
@@ -124,6 +167,7 @@ def validate(
     output_dir: Path | None,
     no_plot: bool,
     as_json: bool,
+    unisolated: bool,
 ) -> None:
     """Run SKILL_FILE in the MuJoCo simulation of the robot and judge its behaviour.
 
@@ -135,14 +179,21 @@ def validate(
     input, 130 when interrupted.
     """
     from skillwright.capability.reader import load_capability
-    from skillwright.console import err_console, out_console, print_model_json
+    from skillwright.console import err_console, out_console
     from skillwright.errors import GenerationCancelledError, InputFileError, InputFileNotFoundError
     from skillwright.interfaces.load import discover_path, is_json_file
     from skillwright.sim.scenario import scenarios_for
     from skillwright.sim.validate import validate_skill
 
+    if skill_file.is_dir():
+        raise InputFileError(
+            f"skill file {skill_file}: is a folder; give the skill's .py file (the folder "
+            "`skillwright generate` writes holds it as skill.py)"
+        )
     if not skill_file.is_file():
         raise InputFileNotFoundError(f"skill file {skill_file}: no such file; check the path")
+    if unisolated:
+        warn_unisolated()
     capability = load_capability(capability_file, capability_iri=capability_iri).capability
     inventory = discover_path(source)
     chosen = scenarios_for(capability, scenario_file)
@@ -155,34 +206,7 @@ def validate(
             f"--only {unknown[0]}: {chosen.source} has no such scenario ({names})"
         )
     if spec_file is not None:
-        from skillwright.spec.loader import load_spec
-        from skillwright.validation.catalog import catalog_from_inventory
-        from skillwright.validation.commands import print_findings
-        from skillwright.validation.static import check_skill
-
-        try:
-            text = skill_file.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise InputFileError(
-                f"skill file {skill_file}: cannot be read as UTF-8 text"
-            ) from error
-        static = check_skill(
-            text,
-            capability=capability,
-            spec=load_spec(spec_file),
-            catalog=catalog_from_inventory(inventory),
-            path=str(skill_file),
-        )
-        if not static.passed:
-            if as_json:
-                print_model_json(static)
-            else:
-                print_findings(out_console(), static.path, static.findings)
-                out_console().print(
-                    f"{skill_file}: the static checks failed; the skill was not run",
-                    highlight=False,
-                )
-            sys.exit(1)
+        _static_checks_first(skill_file, capability, spec_file, inventory, as_json)
     folder = output_dir if output_dir is not None else Path("validation") / skill_file.stem
     try:
         report = validate_skill(
@@ -195,6 +219,7 @@ def validate(
             only=list(only) or None,
             plot=not no_plot,
             on_progress=None if as_json else _Progress(err_console()),
+            isolated=not unisolated,
         )
     except KeyboardInterrupt:
         raise GenerationCancelledError(

@@ -401,6 +401,7 @@ def validate_skill(
     on_progress: Callable[[ValidationProgress], None] | None = None,
     cancel: threading.Event | None = None,
     children: ChildPool | None = None,
+    isolated: bool = True,
 ) -> ValidationReport:
     """Run ``skill`` in each scenario of ``capability`` and judge it with the oracles.
 
@@ -413,12 +414,13 @@ def validate_skill(
     (``<name>.maps/``), all at once when the validation is done; without it nothing is
     written. ``source`` is the skill's text when it is not (yet) in the file ``skill``
     names (findings still refer to ``skill``). ``children`` hands out the sandboxed
-    processes (default: a pool that boots each run's child while the previous run goes on).
+    processes (default: a pool that boots each run's child while the previous run goes on,
+    inside the kernel sandbox unless ``isolated`` is false: ``--unsafe-no-isolation``).
     """
     from skillwright.runtime.skillinfo import SkillSourceError, read_skill
 
     started = time.perf_counter()
-    pool = children if children is not None else ChildPool()
+    pool = children if children is not None else ChildPool(isolated=isolated)
     # The fork server boots on another core while the scenarios are read and the first
     # world is built.
     pool.warm()

@@ -1,28 +1,30 @@
-"""Entry point of the sandboxed child: ``python -I -S -B boot.py FD TEMP``.
+"""Entry point of the sandbox: ``python -I -S -B boot.py --zygote FD SETUP``, a fork server.
 
-Before any code of the skill runs, this sets up the sandbox, strongest first:
+It runs inside the sandbox the host built (bubblewrap's namespaces, read-only root,
+seccomp allow-list; see ``skillwright.runtime.isolation``), or, with
+``--unsafe-no-isolation``, as a plain process. Started as root inside the sandbox (the host
+mapped root for bubblewrap's set-up), it first drops to the unprivileged ``drop_to`` user.
+It imports the child's modules and the stand-ins once, says ``ready`` (its credentials tell
+the host its process id) and then, on each request (a scratch folder, with the new child's
+end of a socketpair and its output file passed along), forks a child. No skill code ever
+runs in the fork server itself, so every child starts from the same untouched modules; a
+child costs a fork instead of an interpreter and its imports. The server also reaps its
+children on request and reports how they ended and what they used. FD is its end of a
+``SOCK_SEQPACKET`` socketpair with the host; SETUP is JSON: the Rust extension's file
+(``core``), what a child may read (``readable``), ``isolated`` and ``drop_to``.
 
-1. ``prctl(PR_SET_PDEATHSIG)``: the child dies with the host.
-2. New network and PID namespaces (as root, or through a user namespace where the
-   kernel allows unprivileged ones): no network device but a downed loopback, and every
-   process the skill might start dies with the first process of the namespace.
-   Without namespaces the audit hook alone refuses sockets, and the host kills the
-   process group.
-3. rlimits: address space, CPU seconds, open files, processes (per user, so not
-   enforced for root), file size, no core files.
-4. The audit hook of ``guard.py``; the virtual clock; the message packages.
+A child, before any code of the skill runs, strongest first:
 
-FD is the child's end of the host's socketpair; TEMP its private temporary folder
-(the working directory, ``HOME`` and ``TMPDIR``).
-
-``python -I -S -B boot.py --zygote FD`` is a fork server instead: it imports the child's
-modules and the stand-ins once, then on each request (a temporary folder, with the new
-child's end of a socketpair passed along) forks a child that starts its own session,
-moves into that folder and goes on exactly as above. No skill code ever runs in the fork
-server itself, so every child starts from the same untouched modules; a child costs a
-fork instead of an interpreter and its imports. The server also reaps its children on
-request and reports how they ended and what they used. FD is its end of a
-``SOCK_SEQPACKET`` socketpair with the host.
+1. starts its own session, sends its credentials (the host learns its process id),
+   dies with the fork server (``PR_SET_PDEATHSIG``) and moves into its scratch folder;
+2. confines itself for good through the Rust extension: Landlock (write only in its
+   scratch folder, read only what the sandbox holds, no signals to or abstract sockets of
+   processes outside its domain, where the kernel has Landlock) and a seccomp program of
+   its own (no new processes or programs, signals to itself only; without isolation the
+   base allow-list too);
+3. rlimits: address space, CPU seconds, open files, processes, file size, no core files;
+4. the audit hook of ``guard.py``, which reports a refused action at the skill's line;
+   the virtual clock; the message packages.
 """
 
 from __future__ import annotations
@@ -32,66 +34,6 @@ import os
 import signal
 import socket
 import sys
-
-
-def _isolate() -> dict:
-    """Namespaces and the parent-death signal; returns what was achieved."""
-    import ctypes
-
-    libc = ctypes.CDLL(None, use_errno=True)
-    pr_set_pdeathsig = 1
-    libc.prctl(pr_set_pdeathsig, signal.SIGKILL, 0, 0, 0)
-    clone_newnet, clone_newpid, clone_newuser = 0x40000000, 0x20000000, 0x10000000
-    result = {"network": "audit-hook", "pid_namespace": False, "user_namespace": False}
-    if libc.unshare(clone_newnet | clone_newpid) == 0:
-        result.update(network="namespace", pid_namespace=True)
-        return result
-    uid, gid = os.getuid(), os.getgid()
-    if libc.unshare(clone_newuser | clone_newnet | clone_newpid) == 0:
-        try:
-            with open("/proc/self/setgroups", "w") as stream:
-                stream.write("deny")
-            with open("/proc/self/uid_map", "w") as stream:
-                stream.write(f"{uid} {uid} 1")
-            with open("/proc/self/gid_map", "w") as stream:
-                stream.write(f"{gid} {gid} 1")
-        except OSError:
-            pass
-        result.update(network="namespace", pid_namespace=True, user_namespace=True)
-        return result
-    if libc.unshare(clone_newnet) == 0:
-        result.update(network="namespace")
-    return result
-
-
-def _enter_pid_namespace(sock: socket.socket) -> None:
-    """Forks so that the skill runs as the first process of the new PID namespace.
-
-    The parent stays as the process the host started: it forwards the host's interrupt
-    signal and exits with the child's status. If it dies, the child gets SIGKILL, and
-    with it every process of the namespace.
-    """
-    import ctypes
-
-    pid = os.fork()
-    if pid == 0:
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(1, signal.SIGKILL, 0, 0, 0)
-        return
-    sock.close()
-
-    def forward(signum: int, _frame: object) -> None:
-        with contextlib.suppress(ProcessLookupError):
-            os.kill(pid, signum)
-
-    signal.signal(signal.SIGUSR1, forward)
-    signal.signal(signal.SIGTERM, forward)
-    while True:
-        try:
-            _, status = os.waitpid(pid, 0)
-        except ChildProcessError:
-            os._exit(0)
-        os._exit(os.waitstatus_to_exitcode(status) & 0xFF)
 
 
 def _looping_line(frame: object) -> int:
@@ -173,31 +115,30 @@ def _allow_packages(allowed: dict) -> None:
 def main() -> None:
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     sys.path[:] = [root, *(p for p in sys.path[1:] if p)]
-    if sys.argv[1] == "--zygote":
-        _zygote(int(sys.argv[2]))
-    _child(int(sys.argv[1]), sys.argv[2])
+    if sys.argv[1:2] != ["--zygote"] or len(sys.argv) != 4:
+        os.write(2, b"usage: boot.py --zygote FD SETUP\n")
+        os._exit(2)
+    import json
+
+    _zygote(int(sys.argv[2]), json.loads(sys.argv[3]))
 
 
-def _child(fd: int, temp: str) -> None:
-    """Isolates this process, talks to the host, runs the skill; never returns."""
-    sock = socket.socket(fileno=fd)
-    isolation = _isolate()
-    if isolation["pid_namespace"]:
-        _enter_pid_namespace(sock)
-
+def _child(sock: socket.socket, scratch: str, isolation: dict) -> None:
+    """Talks to the host and runs the skill; never returns."""
     from _skillwright_child import core as core_module
     from _skillwright_child import driver, guard, messages, patches
     from _skillwright_child.wire import HostGone, Wire
 
     wire = Wire(sock)
     try:
-        isolation["sandbox"] = os.environ.get("SKILLWRIGHT_SANDBOX", "")
-        isolation["folder"] = temp
         hello = wire.request("hello", isolation=isolation, python=sys.version.split()[0])
     except HostGone:
         os._exit(3)
     config = hello["config"]
-    os.chdir(temp)
+    source = config.get("source")
+    if isinstance(source, str):
+        with open(config["skill"], "w", encoding="utf-8") as stream:
+            stream.write(source)
     _limit(config["limits"])
     core = core_module.Core(wire, config["skill"], int(config["epoch_ns"]))
     core_module.CORE = core
@@ -211,7 +152,7 @@ def _child(fd: int, temp: str) -> None:
     signal.signal(signal.SIGUSR1, interrupted)
     signal.signal(signal.SIGXCPU, interrupted)
     end = os._exit
-    guard.install(temp, config["read_roots"], sock.fileno())
+    guard.install(scratch, config["read_roots"], sock.fileno())
     try:
         driver.run(core, config)
     except HostGone:
@@ -250,32 +191,70 @@ only when called, never at import, so importing them before the virtual clock is
 installed changes nothing."""
 
 
-def _zygote(control_fd: int) -> None:
+_PR_SET_PDEATHSIG = 1
+_PR_SET_DUMPABLE = 4
+
+
+def _load_core(path: str) -> object:
+    """The Rust extension (``skillwright._core``), from its file: the child has none of
+    skillwright's Python package, only this."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("_core", path)
+    if spec is None or spec.loader is None:
+        raise ImportError(f"cannot load the Rust extension from {path}")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _send_credentials(sock: socket.socket, data: bytes) -> None:
+    """Sends ``data`` with this process's credentials, which the kernel translates into
+    the receiver's view (its process id as the host sees it)."""
+    import struct
+
+    credentials = struct.pack("3i", os.getpid(), os.getuid(), os.getgid())
+    sock.sendmsg([data], [(socket.SOL_SOCKET, socket.SCM_CREDENTIALS, credentials)])
+
+
+def _zygote(control_fd: int, setup: dict) -> None:
     """Serves fork requests until the host closes the connection; never returns."""
     import ctypes
     import importlib
     import json
 
     libc = ctypes.CDLL(None, use_errno=True)
-    pr_set_pdeathsig = 1
-    libc.prctl(pr_set_pdeathsig, signal.SIGKILL, 0, 0, 0)
+    libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    drop_to = setup.get("drop_to")
+    if drop_to is not None and os.getuid() == 0:
+        # Root only in the sandbox's user namespace, mapped for bubblewrap's set-up: become
+        # nobody (in the namespace and on the host) before anything else is loaded.
+        os.setgroups([])
+        os.setgid(int(drop_to))
+        os.setuid(int(drop_to))
+    # Neither the fork server's memory nor its children's can be read or written through
+    # /proc by a process of the same user.
+    libc.prctl(_PR_SET_DUMPABLE, 0, 0, 0, 0)
+    core = _load_core(str(setup["core"]))
     for name in _PRELOAD:
         importlib.import_module(name)
     control = socket.socket(fileno=control_fd)
+    _send_credentials(control, b"ready")
     while True:
         try:
-            data, fds, _, _ = socket.recv_fds(control, 65536, 1)
+            data, fds, _, _ = socket.recv_fds(control, 65536, 2)
         except OSError:
             os._exit(0)
         if not data:
             os._exit(0)
         request = json.loads(data)
-        if request.get("op") == "fork" and len(fds) == 1:
+        if request.get("op") == "fork" and len(fds) == 2:
             pid = os.fork()
             if pid == 0:
                 control.close()
-                _forked(fds[0], str(request["temp"]))
-            os.close(fds[0])
+                _forked(fds[0], fds[1], request, setup, core, libc)
+            for fd in fds:
+                os.close(fd)
             reply: dict = {"pid": pid}
         elif request.get("op") == "reap":
             reply = _reap(int(request["pid"]))
@@ -286,26 +265,45 @@ def _zygote(control_fd: int) -> None:
         control.sendall(json.dumps(reply).encode("utf-8"))
 
 
-def _forked(fd: int, temp: str) -> None:
-    """A child of the fork server: its own session, folder and output; never returns."""
+def _forked(fd: int, output: int, request: dict, setup: dict, core: object, libc: object) -> None:
+    """A child of the fork server: its own session, output, scratch folder and kernel
+    confinement, then the skill; never returns."""
     try:
         os.setsid()
-        os.chdir(temp)
-        output = os.open(os.path.join(temp, "child-output.txt"), os.O_WRONLY | os.O_CREAT, 0o600)
         os.dup2(output, 1)
         os.dup2(output, 2)
         os.close(output)
-        os.environ["HOME"] = temp
-        os.environ["TMPDIR"] = temp
-        # The same command line as a child the host starts itself.
-        sys.argv[1:] = [str(fd), temp]
-        _child(fd, temp)
+        sock = socket.socket(fileno=fd)
+        _send_credentials(sock, b"\0")
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)  # type: ignore[attr-defined]
+        scratch = str(request["scratch"])
+        if request.get("make"):
+            os.mkdir(scratch, 0o700)
+        os.chdir(scratch)
+        os.environ["HOME"] = scratch
+        os.environ["TMPDIR"] = scratch
+        confined = core.confine_child(  # type: ignore[attr-defined]
+            os.getpid(), list(setup["readable"]), [scratch, "/dev/null"], not setup["isolated"]
+        )
+        isolation = {
+            "landlock": str(confined["landlock"]),
+            "seccomp": ", ".join(
+                confined["seccomp"]
+                if not setup["isolated"]
+                else ["base", "fallbacks", *confined["seccomp"]]
+            ),
+            "uid": str(os.getuid()),
+        }
+        _child(sock, scratch, isolation)
     finally:
         os._exit(4)
 
 
 def _reap(pid: int) -> dict:
-    """Waits for a child (the host has killed it) and says how it ended."""
+    """Kills a child (the host has killed it already, unless the child never told the host
+    who it is), waits for it and says how it ended."""
+    with contextlib.suppress(OSError):
+        os.kill(pid, signal.SIGKILL)
     try:
         _, status, usage = os.wait4(pid, 0)
     except ChildProcessError:

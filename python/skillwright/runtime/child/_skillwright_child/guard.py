@@ -1,16 +1,19 @@
-"""An audit hook (PEP 578) that refuses what a skill has no business doing.
+"""An audit hook (PEP 578) that reports what a skill has no business doing, at its line.
 
 Refused: starting programs or processes (``os.system``, ``subprocess``, ``os.fork``,
 ``os.exec*``, ``os.posix_spawn``, ...), loading native code (``ctypes``), opening
 internet sockets and resolving host names, signalling other processes, writing,
-renaming or deleting anything outside the run's temporary folder, and reading files
+renaming or deleting anything outside the run's scratch folder, and reading files
 outside the Python standard library, the child's own code and that folder.
 
-An audit hook is not a security boundary: native code can get around it, which is why
-``ctypes`` and ``_posixsubprocess`` cannot be imported and why the kernel limits of
-``boot.py`` (network and PID namespaces, rlimits, the process group the host kills)
-stay in force underneath. This hook makes the common cases fail early, inside the
-skill, with a message and a line.
+This hook is the sandbox's reporter, not its boundary: Python code in the same process
+can switch it off (it is an object like any other). What keeps the host safe is below
+Python, set up before the skill's code runs: bubblewrap's user, mount, PID and network
+namespaces and its read-only root, seccomp, and the child's own Landlock and seccomp
+programs (``skillwright.runtime.isolation``, ``boot.py``). Those refuse the same actions
+whether or not this hook is there; the hook turns the common ones into a
+``SandboxViolation`` at the skill's line, which the repair loop can act on, instead of an
+``OSError`` from deep inside a library.
 """
 
 from __future__ import annotations
