@@ -13,10 +13,9 @@
    shared machine depends on what else runs); per skill, the whole
    validation time (``validate_skill`` from its start to the verdicts: scenarios read,
    worlds built, children started, runs, oracles). Compared, skill by skill in the same
-   run, with the previous behaviour: every sensor message made and every recorded topic
-   replayed whether or not the skill subscribes (the scenario setting ``traffic: all``)
-   and each child a fresh interpreter (``ChildPool(fork=False)``) instead of a fork of the
-   pool's fork server. Both must reach the same verdicts. Each build validates the nine
+   run, with the alternative of no kernel sandbox (``ChildPool(isolated=False)``, what
+   ``--unsafe-no-isolation`` runs): what bubblewrap's namespaces, the read-only root,
+   Landlock and seccomp cost. Both must reach the same verdicts. Each build validates the nine
    skills with one pool of children (as a caller validating several skills should); the
    start of a fork server, which a validation with its own pool waits for, is printed too.
 
@@ -100,30 +99,17 @@ class _Validation:
     cpu: float
 
 
-def _validate(skill: Path, inventory: object, previous: bool, children: Any) -> _Validation:
+def _validate(skill: Path, inventory: object, children: Any) -> _Validation:
     from skillwright.capability.reader import load_capability
-    from skillwright.sim.scenario import scenarios_for
     from skillwright.sim.validate import validate_skill
 
     model = ROOT / "capabilities" / f"{skill.stem.replace('_', '-')}.ttl"
     capability = load_capability(model).capability
-    chosen = None
-    if previous:
-        shipped = scenarios_for(capability)
-        chosen = shipped.model_copy(
-            update={
-                "scenarios": [
-                    s.model_copy(update={"runtime": {**s.runtime, "traffic": "all"}})
-                    for s in shipped.scenarios
-                ]
-            }
-        )
     cpu_started = time.process_time()
     report = validate_skill(
         skill,
         capability,
         inventory,  # type: ignore[arg-type]
-        scenarios=chosen,
         plot=False,
         children=children,
     )
@@ -166,27 +152,26 @@ def part_two() -> None:
     from skillwright.runtime.sandbox import ChildPool
 
     print(
-        "\n2. whole validations of the nine MR-1 skills: this build (messages made only for "
-        "subscribers,\n   children forked from a fork server) against the previous behaviour "
-        "(traffic: all, a fresh\n   interpreter per child), skill by skill in the same run; "
-        "each build validates the nine\n   skills with one pool of children, as a session "
-        "validating several skills does"
+        "\n2. whole validations of the nine MR-1 skills: in the kernel sandbox (namespaces, "
+        "read-only root,\n   Landlock, seccomp) against without it (--unsafe-no-isolation), "
+        "skill by skill in the same run;\n   each validates the nine skills with one pool of "
+        "children, as a session validating several\n   skills does"
     )
     inventory = discover_path(ROOT / "capabilities" / "recordings" / "mr1")
     skills = sorted((ROOT / "capabilities" / "skills").glob("*.py"))
     now: dict[str, _Validation] = {}
     before: dict[str, _Validation] = {}
-    with ChildPool() as new_pool, ChildPool(fork=False) as old_pool:
+    with ChildPool() as new_pool, ChildPool(isolated=False) as old_pool:
         # The first validation in a process imports MuJoCo and reads the recording, and
-        # each pool starts its fork server or its first child: warm up.
-        _validate(skills[0], inventory, False, new_pool)
-        _validate(skills[0], inventory, True, old_pool)
+        # each pool starts its fork server: warm up.
+        _validate(skills[0], inventory, new_pool)
+        _validate(skills[0], inventory, old_pool)
         for skill in skills:
-            before[skill.stem] = _validate(skill, inventory, True, old_pool)
-            now[skill.stem] = _validate(skill, inventory, False, new_pool)
+            before[skill.stem] = _validate(skill, inventory, old_pool)
+            now[skill.stem] = _validate(skill, inventory, new_pool)
     print(
         f"   {'skill / scenario':46s} {'virtual':>8s} {'wall':>7s} {'x wall':>7s} "
-        f"{'x cpu':>6s} | {'previous':>8s} {'x wall':>7s} {'x cpu':>6s} | {'ratio':>6s} same"
+        f"{'x cpu':>6s} | {'no sandbox':>8s} {'x wall':>7s} {'x cpu':>6s} | {'ratio':>6s} same"
     )
     sums = [0.0] * 5
     for skill in skills:
@@ -203,15 +188,15 @@ def part_two() -> None:
     virtual, wall, cpu, old_wall, old_cpu = sums
     print(
         f"\n   all scenarios: {virtual:.1f} s virtual; {wall:.2f} s wall ({virtual / wall:.1f}x "
-        f"real time), {cpu:.2f} s CPU ({virtual / cpu:.1f}x); previous {old_wall:.2f} s wall "
-        f"({virtual / old_wall:.1f}x), {old_cpu:.2f} s CPU ({virtual / old_cpu:.1f}x); wall "
-        f"ratio {old_wall / wall:.2f}x"
+        f"real time), {cpu:.2f} s CPU ({virtual / cpu:.1f}x); without the sandbox "
+        f"{old_wall:.2f} s wall ({virtual / old_wall:.1f}x), {old_cpu:.2f} s CPU "
+        f"({virtual / old_cpu:.1f}x); the sandbox costs {wall / old_wall:.2f}x the wall time"
     )
     print(
         "\n   validation time per skill (validate_skill from start to verdicts; CPU of this "
         "process and the children)"
     )
-    print(f"   {'skill':32s} {'wall':>7s} {'cpu':>7s} | {'previous':>8s} {'cpu':>7s} | ratio")
+    print(f"   {'skill':32s} {'wall':>7s} {'cpu':>7s} | {'no sandbox':>8s} {'cpu':>7s} | ratio")
     totals = [0.0] * 4
     for skill in skills:
         new, old = now[skill.stem], before[skill.stem]
