@@ -106,6 +106,7 @@ def main() -> None:
         _row("  sandbox start-up to the first state", startup, f"{startup / floor:.1f}x the floor")
         _row("  trivial skill, whole run", wall, f"{wall / floor:.1f}x the floor")
         _row("  child CPU per run", statistics.median(cpus))
+    _layers()
     print(
         f"{'the kernel sandbox costs a trivial run':46s} {trivial[True] / trivial[False]:8.2f}x "
         "(target <= 1.5x; <= 1 s of overhead per run: "
@@ -136,6 +137,56 @@ def main() -> None:
     print(
         f"{'all':26s} {virtual:7.2f}s {wall:7.2f}s {virtual / wall:6.1f}x {old_wall:9.2f}s "
         f"{virtual / old_wall:6.1f}x {wall / old_wall:5.2f}x (target >= 20x real time)"
+    )
+
+
+def _fork_server_start(isolated: bool) -> float:
+    """Wall seconds from starting a fork server to its first word."""
+    from skillwright.runtime.sandbox import ForkServer
+
+    started = time.perf_counter()
+    server = ForkServer(isolated=isolated)
+    server.wait_ready()
+    wall = time.perf_counter() - started
+    server.close()
+    return wall
+
+
+def _confinement() -> float:
+    """Seconds a just-forked process takes to confine itself (Landlock and the three
+    seccomp programs, as a child does without bubblewrap's base already loaded)."""
+    import json
+    import os
+
+    from skillwright._core import confine_child
+    from skillwright.runtime.isolation import layout
+
+    readable = layout().readable()
+    read_end, write_end = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        started = time.perf_counter()
+        confine_child(os.getpid(), readable, ["/dev/null"], True)
+        os.write(write_end, json.dumps(time.perf_counter() - started).encode())
+        os._exit(0)
+    os.close(write_end)
+    seconds = float(json.loads(os.read(read_end, 64)))
+    os.close(read_end)
+    os.waitpid(pid, 0)
+    return seconds
+
+
+def _layers() -> None:
+    """What each layer of the sandbox costs: bubblewrap (namespaces, the read-only root,
+    the user map, the base seccomp programs) once per fork server, and a child's own
+    confinement once per run."""
+    with_bwrap = statistics.median(_fork_server_start(True) for _ in range(ROUNDS))
+    without = statistics.median(_fork_server_start(False) for _ in range(ROUNDS))
+    _row("fork server start in bubblewrap (once a pool)", with_bwrap)
+    _row("  without it", without, f"bubblewrap adds {(with_bwrap - without) * 1000:.1f} ms")
+    _row(
+        "a child's Landlock + seccomp (once a run)",
+        statistics.median(_confinement() for _ in range(ROUNDS)),
     )
 
 

@@ -125,3 +125,10 @@ def test_a_wait_too_short_for_the_motion_gets_a_measured_timeout(tmp_path: Path)
         result.stdout
     )
     assert skill.read_text(encoding="utf-8") == drive(1.0)  # advice only: the file stays
+
+
+def test_a_folder_for_the_skill_says_so(tmp_path: Path) -> None:
+    result = CliRunner().invoke(main, ["run", str(tmp_path), "--interfaces", str(MR1_RECORDING)])
+
+    assert result.exit_code == 2
+    assert f"skill file {tmp_path}: is a folder; give the skill's .py file" in result.output

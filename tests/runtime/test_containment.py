@@ -398,7 +398,7 @@ def test_the_sandbox_root_holds_only_what_a_skill_needs(
         assert status["Uid"].split() == ["65534"] * 4, "and is nobody on the host too"
     else:
         assert ids[0] == os.getuid()
-    for capabilities in ("CapPrm", "CapEff", "CapAmb"):
+    for capabilities in ("CapInh", "CapPrm", "CapEff", "CapBnd", "CapAmb"):
         assert int(status[capabilities], 16) == 0
     assert status["NoNewPrivs"] == "1"
     assert status["Seccomp"] == "2"

@@ -362,7 +362,8 @@ def bwrap_arguments(root: Layout, *, as_root: bool) -> list[str]:
 
     ``as_root``: the host runs as root; the caller then writes the user namespace's map
     (``--userns-block-fd``, ``--info-fd``, which it adds) and the fork server drops to
-    :data:`NOBODY` itself, with the two capabilities it needs for that until then.
+    :data:`NOBODY` itself, with the three capabilities it needs for that until then (and
+    drops those with it).
     """
     arguments = [
         "--unshare-user",
@@ -379,6 +380,7 @@ def bwrap_arguments(root: Layout, *, as_root: bool) -> list[str]:
     ]
     if as_root:
         arguments += ["--cap-add", "CAP_SETUID", "--cap-add", "CAP_SETGID"]
+        arguments += ["--cap-add", "CAP_SETPCAP"]
     # The folders above what is bound are made by bubblewrap; it would copy the host's
     # modes (``/root`` is 0700), which would lock an unprivileged user out of its own root.
     links = {link for link, _ in root.links}

@@ -217,6 +217,27 @@ def _send_credentials(sock: socket.socket, data: bytes) -> None:
     sock.sendmsg([data], [(socket.SOL_SOCKET, socket.SCM_CREDENTIALS, credentials)])
 
 
+_PR_CAPBSET_DROP = 24
+_CAPABILITY_VERSION_3 = 0x20080522
+
+
+def _drop_privileges(libc: object, user: int) -> None:
+    """Becomes ``user`` with no capability left in any set: the bounding set emptied (with
+    CAP_SETPCAP, which bubblewrap left for this), then the ids changed (which empties the
+    permitted and effective sets), then the inheritable set cleared."""
+    import ctypes
+
+    for capability in range(64):
+        libc.prctl(_PR_CAPBSET_DROP, capability, 0, 0, 0)  # type: ignore[attr-defined]
+    os.setgroups([])
+    os.setgid(user)
+    os.setuid(user)
+    header = (ctypes.c_uint32 * 2)(_CAPABILITY_VERSION_3, 0)
+    data = (ctypes.c_uint32 * 6)()
+    if libc.capset(header, data) != 0:  # type: ignore[attr-defined]
+        raise OSError(ctypes.get_errno(), "capset: the inheritable capabilities stay")
+
+
 def _zygote(control_fd: int, setup: dict) -> None:
     """Serves fork requests until the host closes the connection; never returns."""
     import ctypes
@@ -229,9 +250,7 @@ def _zygote(control_fd: int, setup: dict) -> None:
     if drop_to is not None and os.getuid() == 0:
         # Root only in the sandbox's user namespace, mapped for bubblewrap's set-up: become
         # nobody (in the namespace and on the host) before anything else is loaded.
-        os.setgroups([])
-        os.setgid(int(drop_to))
-        os.setuid(int(drop_to))
+        _drop_privileges(libc, int(drop_to))
     # Neither the fork server's memory nor its children's can be read or written through
     # /proc by a process of the same user.
     libc.prctl(_PR_SET_DUMPABLE, 0, 0, 0, 0)
