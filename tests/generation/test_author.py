@@ -16,10 +16,10 @@ from skillwright.generation.model import InterfaceRef, Skeleton
 from skillwright.generation.skeleton import build_skeleton, topic_role
 from skillwright.interfaces.inventory import Inventory
 from skillwright.interfaces.load import load_inventory
+from skillwright.rules.finding import Finding
 from skillwright.spec.loader import load_spec
 from skillwright.spec.model import SkillSpec
 from skillwright.validation.catalog import catalog_from_inventory
-from skillwright.validation.model import Finding
 from skillwright.validation.static import check_skill
 from tests.conftest import SHIPPED_CAPABILITIES
 from tests.fixtures.scripted import MethodScript

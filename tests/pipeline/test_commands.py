@@ -106,8 +106,8 @@ def test_the_default_output_folder_is_named_after_the_skill(
 
 def test_line_numbers_in_findings_are_printed_as_numbers_not_emoji(tmp_path: Path) -> None:
     from skillwright.console import out_console
+    from skillwright.rules.finding import Finding
     from skillwright.validation.commands import print_findings
-    from skillwright.validation.model import Finding
 
     console = out_console()
     with console.capture() as captured:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from skillwright.rules.run import RUN_QOS, RUN_TOPIC_UNKNOWN
 from skillwright.runtime import recorder as recorder_module
 from skillwright.runtime.recorder import Recorder, abbreviate
 
@@ -27,9 +28,9 @@ def test_entries_beyond_the_limit_are_counted_not_kept(monkeypatch: object) -> N
 def test_the_same_finding_is_kept_once_at_the_latest_line_by_default() -> None:
     recorder = Recorder()
     recorder.line = 12
-    recorder.finding("run.topic", "no such topic")
-    recorder.finding("run.topic", "no such topic", line=12)
-    recorder.finding("run.qos", "best effort", severity="warning")
+    recorder.finding(RUN_TOPIC_UNKNOWN, "no such topic")
+    recorder.finding(RUN_TOPIC_UNKNOWN, "no such topic", line=12)
+    recorder.finding(RUN_QOS, "best effort", severity="warning")
     assert [(f.check, f.line, f.severity) for f in recorder.findings] == [
         ("run.topic", 12, "error"),
         ("run.qos", 12, "warning"),

@@ -18,7 +18,7 @@ from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime.report import RunReport
 from skillwright.runtime.run import run_skill
 from skillwright.runtime.sandbox import CHILD_ROOT
-from skillwright.runtime.session import compiled, gave_up
+from skillwright.runtime.session import compiled
 from tests.runtime.conftest import SKILLS, quick
 
 HEAD = """import os
@@ -430,22 +430,24 @@ def test_the_host_compiles_a_skill_once_as_the_child_would() -> None:
 
 
 @pytest.mark.parametrize(
-    ("message", "parsed"),
+    ("raised", "data"),
     [
         (
-            "execute raised RuntimeError: not turned within 2 s; it gave up after 2 s while "
-            "the base was still moving: its timeout was too short",
-            ("execute", 2.0, "execute raised RuntimeError: not turned within 2 s"),
+            "RuntimeError('not turned within 2 s')",
+            {"state": "execute", "type": "RuntimeError", "seconds": 2.0},
         ),
         (
-            "starting raised RuntimeError: no odometry on /odom within 0.5 s",
-            ("starting", 0.5, "starting raised RuntimeError: no odometry on /odom within 0.5 s"),
+            "RuntimeError('no odometry on /odom within 0.5 s')",
+            {"state": "execute", "type": "RuntimeError", "seconds": 0.5},
         ),
-        ("execute raised ValueError: not a number", None),
-        ("nothing arrived on /odom within 2 s", None),
+        ("ValueError('not a number')", {"state": "execute", "type": "ValueError"}),
     ],
 )
-def test_a_finding_of_a_wait_that_gave_up_names_its_state_and_seconds(
-    message: str, parsed: tuple[str, float, str] | None
+def test_a_raised_state_says_in_its_data_how_long_its_wait_gave_up_after(
+    mr1_inventory: Inventory, raised: str, data: dict[str, object]
 ) -> None:
-    assert gave_up(message) == parsed
+    report, _ = run(mr1_inventory, f"        raise {raised}")
+
+    [finding] = [f for f in report.findings if f.check == "run.exception"]
+    assert {k: finding.data.get(k) for k in data} == data
+    assert "seconds" in finding.data or "seconds" not in data

@@ -69,4 +69,4 @@ def test_a_shipped_skill_has_every_state_its_spec_names() -> None:
 def test_sources_without_a_runnable_skill_say_why(source: str, check: str, line: int) -> None:
     with pytest.raises(SkillSourceError) as raised:
         read_skill(source)
-    assert (raised.value.check, raised.value.line) == (check, line)
+    assert (raised.value.rule.group, raised.value.line) == (check, line)

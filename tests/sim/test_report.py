@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
+from skillwright.rules.finding import Finding
 from skillwright.sim.oracles import Verdict
 from skillwright.sim.report import EpisodeVerdicts, ScenarioReport, ValidationReport
-from skillwright.validation.model import Finding
 
 
 def _verdict(oracle: str, passed: bool | None) -> Verdict:

@@ -130,7 +130,7 @@ def _with_behaviour(record: GenerationRecord) -> GenerationRecord:
         SimulationRecord,
         VerdictRecord,
     )
-    from skillwright.validation.model import Finding
+    from skillwright.rules.finding import Finding
 
     ran = Finding(check="run.exception", severity="error", line=40, message="ValueError here")
     judged = Finding(check="behaviour.output", severity="error", line=30, message="off by 0.3")

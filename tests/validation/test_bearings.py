@@ -10,8 +10,8 @@ from types import SimpleNamespace
 import pytest
 
 from skillwright.generation.skeleton import _CLOSEST_READING
+from skillwright.rules.finding import Finding
 from skillwright.validation.bearings import check_bearings
-from skillwright.validation.model import Finding
 
 HEADER = "import math\n\n\nclass Skill:\n" + "\n".join(_CLOSEST_READING) + "\n\n"
 

@@ -7,8 +7,8 @@ import textwrap
 
 import pytest
 
+from skillwright.rules.finding import Finding
 from skillwright.validation.frames import check_frames
-from skillwright.validation.model import Finding
 
 
 def _frames(execute: str) -> tuple[str, list[Finding]]:

@@ -6,8 +6,8 @@ import ast
 
 import pytest
 
+from skillwright.rules.finding import Finding
 from skillwright.validation.grace import check_grace, stated_seconds
-from skillwright.validation.model import Finding
 
 
 @pytest.mark.parametrize(

@@ -7,8 +7,8 @@ import textwrap
 
 import pytest
 
+from skillwright.rules.finding import Finding
 from skillwright.validation.loops import check_waits
-from skillwright.validation.model import Finding
 
 HEAD = """
 class Skill:

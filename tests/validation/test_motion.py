@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from skillwright.capability import Capability
+from skillwright.rules.finding import Finding
 from skillwright.spec import SkillSpec
-from skillwright.validation.model import Finding
 from skillwright.validation.static import check_skill
 from tests.validation.test_static import CATALOG, GOOD
 

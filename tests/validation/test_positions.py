@@ -7,7 +7,7 @@ import textwrap
 
 import pytest
 
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding
 from skillwright.validation.positions import check_filtered_positions
 from tests.validation.test_loops import skill_class
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding
 from skillwright.validation.stale import check_stale_conditions
 from tests.validation.test_loops import HEAD as LOOPS_HEAD
 from tests.validation.test_loops import skill_class

@@ -7,7 +7,7 @@ import textwrap
 
 import pytest
 
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding
 from skillwright.validation.stops import check_stops
 
 HEAD = """

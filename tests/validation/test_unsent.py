@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding
 from skillwright.validation.unsent import check_unsent
 from tests.validation.test_loops import skill_class
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import ast
 import textwrap
 
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding
 from skillwright.validation.views import check_views
 
 HEADER = """\

@@ -55,8 +55,8 @@ from skillwright.generation.conversation import (
 from skillwright.generation.guard import RepetitionGuard
 from skillwright.generation.model import Attempt, AttemptFinish, InterfaceRef, Skeleton
 from skillwright.llm.base import GenerationOptions, TextGenerator
+from skillwright.rules.finding import Finding
 from skillwright.spec.model import SkillSpec
-from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
 from skillwright.validation.static import local_name
 

@@ -37,7 +37,7 @@ from skillwright.pipeline.record import (
     SimulationRecord,
     VerdictRecord,
 )
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding
 
 if TYPE_CHECKING:
     from skillwright.capability.model import Capability

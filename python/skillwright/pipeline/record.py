@@ -16,7 +16,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from skillwright.errors import FileFormatError, InputFileError, InputFileNotFoundError
 from skillwright.generation.model import Attempt
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding
 
 __all__ = [
     "RECORD_SCHEMA_VERSION",

@@ -68,8 +68,9 @@ if TYPE_CHECKING:
     from skillwright.llm.config import Registry
     from skillwright.retrieval.rerank import Reranking
     from skillwright.retrieval.retrieve import Embedder, Hit
+    from skillwright.rules.finding import Finding
     from skillwright.spec.model import SkillSpec
-    from skillwright.validation.model import CheckReport, Finding
+from skillwright.validation.model import CheckReport
 
 __all__ = ["GenerationRequest", "Outcome", "RetrievalResult", "retrieve", "run_generation"]
 

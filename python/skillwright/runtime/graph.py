@@ -26,6 +26,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
+from skillwright.rules.run import (
+    RUN_ACTION_UNKNOWN,
+    RUN_QOS,
+    RUN_SERVICE_UNKNOWN,
+    RUN_TOPIC_UNKNOWN,
+    RUN_TYPE,
+    WORLD_REPORT,
+)
 from skillwright.runtime.api import (
     STATUS_NAMES,
     ActionGoal,
@@ -421,7 +429,13 @@ class GraphHost:
         self, check: str, message: str, severity: str = "error", line: int | None = None
     ) -> None:
         """A finding of the world; ``line`` defaults to the skill's latest call's line."""
-        self._recorder.finding(f"world.{check}", message, line=line, severity=severity)
+        self._recorder.finding(
+            WORLD_REPORT,
+            f"{check}: {message}",
+            line=line,
+            severity="warning" if severity == "warning" else "error",
+            data={"check": check},
+        )
 
     def record(self, kind: str, data: dict[str, Any]) -> None:
         """A trace entry of the world."""
@@ -693,13 +707,13 @@ class GraphHost:
                     endpoint.name, list(self._topics)
                 )
             self._recorder.finding(
-                "run.topic", f"{verb} {endpoint.name}: {problem}", line=endpoint.line
+                RUN_TOPIC_UNKNOWN, f"{verb} {endpoint.name}: {problem}", line=endpoint.line
             )
             endpoint.connected = endpoint.kind == "publisher"
             return
         if endpoint.type_name != info.type_name:
             self._recorder.finding(
-                "run.type",
+                RUN_TYPE,
                 f"{verb} {endpoint.name} with {endpoint.type_name}, but its type is "
                 f"{info.type_name}: "
                 + (
@@ -716,7 +730,7 @@ class GraphHost:
             wanted_latched = endpoint.qos.get("durability") == "transient_local"
             if wanted_reliable and info.reliability == "best_effort":
                 self._recorder.finding(
-                    "run.qos",
+                    RUN_QOS,
                     f"subscribes to {endpoint.name} as reliable (an int depth means reliable), but "
                     "the robot publishes it best-effort, so no message will arrive: subscribe "
                     "with rclpy.qos.qos_profile_sensor_data or a best-effort QoSProfile",
@@ -725,7 +739,7 @@ class GraphHost:
                 endpoint.connected = False
             elif wanted_latched and info.durability == "volatile":
                 self._recorder.finding(
-                    "run.qos",
+                    RUN_QOS,
                     f"subscribes to {endpoint.name} as transient-local, but the robot publishes it "
                     "volatile, so no message will arrive: use a volatile QoS",
                     line=endpoint.line,
@@ -744,12 +758,14 @@ class GraphHost:
                 + self._suggest(endpoint.name, list(known))
             )
             self._recorder.finding(
-                f"run.{kind}", f"creates {what} {endpoint.name}: {problem}", line=endpoint.line
+                (RUN_SERVICE_UNKNOWN if kind == "service" else RUN_ACTION_UNKNOWN),
+                f"creates {what} {endpoint.name}: {problem}",
+                line=endpoint.line,
             )
             endpoint.connected = False
         elif robot_type != endpoint.type_name:
             self._recorder.finding(
-                "run.type",
+                RUN_TYPE,
                 f"creates {what} {endpoint.name} with {endpoint.type_name}, "
                 f"but its type is {robot_type}",
                 line=endpoint.line,

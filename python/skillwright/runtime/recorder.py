@@ -10,7 +10,8 @@ from __future__ import annotations
 import math
 from typing import Any, Final
 
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding, Severity
+from skillwright.rules.registry import Rule
 
 __all__ = ["MAX_ENTRIES", "Recorder", "abbreviate"]
 
@@ -62,22 +63,22 @@ class Recorder:
 
     def finding(
         self,
-        check: str,
+        rule: Rule,
         message: str,
         *,
         line: int | None = None,
-        severity: str = "error",
+        severity: Severity | None = None,
         stack: tuple[int, ...] = (),
+        data: dict[str, object] | None = None,
     ) -> None:
-        """Adds a finding (once: the same check, line and message are kept once); ``stack``
-        holds the lines of the calls that led to ``line``, outermost first."""
-        finding = Finding(
-            check=check,
-            severity="warning" if severity == "warning" else "error",
+        """Adds a finding of ``rule`` (once: the same rule, line and message are kept once);
+        ``stack`` holds the lines of the calls that led to ``line``, outermost first."""
+        finding = rule.finding(
             line=self.line if line is None else max(0, int(line)),
-            column=0,
             message=message,
+            severity=severity,
             stack=stack,
+            data=data,
         )
         if finding not in self.findings:
             self.findings.append(finding)

@@ -7,7 +7,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding
 
 __all__ = ["EpisodeTrace", "RunProgress", "RunReport", "RunTrace", "StateRun"]
 

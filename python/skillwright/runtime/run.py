@@ -16,6 +16,17 @@ from typing import Any, Final
 
 from skillwright.errors import InputFileError, InputFileNotFoundError, InvalidArgumentError
 from skillwright.interfaces.inventory import Inventory
+from skillwright.rules.finding import Finding
+from skillwright.rules.run import (
+    RUN_COMMAND_STILL_MOVING,
+    RUN_EXPECTATION,
+    RUN_GOAL_LEFT_ACTIVE,
+    RUN_INPUT_GETTER,
+    RUN_INPUT_UNREAD,
+    RUN_NO_DATA,
+    RUN_OUTPUT_UNSET,
+    RUN_THREAD,
+)
 from skillwright.runtime.api import WorldPlugin
 from skillwright.runtime.recorder import Recorder
 from skillwright.runtime.report import EpisodeTrace, RunProgress, RunReport, RunTrace
@@ -24,7 +35,6 @@ from skillwright.runtime.scenario import RunScenario
 from skillwright.runtime.session import Episode, EpisodePlan, EpisodeResult
 from skillwright.runtime.skillinfo import SkillInfo, SkillSourceError, read_skill
 from skillwright.runtime.typesys import MOTION_TYPES, is_zero_motion, registry_for
-from skillwright.validation.model import Finding
 
 __all__ = ["MOTION_TYPES", "WorldSpec", "recording_files", "run_skill"]
 
@@ -124,7 +134,7 @@ def _inputs(
         shown[variable.name] = value
         if variable.attr is None:
             recorder.finding(
-                "run.input",
+                RUN_INPUT_GETTER,
                 f"the getter {variable.getter}() of input {variable.name} does not return an "
                 "attribute of the skill (`return self.<name>`), so the input cannot be set: "
                 "the skill runs with whatever the getter computes",
@@ -199,7 +209,7 @@ def run_skill(
     try:
         info = read_skill(source, str(path))
     except SkillSourceError as error:
-        finding = Finding(check=error.check, severity="error", line=error.line, message=str(error))
+        finding = error.rule.finding(line=error.line, message=str(error))
         return RunReport(findings=[finding], trace=trace)
     _check_scenario_names(scenario, inventory)
     setup = Recorder()
@@ -313,7 +323,7 @@ def _analyse(
         )
         for goal, line in result.goals_after.get(state, []):
             recorder.finding(
-                "run.motion",
+                RUN_GOAL_LEFT_ACTIVE,
                 f"after {state}, the goal sent to {goal.action} here is still active: cancel it "
                 "in the state (goal_handle.cancel_goal_async()) so the robot halts",
                 line=line,
@@ -324,14 +334,14 @@ def _analyse(
     for goal, line in graph.active_goals():
         if not goal.cancel_requested and _state(trace, "resetting") is not None:
             recorder.finding(
-                "run.motion",
+                RUN_GOAL_LEFT_ACTIVE,
                 f"the goal sent to {goal.action} here is still active at the end of the run; "
                 "stopping and resetting must cancel the goals they leave behind",
                 line=line,
             )
     for thread in result.threads:
         recorder.finding(
-            "run.thread",
+            RUN_THREAD,
             f"a thread started here ({thread.get('name')}) is still running after resetting; "
             "a skill must end the threads it starts, or they outlive it on the robot",
             line=int(thread.get("line") or 0),
@@ -343,7 +353,7 @@ def _analyse(
     if main and completed:
         if scenario.expect == "abort":
             recorder.finding(
-                "run.expectation",
+                RUN_EXPECTATION,
                 "the scenario expects the skill to abort"
                 + (f" ({scenario.description})" if scenario.description else "")
                 + ", but it completed",
@@ -352,7 +362,7 @@ def _analyse(
         for variable in info.outputs:
             if variable.attr is not None and variable.attr not in result.writes:
                 recorder.finding(
-                    "run.output",
+                    RUN_OUTPUT_UNSET,
                     f"output {variable.name} is never set: no state assigns self.{variable.attr}, "
                     "so the getter returns what __init__ put there",
                     line=variable.line,
@@ -364,7 +374,7 @@ def _analyse(
                 and variable.name in given
             ):
                 recorder.finding(
-                    "run.input",
+                    RUN_INPUT_UNREAD,
                     f"input {variable.name} is never read: no state uses self.{variable.attr}, "
                     "so the skill ignores the value it is given (a hard-coded value in its place?)",
                     line=variable.line,
@@ -373,7 +383,7 @@ def _analyse(
     if failed:
         for endpoint in graph.silent_subscriptions():
             recorder.finding(
-                "run.no_data",
+                RUN_NO_DATA,
                 f"nothing arrived on {endpoint.name} during the run: nobody publishes it here "
                 "(no recorded messages, no world); a skill that waits for it waits forever",
                 line=endpoint.line,
@@ -402,7 +412,7 @@ def _check_motion_after(
         if missing is not None:
             cause = "Stop" if state == "stopping" else "fault"
             recorder.finding(
-                "run.motion",
+                RUN_COMMAND_STILL_MOVING,
                 f"the skill has no {state} state, so after a {cause} the last command on "
                 f"{topic} (published at line {line}) keeps the base moving: add a @{state} "
                 "method that publishes a zero velocity",
@@ -410,7 +420,7 @@ def _check_motion_after(
             )
         else:
             recorder.finding(
-                "run.motion",
+                RUN_COMMAND_STILL_MOVING,
                 f"after {state}, the last command on {topic} still moves the base (published "
                 f"here): {state} must publish a zero velocity",
                 line=line,
@@ -424,7 +434,7 @@ def _check_left_moving(recorder: Recorder, graph: Any, marker: int) -> None:
         late = [m for m in messages if m[4] >= marker and not is_zero_motion(m[1])]
         if late:
             recorder.finding(
-                "run.motion",
+                RUN_COMMAND_STILL_MOVING,
                 f"after resetting, the skill still publishes non-zero commands on {topic} "
                 "(here): a timer or thread it started keeps driving the base; cancel it in "
                 "stopping and resetting",
@@ -434,7 +444,7 @@ def _check_left_moving(recorder: Recorder, graph: Any, marker: int) -> None:
         _, message, line, _, _ = messages[-1]
         if not is_zero_motion(message):
             recorder.finding(
-                "run.motion",
+                RUN_COMMAND_STILL_MOVING,
                 f"at the end of the run the last command on {topic} (published here) still moves "
                 "the base: resetting must leave it at zero",
                 line=line,

@@ -22,9 +22,25 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Final
 
 from skillwright.errors import GenerationCancelledError
+from skillwright.rules.run import (
+    RUN_BLOCKED,
+    RUN_BUSY,
+    RUN_CPU,
+    RUN_EXCEPTION,
+    RUN_FIELD,
+    RUN_IMPORT,
+    RUN_MEMORY,
+    RUN_PROCESS_DIED,
+    RUN_PROTOCOL,
+    RUN_SANDBOX,
+    RUN_STRUCTURE,
+    RUN_SYNTAX,
+    RUN_SYS_EXIT,
+    RUN_TIMEOUT,
+)
 from skillwright.runtime.graph import GraphHost
 from skillwright.runtime.isolation import layout
 from skillwright.runtime.protocol import ProtocolError, Wire
@@ -40,7 +56,7 @@ if TYPE_CHECKING:
     from skillwright.runtime.skillinfo import SkillInfo
     from skillwright.runtime.typesys import TypeRegistry
 
-__all__ = ["GAVE_UP_NOTE", "Episode", "EpisodePlan", "EpisodeResult", "gave_up"]
+__all__ = ["GAVE_UP_NOTE", "Episode", "EpisodePlan", "EpisodeResult"]
 
 _POLL_SECONDS = 0.05
 _GRACE_SECONDS = 5.0
@@ -65,7 +81,6 @@ _GAVE_UP = re.compile(
 RuntimeError names the action) or the model's own words ("not finished within 2 s")."""
 GAVE_UP_NOTE = "; it gave up after "
 """How the note begins that a run adds to a state's giving up while its motion was under way."""
-_STATE_RAISED = re.compile(r"^(?P<state>\w+) raised \w+: ")
 _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
 
@@ -152,17 +167,6 @@ class EpisodeResult:
     """State -> goals active and not being cancelled when it ended, with their lines."""
 
 
-def gave_up(message: str) -> tuple[str, float, str] | None:
-    """For the message of a run finding whose state raised because a wait gave up "within N
-    s": the state, N, and the message without the note on a motion still under way."""
-    raised = _STATE_RAISED.match(message)
-    head = message.split(GAVE_UP_NOTE, 1)[0]
-    wait = _GAVE_UP.search(head)
-    if raised is None or wait is None:
-        return None
-    return raised["state"], float(wait["timeout"]), head
-
-
 @lru_cache(maxsize=8)
 def compiled(source: str) -> str | None:
     """The skill's code as the child compiles it (the child's ``annotations`` future, no
@@ -183,6 +187,21 @@ def compiled(source: str) -> str | None:
     except (SyntaxError, ValueError, RecursionError, MemoryError, OverflowError):
         return None
     return base64.b64encode(marshal.dumps(code)).decode("ascii")
+
+
+_INTERRUPTED: Final = {"busy": RUN_BUSY, "blocked": RUN_BLOCKED, "cpu": RUN_CPU}
+"""The rule of a state the host interrupted, by why."""
+
+_CHILD_ERRORS: Final = {
+    "syntax": RUN_SYNTAX,
+    "import": RUN_IMPORT,
+    "field": RUN_FIELD,
+    "sandbox": RUN_SANDBOX,
+    "memory": RUN_MEMORY,
+    "exit": RUN_SYS_EXIT,
+    "structure": RUN_STRUCTURE,
+}
+"""The rule of an error the child reports, by its kind (anything else is RUN_EXCEPTION)."""
 
 
 def _signal_name(signum: int) -> str:
@@ -347,14 +366,14 @@ class Episode:
     def _kill(self, reason: str, message: str) -> None:
         self._result.trace.ended = "killed"
         state = self._recorder.state or "load"
-        check = "run.timeout" if reason == "run" else f"run.{self._interrupt_reason}"
-        self._recorder.finding(check, f"{state}: {message}")
+        rule = RUN_TIMEOUT if reason == "run" else _INTERRUPTED[self._interrupt_reason]
+        self._recorder.finding(rule, f"{state}: {message}", data={"state": state})
         self._end_state("killed", reason)
 
     def _protocol(self, message: str) -> None:
         self._result.trace.ended = "protocol"
         self._recorder.finding(
-            "run.protocol",
+            RUN_PROTOCOL,
             f"the sandboxed process broke the runtime's protocol ({message}); the skill may "
             "have written to the runtime's socket or replaced its modules",
         )
@@ -373,7 +392,7 @@ class Episode:
         seen = f"; the last line it reported was {line}" if line else ""
         tail = self._output_tail.strip()
         detail = f"; its last output: {tail[-300:]}" if tail else ""
-        self._recorder.finding("run.exit", f"the skill's process {how} {where}{seen}{detail}")
+        self._recorder.finding(RUN_PROCESS_DIED, f"the skill's process {how} {where}{seen}{detail}")
         self._end_state("killed", "crashed")
 
     def _kill_cause(self, child: SandboxProcess, signum: int) -> str:
@@ -535,11 +554,17 @@ class Episode:
             where = int(frames[-1][0]) if frames else recorder.line
             state = recorder.state or "load"
             if frame.get("reason") == "cpu":
-                check, message = "run.cpu", "it used up the CPU-time limit of the sandbox"
+                rule, message = RUN_CPU, "it used up the CPU-time limit of the sandbox"
             else:
-                check = f"run.{self._interrupt_reason}"
+                rule = _INTERRUPTED[self._interrupt_reason]
                 message = self._busy_message(frames)
-            recorder.finding(check, f"{state}: {message}", line=where, stack=_outer(frames))
+            recorder.finding(
+                rule,
+                f"{state}: {message}",
+                line=where,
+                stack=_outer(frames),
+                data={"state": state},
+            )
         elif op == "outputs":
             values = frame.get("values")
             if isinstance(values, dict):
@@ -602,16 +627,7 @@ class Episode:
         message = str(frame["message"])
         line = int(frame.get("line") or 0)
         self._recorder.record("error", phase=phase, type=type_name, message=message, line=line)
-        checks = {
-            "syntax": "run.syntax",
-            "import": "run.import",
-            "field": "run.field",
-            "sandbox": "run.sandbox",
-            "memory": "run.memory",
-            "exit": "run.exit",
-            "structure": "run.structure",
-        }
-        check = checks.get(kind, "run.exception")
+        rule = _CHILD_ERRORS.get(kind, RUN_EXCEPTION)
         if kind == "exit":
             text = (
                 f"{phase} called sys.exit ({message or 'no code'}): a skill must not end the "
@@ -634,7 +650,36 @@ class Episode:
             )
             text += self._still_running(message)
         frames = [f for f in frame.get("frames", []) if isinstance(f, list) and len(f) == 2]
-        self._recorder.finding(check, text, line=line, stack=_outer(frames))
+        self._recorder.finding(
+            rule,
+            text,
+            line=line,
+            stack=_outer(frames),
+            data=self._error_data(frame, phase, type_name, message)
+            if rule is RUN_EXCEPTION
+            else {},
+        )
+
+    def _error_data(
+        self, frame: dict[str, Any], phase: str, type_name: str, message: str
+    ) -> dict[str, object]:
+        """What a raised state's finding carries for the run's probes: the state, the
+        exception's type and text, the seconds a wait gave up after (the skeleton's helpers
+        and most hand-written waits say "within N s"), the motion still under way then, and
+        what the runtime's stand-ins add (tf2's missing frame and the frames it has)."""
+        data: dict[str, object] = {"state": phase, "type": type_name, "detail": message}
+        wait = _GAVE_UP.search(message)
+        if wait is not None:
+            data["seconds"] = float(wait["timeout"])
+            data["action"] = wait["action"]
+            data["under_way"] = self._motion_under_way(wait["action"])
+        extra = frame.get("data")
+        if isinstance(extra, dict):
+            if isinstance(extra.get("frame"), str):
+                data["frame"] = extra["frame"]
+            if isinstance(extra.get("frames"), list):
+                data["frames"] = [str(f) for f in extra["frames"]]
+        return data
 
     def _still_running(self, message: str) -> str:
         """What to add when a state gave up "within N s" while the motion it waited for was
@@ -750,9 +795,10 @@ class Episode:
                 reply["stop"] = "deadline"
                 reason = str(frame.get("reason") or "waiting")
                 self._recorder.finding(
-                    "run.timeout",
+                    RUN_TIMEOUT,
                     f"{state} did not return within {self._scenario.deadlines.state:g} s of "
                     f"virtual time; it was waiting at line {self._recorder.line} ({reason})",
+                    data={"state": state, "seconds": self._scenario.deadlines.state},
                 )
             else:
                 reply["stop"] = "deadline"

@@ -10,6 +10,8 @@ from __future__ import annotations
 import ast
 from dataclasses import dataclass, field
 
+from skillwright.rules.run import RUN_STRUCTURE, RUN_SYNTAX
+
 __all__ = ["SkillInfo", "SkillSourceError", "Variable", "read_skill"]
 
 _STATES = frozenset(
@@ -32,10 +34,11 @@ _STATES = frozenset(
 class SkillSourceError(ValueError):
     """The source has no skill to run; ``line`` says where the problem is (0: anywhere)."""
 
-    def __init__(self, message: str, line: int = 0, check: str = "run.structure") -> None:
+    def __init__(self, message: str, line: int = 0, *, syntax: bool = False) -> None:
         super().__init__(message)
         self.line = line
-        self.check = check
+        self.rule = RUN_SYNTAX if syntax else RUN_STRUCTURE
+        """The rule the run reports it under."""
 
 
 @dataclass(frozen=True)
@@ -123,7 +126,7 @@ def read_skill(source: str, filename: str = "skill.py") -> SkillInfo:
         tree = ast.parse(source, filename)
     except SyntaxError as error:
         raise SkillSourceError(
-            f"the file does not parse: {error.msg}", error.lineno or 0, "run.syntax"
+            f"the file does not parse: {error.msg}", error.lineno or 0, syntax=True
         ) from None
     for node in tree.body:
         if not isinstance(node, ast.ClassDef):

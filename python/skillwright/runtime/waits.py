@@ -33,23 +33,19 @@ the 1.5B model kept those numbers through every repair that said they were too s
 from __future__ import annotations
 
 import ast
-import re
 from collections.abc import Callable
 from typing import Any
 
 from skillwright.errors import OperationCancelledError, SkillwrightError
+from skillwright.rules.finding import Finding
+from skillwright.rules.run import RUN_EXCEPTION, RUN_SHORT_WAIT, RUN_TIMEOUT
 from skillwright.runtime.report import RunReport
-from skillwright.runtime.session import GAVE_UP_NOTE, gave_up
 from skillwright.runtime.typesys import is_zero_motion
-from skillwright.validation.model import Finding
 from skillwright.validation.timeouts import fixes, rounded_up, timeout_site, with_seconds
 from skillwright.validation.watch import diagnose, samples, watch_at, watched
 
 __all__ = ["MARGIN", "PROBE_SHARE", "probe_waits"]
 
-_MISSING_FRAME = re.compile(r"passed to lookupTransform argument \w+ does not exist")
-"""tf2's words for a frame its tree does not have (the sandbox adds the frames it has)."""
-_FRAMES_HAVE = re.compile(r"\(frames on /tf so far: ([^)]*)\)")
 PROBE_SHARE = 0.8
 """Share of the scenario's deadline per state that the second run allows the wait."""
 MARGIN = 3.0
@@ -65,14 +61,15 @@ def probe_waits(
     findings = list(report.findings)
     added: list[Finding] = []
     for index, finding in enumerate(report.findings):
-        if finding.check == "run.timeout":
+        if finding.code == RUN_TIMEOUT.code:
             findings[index] = _watched_timeout(finding, code, run)
             continue
-        parsed = gave_up(finding.message) if finding.check == "run.exception" else None
-        if parsed is None:
+        seconds = _gave_up_after(finding)
+        if seconds is None:
             continue
-        state, seconds, head = parsed
-        if _MISSING_FRAME.search(head):
+        state = str(finding.data["state"])
+        head = _head(finding)
+        if "frame" in finding.data:
             findings[index] = _missing_frame(finding, head, code)
             if findings[index].replacement is not None:
                 added += _other_map_lookups(findings[index], code)
@@ -91,7 +88,7 @@ def probe_waits(
         except SkillwrightError:
             continue  # the second run is advice: the first run's finding stands as it is
         if _gave_up_again(probe, finding.line):
-            moving = GAVE_UP_NOTE in finding.message
+            moving = finding.data.get("under_way") is not None
             seen = (
                 diagnose(watch, _samples(probe, state), moving=moving)
                 if watch is not None
@@ -127,13 +124,12 @@ def probe_waits(
             "the number against the real one)"
         )
         added += [
-            Finding(
-                check="run.short_wait",
-                severity="error",
+            RUN_SHORT_WAIT.finding(
                 line=line,
                 column=column,
                 message=message,
                 replacement=text,
+                data={"seconds": seconds, "timeout": allowed, "took": round(took, 3)},
             )
             for line, column, text in fixes(code, site, allowed)
         ]
@@ -141,6 +137,22 @@ def probe_waits(
         return report
     ordered = sorted([*findings, *added], key=lambda f: (f.line, f.check, f.message))
     return report.model_copy(update={"findings": ordered})
+
+
+def _gave_up_after(finding: Finding) -> float | None:
+    """The seconds after which the wait of a raised state gave up, for a run's finding of a
+    state that raised because a wait ran out."""
+    seconds = finding.data.get("seconds")
+    if finding.code != RUN_EXCEPTION.code or not isinstance(seconds, int | float):
+        return None
+    return float(seconds)
+
+
+def _head(finding: Finding) -> str:
+    """A raised state's finding as the run first put it (the state, the exception's type
+    and text), without what the run added of a motion still under way."""
+    data = finding.data
+    return f"{data['state']} raised {data['type']}: {data['detail']}"
 
 
 def _missing_frame(finding: Finding, head: str, code: str) -> Finding:
@@ -153,13 +165,12 @@ def _missing_frame(finding: Finding, head: str, code: str) -> Finding:
         f"{head}; the frame is not in the robot's tf tree, so no longer wait brings it: ask "
         "for one of the frames /tf has (named above)"
     )
-    have = _FRAMES_HAVE.search(head)
-    frames = set(have.group(1).split(", ")) if have else set()
+    frames = {str(f) for f in finding.data.get("frames", [])}
     # a helper's raise is reported with the state's call of it outermost in the stack
     at = finding.stack[0] if finding.stack else finding.line
     lines = code.splitlines()
     fixed = _in_odom(lines[at - 1]) if 0 < at <= len(lines) else None
-    if '"map" passed' not in head or "odom" not in frames or fixed is None:
+    if finding.data.get("frame") != "map" or "odom" not in frames or fixed is None:
         return finding.model_copy(update={"message": message})
     return finding.model_copy(
         update={
@@ -204,7 +215,7 @@ def _in_odom(text: str) -> str | None:
 def _watched_timeout(finding: Finding, code: str, run: Callable[[str], RunReport]) -> Finding:
     """``finding`` (a state that ran into the deadline in a loop), with what the loop's
     condition did on every pass of a second run, when that says why it never held."""
-    state = finding.message.split(" ", 1)[0]
+    state = str(finding.data.get("state", ""))
     watch = watch_at(code, finding.line, finding.stack)
     if watch is None:
         return finding
@@ -256,10 +267,7 @@ def _normal_events(probe: RunReport) -> list[dict[str, Any]]:
 
 
 def _gave_up_again(probe: RunReport, line: int) -> bool:
-    return any(
-        f.check == "run.exception" and f.line == line and gave_up(f.message) is not None
-        for f in probe.findings
-    )
+    return any(f.line == line and _gave_up_after(f) is not None for f in probe.findings)
 
 
 def _took(probe: RunReport, state: str) -> float | None:

@@ -7,8 +7,8 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from skillwright.rules.finding import Finding
 from skillwright.sim.oracles import Verdict
-from skillwright.validation.model import Finding
 
 __all__ = ["EpisodeVerdicts", "ScenarioReport", "ValidationProgress", "ValidationReport"]
 

@@ -29,6 +29,8 @@ from skillwright.capability.model import Capability
 from skillwright.errors import InputFileError
 from skillwright.fileio import write_atomic
 from skillwright.interfaces.inventory import Inventory
+from skillwright.rules.finding import Finding
+from skillwright.rules.simulation import simulation_rule
 from skillwright.runtime.sandbox import ChildPool
 from skillwright.sim.assets import resolve_world
 from skillwright.sim.bindings import Bindings, RecordedFacts, bind_interfaces, recorded_facts
@@ -41,7 +43,6 @@ from skillwright.sim.report import (
 )
 from skillwright.sim.scenario import Scenario, ScenarioSet, scenarios_for
 from skillwright.sim.world import MujocoWorld, Noise, WorldConfig
-from skillwright.validation.model import Finding
 
 if TYPE_CHECKING:
     from skillwright.runtime.report import RunProgress, RunReport
@@ -115,11 +116,19 @@ def _finding(
     state = verdict.state or "execute"
     line = lines.get(state, lines.get("execute", fallback))
     run = "" if episode == "normal" else " (run stopped during execute)"
-    return Finding(
-        check=f"behaviour.{verdict.kind}",
-        severity="error",
+    return simulation_rule(verdict.kind).finding(
         line=line,
         message=f"scenario {scenario}{run}: {verdict.oracle} ({verdict.check}): {verdict.message}",
+        data={
+            "scenario": scenario,
+            "episode": episode,
+            "oracle": verdict.oracle,
+            "check": verdict.check,
+            "measured": verdict.measured,
+            "tolerance": verdict.tolerance,
+            "time": verdict.time,
+            "state": verdict.state,
+        },
     )
 
 

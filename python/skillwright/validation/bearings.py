@@ -19,7 +19,8 @@ from __future__ import annotations
 import ast
 import copy
 
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import BEARING_OFFSET_TWICE
+from skillwright.rules.finding import Finding
 from skillwright.validation.names import simple_statements
 from skillwright.validation.syntax import error_at, self_method, with_node_replaced
 
@@ -51,7 +52,7 @@ def check_bearings(cls: ast.ClassDef) -> list[Finding]:
                 continue
             findings.append(
                 error_at(
-                    "bearings",
+                    BEARING_OFFSET_TWICE,
                     statement,
                     f"`{ast.unparse(node)}` offsets the bearing of self.{_CLOSEST}"
                     f"(...) by {ast.unparse(other)} again, but the helper already counts it "

@@ -14,7 +14,7 @@ from skillwright.cli_options import capability_options, interfaces_option, spec_
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from skillwright.validation.model import Finding
+    from skillwright.rules.finding import Finding
 
 __all__ = ["check", "print_findings"]
 

@@ -26,8 +26,9 @@ from collections.abc import Callable, Mapping
 
 from skillwright.capability.model import Capability
 from skillwright.generation.names import snake_case
+from skillwright.rules.behaviour import EXACT_EQUALITY
+from skillwright.rules.finding import Finding
 from skillwright.validation.first_messages import latest_messages
-from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
 from skillwright.validation.syntax import statement_holding
 
@@ -119,9 +120,9 @@ def _finding(
             mode="eval",
         ).body
         replacement = ast.unparse(_replaced(statement, compare, close))
-    return Finding(
-        check="equality",
+    return EXACT_EQUALITY.finding(
         severity="error" if in_loop_exit else "warning",
+        data={"reading": ast.unparse(reading), "other": ast.unparse(other)},
         line=compare.lineno,
         column=compare.col_offset + 1,
         message=message,

@@ -23,9 +23,10 @@ from __future__ import annotations
 import ast
 from collections.abc import Mapping
 
-from skillwright.validation.loops import waits_error
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import FIRST_MESSAGE_GUARD, FIRST_MESSAGE_READ
+from skillwright.rules.finding import Finding
 from skillwright.validation.names import self_attribute
+from skillwright.validation.syntax import error_at
 
 __all__ = ["check_first_messages", "latest_messages"]
 
@@ -177,7 +178,8 @@ def _read_too_soon(statement: ast.stmt, reads: list[str], state: str) -> Finding
     waits = [_wait_for(read) for read in reads]
     named = " and ".join(f"self.{read}" for read in reads)
     stays = "stays None" if len(reads) == 1 else "stay None"
-    return waits_error(
+    return error_at(
+        FIRST_MESSAGE_READ,
         statement,
         f"{named} {stays} until the first message arrives, and nothing waited for "
         f"{'it' if len(reads) == 1 else 'them'} before {state} reads "
@@ -216,7 +218,8 @@ def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef
                     f"{local} = self.{attribute}" for local, a in aliases.items() if a == attribute
                 ]
                 findings.append(
-                    waits_error(
+                    error_at(
+                        FIRST_MESSAGE_GUARD,
                         statement,
                         f"self.{attribute} stays None until the first message arrives, and "
                         f"nothing waited for it before this guard in {state}: the state gives up "

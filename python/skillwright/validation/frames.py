@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import ast
 
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import TRANSFORM_REVERSED
+from skillwright.rules.finding import Finding
 from skillwright.validation.names import self_attribute, simple_statements
 from skillwright.validation.syntax import error_at, self_method, with_node_replaced
 
@@ -61,7 +62,7 @@ def check_frames(cls: ast.ClassDef) -> list[Finding]:
             target, source = (ast.literal_eval(a) for a in call.args[:2])
             findings.append(
                 error_at(
-                    "frames",
+                    TRANSFORM_REVERSED,
                     statement,
                     f"self.{_TRANSFORM}({target!r}, {source!r}, ...) is the transform "
                     f"from {source} into {target}: its translation is where {source}'s origin "

@@ -17,7 +17,8 @@ from __future__ import annotations
 import ast
 import re
 
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import WAIT_SHORTER_THAN_SPEC
+from skillwright.rules.finding import Finding
 from skillwright.validation.names import self_attribute
 from skillwright.validation.syntax import (
     error_at,
@@ -110,7 +111,7 @@ def check_grace(
                 continue
             findings.append(
                 error_at(
-                    "waits",
+                    WAIT_SHORTER_THAN_SPEC,
                     statement,
                     f"{state} gives up after {timeout.value:g} s where its specification "
                     f'allows {seconds:g} s ("{sentence}"): a robot that answers later is '

@@ -30,7 +30,8 @@ import ast
 import copy
 from collections.abc import Iterable, Iterator
 
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import CLOCK_COMPARED_WITH_DURATION, LOOP_NEVER_SLEEPS
+from skillwright.rules.finding import Finding
 from skillwright.validation.syntax import (
     error_at,
     self_method,
@@ -38,18 +39,13 @@ from skillwright.validation.syntax import (
     statement_holding,
 )
 
-__all__ = ["callback_attributes", "check_waits", "waits_error"]
+__all__ = ["callback_attributes", "check_waits"]
 
 _CLOCK = frozenset({"monotonic", "time", "perf_counter", "now", "get_clock"})
 _READINGS = frozenset({"monotonic", "time", "perf_counter"})
 """``time`` functions that return seconds since an arbitrary start."""
 _MOMENTS = ("DEADLINE", "START", "END", "STAMP", "BEGIN")
 _WAITING = frozenset({"sleep", "spin", "spin_once", "spin_until_future_complete"})
-
-
-def waits_error(statement: ast.stmt, message: str, replacement: str | None) -> Finding:
-    """An error of the ``waits`` check at ``statement``."""
-    return error_at("waits", statement, message, replacement)
 
 
 def _called_name(call: ast.Call) -> str | None:
@@ -160,10 +156,13 @@ def check_waits(cls: ast.ClassDef) -> list[Finding]:
                 continue
             fixed = _fixed_loop(loop, durations, taken, sleep=what is not None)
             for compare in durations:
-                findings.append(waits_error(loop, _duration_message(compare), fixed))
+                findings.append(
+                    error_at(CLOCK_COMPARED_WITH_DURATION, loop, _duration_message(compare), fixed)
+                )
             if what is not None:
                 findings.append(
-                    waits_error(
+                    error_at(
+                        LOOP_NEVER_SLEEPS,
                         loop,
                         f"this loop in {method.name} waits for {what} but never sleeps: it "
                         "spins a CPU core and keeps callbacks from running; sleep in it, e.g. "
@@ -174,7 +173,8 @@ def check_waits(cls: ast.ClassDef) -> list[Finding]:
         for compares in owners.values():  # in a for loop or in no loop: the model is told
             for compare in compares:
                 findings.append(
-                    waits_error(
+                    error_at(
+                        CLOCK_COMPARED_WITH_DURATION,
                         statement_holding(method, compare) or method,
                         _duration_message(compare),
                         None,

@@ -1,4 +1,4 @@
-"""Findings of the checks and what a check needs to know about the robot's interfaces."""
+"""What a check needs to know about the robot's interfaces, and a file's report."""
 
 from __future__ import annotations
 
@@ -6,7 +6,9 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-__all__ = ["SEQUENCE_METHODS", "Catalog", "CatalogEntry", "CheckReport", "FieldTree", "Finding"]
+from skillwright.rules.finding import Finding
+
+__all__ = ["SEQUENCE_METHODS", "Catalog", "CatalogEntry", "CheckReport", "FieldTree"]
 
 FieldTree = dict[str, Any]
 """Field name -> the field tree of its type, or ``None`` for a primitive; an array maps to
@@ -44,28 +46,6 @@ class Catalog(BaseModel):
     constants: dict[str, list[str]] = Field(
         default_factory=dict,
         description="Constant names by type name, for the types whose definition is known.",
-    )
-
-
-class Finding(BaseModel):
-    """One problem found in a skill, with where it is and why it matters."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    check: str = Field(description="Which check found it, e.g. 'annotations'.")
-    severity: Literal["error", "warning"] = Field(description="Errors fail the check.")
-    line: int = Field(description="1-based line (0 when it concerns the whole file).")
-    column: int = Field(default=0, description="1-based column, 0 when unknown.")
-    message: str = Field(description="What is wrong, in plain words, and what to do.")
-    replacement: str | None = Field(
-        default=None,
-        description="A statement that does what the flagged one meant, when the check knows "
-        "it (e.g. the wait for a subscription's first message).",
-    )
-    stack: tuple[int, ...] = Field(
-        default=(),
-        description="For a run's finding: the lines of the skill's calls that led to `line`, "
-        "outermost first (a state's call of the helper that raised); empty otherwise.",
     )
 
 

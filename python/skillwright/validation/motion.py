@@ -44,8 +44,14 @@ import ast
 from collections.abc import Callable, Mapping
 
 from skillwright.capability.model import Capability
+from skillwright.rules.behaviour import (
+    NO_MOTION_COMMANDED,
+    ONE_SHOT_COMMAND_LOOP,
+    ONE_SHOT_COMMAND_SLEEP,
+    UNMOVED_LOOP,
+)
+from skillwright.rules.finding import Finding
 from skillwright.validation.equality import measurements
-from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
 from skillwright.validation.stops import loop_publishes, zero_velocity
 from skillwright.validation.syntax import blocks, error_at, self_method
@@ -77,7 +83,7 @@ def check_motion(
         handles = ", ".join(f"self.{p}" for p in sorted(publishers))
         return [
             error_at(
-                "motion",
+                NO_MOTION_COMMANDED,
                 execute,
                 f"the capability asks for a velocity ({', '.join(speeds)}), but no method of "
                 f"the skill publishes one other than zero on {handles} or sends a goal: the "
@@ -101,7 +107,7 @@ def check_motion(
             handles = ", ".join(f"self.{p}" for p in sorted(publishers))
             findings.append(
                 error_at(
-                    "motion",
+                    UNMOVED_LOOP,
                     loop,
                     f"this loop waits for the robot to move (`{ast.unparse(test)}` compares a "
                     f"reading), but nothing in {state}"
@@ -179,7 +185,7 @@ def _sleep_finding(sleep: ast.stmt, duration: ast.expr, handle: str, call: ast.C
     command = ast.unparse(call.args[0])
     publish = f"{handle}.publish({command})"
     return error_at(
-        "motion",
+        ONE_SHOT_COMMAND_SLEEP,
         sleep,
         f"the velocity command goes out once ({publish} on line {call.lineno}) and the state "
         f"then sleeps for {ast.unparse(duration)} s: a base driver stops when a command is not "
@@ -197,7 +203,7 @@ def _repeat_finding(loop: ast.While, handle: str, call: ast.Call) -> Finding:
     first = loop.body[0]
     plain = isinstance(first, ast.Expr | ast.Assign | ast.AugAssign | ast.AnnAssign)
     return error_at(
-        "motion",
+        ONE_SHOT_COMMAND_LOOP,
         first if plain else loop,
         f"the velocity command goes out once, before this loop ({publish} on line "
         f"{call.lineno}), and never again while the loop waits: a base driver stops when a "

@@ -28,8 +28,28 @@ import re
 import symtable
 from collections.abc import Iterator
 
+from skillwright.rules.api import (
+    ATTRIBUTE_NEVER_SET,
+    ATTRIBUTE_ONLY_NONE,
+    FEEDBACK_CALLBACK_NOT_TIMEOUT,
+    FUTURE_METHOD_ON_RESULT,
+    HELPER_CALL_MISMATCH,
+    LOCAL_HIDES_MODULE,
+    LOCAL_READ_AS_ATTRIBUTE,
+    METHOD_CALL_MISMATCH,
+    METHOD_OVERWRITTEN,
+    MODULE_AS_NUMBER,
+    MODULE_SHADOWED,
+    NESTED_MESSAGE_CLASS,
+    NONE_RESULT_USED,
+    RCLPY_CALL_ARGUMENTS,
+    ROS1_API,
+    UNDEFINED_NAME,
+    UNKNOWN_API_ATTRIBUTE,
+)
+from skillwright.rules.finding import Finding
+from skillwright.rules.registry import Rule
 from skillwright.spec.model import PACKML_STATES
-from skillwright.validation.model import Finding
 from skillwright.validation.syntax import (
     self_method,
     statement_holding,
@@ -217,15 +237,15 @@ _BASE_ATTRIBUTES = frozenset({"node"})
 """What pySkillUp's ``ROS2Skill`` gives a skill."""
 
 
-def _finding(node: ast.AST, message: str, replacement: str | None = None) -> Finding:
-    return Finding(
-        check="names",
-        severity="error",
-        line=getattr(node, "lineno", 0),
-        column=getattr(node, "col_offset", -1) + 1,
-        message=message,
-        replacement=replacement,
-    )
+def _finding(
+    rule: Rule,
+    node: ast.AST,
+    message: str,
+    replacement: str | None = None,
+    *,
+    data: dict[str, object] | None = None,
+) -> Finding:
+    return rule.at(node, message, data=data, replacement=replacement)
 
 
 def _module_names(source: str, tree: ast.Module) -> set[str]:
@@ -313,19 +333,25 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
             seen.add(name)
             ros1 = _from_ros1(tree, use) if name == "rospy" else None
             if ros1 is not None:
-                findings.append(_finding(use, *ros1))
+                findings.append(_finding(ROS1_API, use, *ros1, data={"name": "rospy"}))
                 continue
             findings.append(
                 _finding(
+                    UNDEFINED_NAME,
                     use,
                     _undefined_message(name, tree),
                     _read_from_skill(tree, use, {n for n, c in uses if c is child}),
+                    data={"name": name},
                 )
             )
     for node in ast.walk(tree):
         if isinstance(node, ast.Name) and node.id in class_level and node.id not in seen:
             seen.add(node.id)
-            findings.append(_finding(node, _undefined_message(node.id, tree)))
+            findings.append(
+                _finding(
+                    UNDEFINED_NAME, node, _undefined_message(node.id, tree), data={"name": node.id}
+                )
+            )
     return findings
 
 
@@ -635,10 +661,12 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             )
             findings.append(
                 _finding(
+                    LOCAL_READ_AS_ATTRIBUTE,
                     last or assignment,
                     f"{name} is a local variable of {method.name}, but {readers} read self.{name}: "
                     f"assign it as self.{name} = ... here",
                     keep,
+                    data={"name": name, "method": method.name},
                 )
             )
             continue
@@ -662,7 +690,7 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             if unlimited
             else _underscored(cls, node, defined) or _unlogged(cls, node)
         )
-        findings.append(_finding(node, message, fix))
+        findings.append(_finding(ATTRIBUTE_NEVER_SET, node, message, fix, data={"attribute": name}))
     return findings
 
 
@@ -824,10 +852,12 @@ def _none_only_attributes(cls: ast.ClassDef) -> list[Finding]:
         lines = ", ".join(str(line) for line in assigned[name])
         findings.append(
             _finding(
+                ATTRIBUTE_ONLY_NONE,
                 node,
                 f"self.{name} is only ever set to None (line {lines}), so {ast.unparse(node)} "
                 f"fails whenever it runs: set self.{name} to what it should hold before it is "
                 "read (where the specification says to remember it)",
+                data={"attribute": name},
             )
         )
     return findings
@@ -1010,10 +1040,12 @@ def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
                 hint, replacement = instead
         findings.append(
             _finding(
+                UNKNOWN_API_ATTRIBUTE,
                 node,
                 f"{ast.unparse(node.value)} is {_KIND_WORDS[kind]}, which has no "
                 f"{node.attr!r} in rclpy{hint}",
                 replacement,
+                data={"receiver": ast.unparse(node.value), "kind": kind, "attribute": node.attr},
             )
         )
     return findings
@@ -1180,10 +1212,12 @@ def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[F
             replacement = None if statement is None else _replacement(statement, imports)
         findings.append(
             _finding(
+                NESTED_MESSAGE_CLASS,
                 node,
                 f"{owner}.{made_up} does not exist: message classes have no classes for their "
                 f"fields; {hint}",
                 replacement,
+                data={"owner": owner, "name": made_up},
             )
         )
     return findings
@@ -1251,10 +1285,12 @@ def _renamed_local(method: ast.FunctionDef | ast.AsyncFunctionDef, module: str) 
         renamed = _Rename(mine, new).visit(copy.deepcopy(statement))
         findings.append(
             _finding(
+                LOCAL_HIDES_MODULE,
                 statement,
                 f"the local variable {module} hides the module {module} in {method.name}; "
                 f"renamed to {new} here",
                 ast.unparse(renamed),
+                data={"module": module, "method": method.name, "local": new},
             )
         )
     return findings
@@ -1286,10 +1322,12 @@ def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
                         continue
                 findings.append(
                     _finding(
+                        MODULE_SHADOWED,
                         node,
                         f"{node.id} is the module {node.id}, which {method.name} also uses; a "
                         "local variable of that name hides it in the whole method: name the "
                         "variable differently",
+                        data={"module": node.id, "method": method.name},
                     )
                 )
     return findings
@@ -1368,12 +1406,25 @@ def _modules_as_numbers(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
                 stand_in = _stand_in(method, operand.id, defined)
                 statement = statement_holding(method, operand)
                 if stand_in is None or statement is None:
-                    findings.append(_finding(operand, message + ": use the value meant"))
+                    findings.append(
+                        _finding(
+                            MODULE_AS_NUMBER,
+                            operand,
+                            message + ": use the value meant",
+                            data={"module": operand.id},
+                        )
+                    )
                     continue
                 where = {(operand.lineno, operand.col_offset)}
                 renamed = _Rename(where, stand_in).visit(copy.deepcopy(statement))
                 findings.append(
-                    _finding(operand, f"{message}; the fix uses {stand_in}", ast.unparse(renamed))
+                    _finding(
+                        MODULE_AS_NUMBER,
+                        operand,
+                        f"{message}; the fix uses {stand_in}",
+                        ast.unparse(renamed),
+                        data={"module": operand.id},
+                    )
                 )
     return findings
 
@@ -1464,7 +1515,7 @@ def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
                 )
                 kept = statement.orelse if negated else statement.body
                 fix = "\n".join([ast.unparse(call), *(ast.unparse(s) for s in kept)])
-            findings.append(_finding(call, message, fix))
+            findings.append(_finding(NONE_RESULT_USED, call, message, fix, data={"method": name}))
     return findings
 
 
@@ -1545,20 +1596,24 @@ def _mismatched_calls(cls: ast.ClassDef) -> list[Finding]:
                 # what the call gives; the skeleton's documented helpers stay as they are.
                 findings.append(
                     _finding(
+                        HELPER_CALL_MISMATCH,
                         method,
                         f"{name}{signature} does not take what its call at line {call.lineno} "
                         f"gives ({ast.unparse(call)}: {error}); take the arguments the call "
                         "gives, with a default for any other",
+                        data={"method": name, "signature": str(signature)},
                     )
                 )
             else:
                 findings.append(
                     _finding(
+                        METHOD_CALL_MISMATCH,
                         call,
                         f"self.{name}() is called with arguments its definition (line "
                         f"{method.lineno}: {name}{signature}) does not take: {error}; make the "
                         "call and the definition agree",
                         _with_timeout(call, signature, statement_of),
+                        data={"method": name, "signature": str(signature)},
                     )
                 )
     return findings
@@ -1650,11 +1705,13 @@ def _waited_futures(cls: ast.ClassDef) -> list[Finding]:
                 replacement = with_text_in_place(statement, calls[id(node)], held)
             findings.append(
                 _finding(
+                    FUTURE_METHOD_ON_RESULT,
                     node,
                     f"{held} holds what self._result_of(...) waited for at line {waited[held]}: "
                     f"the response or result itself, not a future, and it has no {node.attr!r}; "
                     f"read its fields ({held}.<field>)",
                     replacement,
+                    data={"name": held},
                 )
             )
     return findings
@@ -1722,17 +1779,27 @@ def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
                     replacement = with_text_in_place(
                         statement, call, waited.format(handle, request, timeout)
                     )
-            findings.append(_finding(call, message, replacement))
+            findings.append(
+                _finding(
+                    RCLPY_CALL_ARGUMENTS,
+                    call,
+                    message,
+                    replacement,
+                    data={"handle": handle, "method": method},
+                )
+            )
             continue
         feedback = bound.arguments.get("feedback_callback")
         if isinstance(feedback, ast.Constant) and isinstance(feedback.value, int | float):
             findings.append(
                 _finding(
+                    FEEDBACK_CALLBACK_NOT_TIMEOUT,
                     call,
                     f"{handle}.{method}() takes the goal and a feedback callback, not a "
                     f"timeout ({ast.unparse(feedback)}): send the goal with "
                     f"{handle}.{method}(goal) and wait for the goal handle with "
                     "self._result_of(future, timeout, what)",
+                    data={"handle": handle, "method": method, "argument": ast.unparse(feedback)},
                 )
             )
     return findings
@@ -1754,11 +1821,13 @@ def _overwritten_methods(cls: ast.ClassDef) -> list[Finding]:
         local = name.strip("_") or "value"
         findings.append(
             _finding(
+                METHOD_OVERWRITTEN,
                 node,
                 f"self.{name} is a method of the skill, and this assignment replaces it with a "
                 f"value: every later self.{name}(...) raises TypeError (the value is not "
                 f"callable). Keep the value in a local: {local} = {ast.unparse(node.value)}",
                 f"{local} = {ast.unparse(node.value)}",
+                data={"method": name, "local": local},
             )
         )
     return findings

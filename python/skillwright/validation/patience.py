@@ -13,7 +13,8 @@ from __future__ import annotations
 import ast
 import copy
 
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import ZERO_TIMEOUT
+from skillwright.rules.finding import Finding
 from skillwright.validation.syntax import error_at, self_method, statement_holding
 from skillwright.validation.timeouts import bound_arguments
 
@@ -45,7 +46,7 @@ def check_zero_timeouts(cls: ast.ClassDef) -> list[Finding]:
                 continue
             findings.append(
                 error_at(
-                    "waits",
+                    ZERO_TIMEOUT,
                     statement,
                     f"`{ast.unparse(call)}` gives {called}() a timeout of "
                     f"{ast.unparse(zeros[0])} s: the wait gives up before anything can "

@@ -21,7 +21,8 @@ from __future__ import annotations
 import ast
 import copy
 
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import FILTERED_INDEX
+from skillwright.rules.finding import Finding
 from skillwright.validation.syntax import error_at, statement_holding
 
 __all__ = ["check_filtered_positions"]
@@ -147,7 +148,7 @@ def _finding(statement: ast.stmt, call: ast.Call, name: str, source: ast.expr) -
             f"; the fix does: the filter keeps elements by their value, so the first equal "
             f"element of {original} is the same one"
         )
-    return error_at("positions", statement, message, replacement)
+    return error_at(FILTERED_INDEX, statement, message, replacement)
 
 
 def _with_call_replaced(statement: ast.stmt, call: ast.Call, source: ast.expr) -> ast.stmt:

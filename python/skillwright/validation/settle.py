@@ -25,10 +25,11 @@ from __future__ import annotations
 
 import ast
 
+from skillwright.rules.behaviour import READ_RIGHT_AFTER_COMMAND
+from skillwright.rules.finding import Finding
 from skillwright.validation.first_messages import latest_messages
-from skillwright.validation.loops import waits_error
-from skillwright.validation.model import Finding
 from skillwright.validation.names import self_attribute
+from skillwright.validation.syntax import error_at
 
 __all__ = ["check_settling"]
 
@@ -79,7 +80,8 @@ def _in_block(block: list[ast.stmt], latest: set[str], can_wait: bool) -> list[F
             else None
         )
         findings.append(
-            waits_error(
+            error_at(
+                READ_RIGHT_AFTER_COMMAND,
                 statement,
                 f"`{ast.unparse(statement.test)}` is tested right after "
                 f"`{ast.unparse(command).splitlines()[0]}`, on self.{read} as it was before "

@@ -22,8 +22,9 @@ from __future__ import annotations
 import ast
 import copy
 
+from skillwright.rules.behaviour import STALE_LOOP, STALE_READING
+from skillwright.rules.finding import Finding
 from skillwright.validation.loops import callback_attributes
-from skillwright.validation.model import Finding
 from skillwright.validation.syntax import blocks, error_at, skips_its_end
 
 __all__ = ["check_stale_conditions"]
@@ -97,7 +98,7 @@ def _stale_exit(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> 
                 + ", ".join(f"`{ast.unparse(r)}`" for r in readings)
                 + " at the start of each pass"
             )
-        return error_at("stale", loop, message, replacement)
+        return error_at(STALE_LOOP, loop, message, replacement)
     return None
 
 
@@ -158,7 +159,7 @@ def _stale(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> Findi
             + ", ".join(f"`{ast.unparse(r)}`" for r in readings if r is not None)
             + " at the end of the loop"
         )
-    return error_at("stale", loop, message, replacement)
+    return error_at(STALE_READING, loop, message, replacement)
 
 
 def _condition_names(test: ast.expr) -> tuple[set[str], set[str]]:

@@ -22,6 +22,56 @@ from dataclasses import dataclass, field
 from keyword import kwlist
 
 from skillwright.capability.model import Capability, Parameter
+from skillwright.rules.api import (
+    GOAL_RESULT_WITHOUT_SEND,
+    HANDLE_MADE_TWICE,
+    TIMER_NEVER_CANCELLED,
+    TIMER_NOT_KEPT,
+)
+from skillwright.rules.capability import (
+    CONSTANT_FOR_INPUT,
+    INPUT_COPIED_UNUSED,
+    INPUT_NEVER_READ,
+    INPUT_ONLY_VALIDATED,
+    INPUT_OVERWRITTEN,
+    OUTPUT_CONSTANT,
+    OUTPUT_NEVER_SET,
+)
+from skillwright.rules.finding import Finding
+from skillwright.rules.interfaces import (
+    ARGUMENT_TYPE_MISMATCH,
+    DURATION_SECONDS_FIELD,
+    HEADING_NOT_ANGLE,
+    INTERFACE_KIND_MISMATCH,
+    INTERFACE_NAME_NOT_LITERAL,
+    INTERFACE_NOT_RETRIEVED,
+    INTERFACE_RETRIEVED_UNUSED,
+    INTERFACE_TYPE_MISMATCH,
+    MESSAGE_FIELD_NOT_NUMBER,
+    POSITIONAL_MESSAGE_FIELDS,
+    UNKNOWN_CONSTANT,
+    UNKNOWN_FIELD,
+    UNKNOWN_INTERFACE,
+    YAW_OF_MESSAGE,
+)
+from skillwright.rules.registry import Rule
+from skillwright.rules.structure import (
+    ABORT_SWALLOWED,
+    ANNOTATION_MATCHES_NOTHING,
+    EMPTY_STATE,
+    ERROR_SWALLOWED,
+    LEFTOVER_MARKER,
+    NO_SKILL_CLASS,
+    NOT_IMPLEMENTED,
+    NOT_ROS2SKILL,
+    PARAMETER_UNANNOTATED,
+    SKILL_INTERFACE_MISMATCH,
+    SKILL_IRI_MISMATCH,
+    SKILL_IRI_MISSING,
+    STATE_MISSING,
+    STATE_NOT_SPECIFIED,
+    SYNTAX_ERROR,
+)
 from skillwright.spec.model import PACKML_STATES, SkillSpec
 from skillwright.validation.bearings import check_bearings
 from skillwright.validation.equality import check_equality
@@ -34,7 +84,6 @@ from skillwright.validation.model import (
     Catalog,
     CheckReport,
     FieldTree,
-    Finding,
 )
 from skillwright.validation.motion import check_motion
 from skillwright.validation.names import (
@@ -83,24 +132,14 @@ class _Context:
 
     def add(
         self,
-        check: str,
-        severity: str,
+        rule: Rule,
         node: ast.AST | None,
         message: str,
         replacement: str | None = None,
+        *,
+        data: dict[str, object] | None = None,
     ) -> None:
-        line = getattr(node, "lineno", 0) if node is not None else 0
-        column = getattr(node, "col_offset", -1) + 1 if node is not None else 0
-        self.findings.append(
-            Finding(
-                check=check,
-                severity=severity,  # type: ignore[arg-type]
-                line=line,
-                column=column,
-                message=message,
-                replacement=replacement,
-            )
-        )
+        self.findings.append(rule.at(node, message, data=data, replacement=replacement))
 
 
 def _imports(tree: ast.Module) -> dict[str, str]:
@@ -169,22 +208,37 @@ def _check_skill_decorator(
         given = _keyword(call, key)
         text = _constant_text(given)
         if given is None:
-            ctx.add("annotations", "error", call, f"@skill has no {key}; it must be {value!r}")
+            ctx.add(
+                SKILL_IRI_MISMATCH,
+                call,
+                f"@skill has no {key}; it must be {value!r}",
+                data={"key": key, "expected": value, "given": None},
+            )
         elif text is not None and text != value:
-            ctx.add("annotations", "error", given, f"@skill {key} is {text!r}, expected {value!r}")
+            ctx.add(
+                SKILL_IRI_MISMATCH,
+                given,
+                f"@skill {key} is {text!r}, expected {value!r}",
+                data={"key": key, "expected": value, "given": text},
+            )
     if not _constant_text(_keyword(call, "skill_iri")):
-        ctx.add("annotations", "error", call, "@skill needs a skill_iri (a string IRI)")
+        ctx.add(SKILL_IRI_MISSING, call, "@skill needs a skill_iri (a string IRI)")
     interface = _keyword(call, "skill_interface")
     wanted = f"SkillInterface.{spec.skill_interface}"
     if interface is None or ast.unparse(interface) != wanted:
         ctx.add(
-            "annotations",
-            "error",
+            SKILL_INTERFACE_MISMATCH,
             interface or call,
             f"@skill skill_interface should be {wanted}, as the specification says",
+            data={"expected": wanted},
         )
     if not any(ast.unparse(base).endswith("ROS2Skill") for base in cls.bases):
-        ctx.add("annotations", "error", cls, f"class {cls.name} must derive from ROS2Skill")
+        ctx.add(
+            NOT_ROS2SKILL,
+            cls,
+            f"class {cls.name} must derive from ROS2Skill",
+            data={"class": cls.name},
+        )
 
 
 def _annotated_names(cls: ast.ClassDef, decorator: str) -> dict[str, ast.AST]:
@@ -214,19 +268,19 @@ def _check_parameters(
             continue
         missing = sorted(components - set(found))
         ctx.add(
-            "annotations",
-            "error",
+            PARAMETER_UNANNOTATED,
             cls,
             f"no @{decorator} for the capability's {what} {parameter.name}"
             + (f" (missing: {', '.join(missing)})" if len(components) > 1 else ""),
+            data={"decorator": decorator, "parameter": parameter.name, "missing": missing},
         )
     for name, node in found.items():
         if name not in known:
             ctx.add(
-                "annotations",
-                "warning",
+                ANNOTATION_MATCHES_NOTHING,
                 node,
                 f"@{decorator} {name!r} matches no {what} of the capability",
+                data={"decorator": decorator, "name": name},
             )
 
 
@@ -245,17 +299,20 @@ def _check_states(ctx: _Context, cls: ast.ClassDef, spec: SkillSpec) -> dict[str
     for state in spec.states:
         if state not in methods:
             ctx.add(
-                "annotations", "error", cls, f"no method decorated @{state}: the spec asks for it"
+                STATE_MISSING,
+                cls,
+                f"no method decorated @{state}: the spec asks for it",
+                data={"state": state},
             )
     for state, method in methods.items():
         # A halting state the specification left out is welcome: the skeleton adds one to a
         # skill that can move the robot.
         if state not in spec.states and state not in _HALTING:
             ctx.add(
-                "annotations",
-                "warning",
+                STATE_NOT_SPECIFIED,
                 method,
                 f"@{state} is not in the specification; remove it or add it to the spec",
+                data={"state": state},
             )
     return methods
 
@@ -285,14 +342,18 @@ def _check_placeholders(
             for s in body
         )
         if trivial:
-            ctx.add("placeholders", "error", method, f"@{state} has no behaviour (only pass / ...)")
+            ctx.add(
+                EMPTY_STATE,
+                method,
+                f"@{state} has no behaviour (only pass / ...)",
+                data={"state": state},
+            )
     for node in ast.walk(tree):
         if isinstance(node, ast.Raise) and node.exc is not None:
             exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
             if isinstance(exc, ast.Name) and exc.id == "NotImplementedError":
                 ctx.add(
-                    "placeholders",
-                    "error",
+                    NOT_IMPLEMENTED,
                     node,
                     "raises NotImplementedError: this behaviour is still to be written",
                 )
@@ -303,12 +364,11 @@ def _check_placeholders(
     for token in tokens:
         if token.type == tokenize.COMMENT and re.search(r"\b(TODO|FIXME|XXX)\b", token.string):
             ctx.findings.append(
-                Finding(
-                    check="placeholders",
-                    severity="warning",
+                LEFTOVER_MARKER.finding(
                     line=token.start[0],
                     column=token.start[1] + 1,
                     message=f"left-over marker in a comment: {token.string.strip()}",
+                    data={"marker": token.string.strip()},
                 )
             )
 
@@ -338,22 +398,22 @@ def _check_swallowed_errors(
             caught = ast.unparse(node.type) if node.type is not None else "every exception"
             if _ABORT.search(text):
                 ctx.add(
-                    "failures",
-                    "error",
+                    ABORT_SWALLOWED,
                     node,
                     f"the specification says @{state} aborts, but this handler catches "
                     f"{caught} and carries on: log it if you like, then raise (a state that "
                     "raises aborts the skill)",
+                    data={"state": state, "caught": caught},
                 )
             elif state not in _HALTING:
                 # A halting state that logs a failed cancellation and goes on halting does
                 # right: nothing follows it that the failure could mislead.
                 ctx.add(
-                    "failures",
-                    "warning",
+                    ERROR_SWALLOWED,
                     node,
                     f"this handler catches {caught} in @{state} and carries on; check that "
                     "the skill should go on after it",
+                    data={"state": state, "caught": caught},
                 )
 
 
@@ -469,11 +529,11 @@ def _check_input_constants(
         input_name = matching(name)
         if input_name is not None:
             ctx.add(
-                "constants",
-                "error",
+                CONSTANT_FOR_INPUT,
                 statement,
                 f"the number {ast.unparse(value)} stands in for the capability input "
                 f"{input_name} (via {name!r}); use the value of its @skill_parameter",
+                data={"input": input_name, "name": name, "value": number},
             )
 
 
@@ -503,10 +563,10 @@ def _uses(tree: ast.Module, imports: dict[str, str], ctx: _Context) -> list[_Use
         name = _constant_text(name_arg)
         if name is None:
             ctx.add(
-                "grounding",
-                "warning",
+                INTERFACE_NAME_NOT_LITERAL,
                 node,
                 f"{call_name}: the interface name is not a string literal, so it cannot be checked",
+                data={"call": call_name},
             )
             continue
         type_name = imports.get(ast.unparse(type_arg)) if type_arg is not None else None
@@ -532,26 +592,26 @@ def _check_uses(ctx: _Context, uses: Iterable[_Use], catalog: Catalog) -> None:
         where = ast.Constant(value=None, lineno=use.line, col_offset=use.column - 1)
         if entry is None:
             ctx.add(
-                "grounding",
-                "error",
+                UNKNOWN_INTERFACE,
                 where,
                 f"{use.kind} {use.name} does not exist on this robot (not in the inventory); "
                 "use one of its real interfaces",
+                data={"kind": use.kind, "name": use.name},
             )
             continue
         if entry.kind != use.kind:
             ctx.add(
-                "grounding",
-                "error",
+                INTERFACE_KIND_MISMATCH,
                 where,
                 f"{use.name} is a {entry.kind} on this robot, but the code uses it as a {use.kind}",
+                data={"name": use.name, "kind": entry.kind, "used_as": use.kind},
             )
         elif use.type_name is not None and use.type_name != entry.type_name:
             ctx.add(
-                "grounding",
-                "error",
+                INTERFACE_TYPE_MISMATCH,
                 where,
                 f"{use.name} carries {entry.type_name}, but the code uses {use.type_name}",
+                data={"name": use.name, "type": entry.type_name, "used_type": use.type_name},
             )
 
 
@@ -817,7 +877,13 @@ class _FieldVisitor(ast.NodeVisitor):
                 for wrong, right in fixes:
                     text = text.replace(ast.unparse(wrong), str(right))
                 replacement = text
-            self.ctx.add("grounding", "error", chain, message, replacement)
+            self.ctx.add(
+                UNKNOWN_FIELD,
+                chain,
+                message,
+                replacement=replacement,
+                data={"field": ast.unparse(chain), "meant": replacement},
+            )
 
     def visit_Attribute(self, node: ast.Attribute) -> None:
         root, path = _chain(node)
@@ -1072,22 +1138,32 @@ def _check_fields(
                     continue
                 split = _split_seconds(node, keyword, key, statement_of.get(id(node)))
                 if split is not None:
-                    ctx.add("grounding", "error", keyword, *split)
+                    ctx.add(DURATION_SECONDS_FIELD, keyword, *split, data={"type": key})
                     continue
                 missing = _missing_field(tree, [keyword.arg], key)
                 if missing is not None:
-                    ctx.add("grounding", "error", keyword, missing[0], renamed)
+                    ctx.add(
+                        UNKNOWN_FIELD,
+                        keyword,
+                        missing[0],
+                        replacement=renamed,
+                        data={
+                            "type": key,
+                            "field": keyword.arg,
+                            "meant": None if missing[1] is None else ".".join(missing[1]),
+                        },
+                    )
                 nested = tree.get(keyword.arg)
                 if isinstance(nested, dict) and nested and _is_scalar(keyword.value, numbers):
                     ctx.add(
-                        "grounding",
-                        "error",
+                        MESSAGE_FIELD_NOT_NUMBER,
                         keyword,
                         f"{key}'s field {keyword.arg!r} is a message (fields "
                         f"{', '.join(sorted(nested))}), not a number: make the message first and "
                         f"set its fields, e.g. msg.{keyword.arg}.{sorted(nested)[0]} = ..."
                         + ("; a zero command is Twist(), every field of it is 0" if zero else ""),
-                        fix,
+                        replacement=fix,
+                        data={"type": key, "field": keyword.arg, "fields": sorted(nested)},
                     )
 
 
@@ -1117,12 +1193,12 @@ def _check_yaw_arguments(
             continue
         fix = _replaced_once(statement, f"self._yaw({argument})", f"self._yaw({argument}.{path})")
         ctx.add(
-            "grounding",
-            "error",
+            YAW_OF_MESSAGE,
             call,
             f"self._yaw() takes an orientation quaternion, and {argument} is a whole "
             f"{key}: its orientation is {argument}.{path}",
-            fix,
+            replacement=fix,
+            data={"argument": argument, "type": key, "orientation": path},
         )
 
 
@@ -1171,12 +1247,12 @@ def _check_heading_arguments(
             continue
         fix = _replaced_once(statement, text, f"self._yaw({quaternion})")
         ctx.add(
-            "grounding",
-            "error",
+            HEADING_NOT_ANGLE,
             heading,
             f"self._pose_goal() takes the heading as an angle in radians, and {text} is an "
             f"orientation: self._yaw({quaternion}) is its heading",
-            fix,
+            replacement=fix,
+            data={"argument": text},
         )
 
 
@@ -1208,13 +1284,13 @@ def _positional_fields(
                 fix = ast.unparse(fixed)
                 break
     ctx.add(
-        "grounding",
-        "error",
+        POSITIONAL_MESSAGE_FIELDS,
         call,
         f"`{ast.unparse(call)}` gives {key} positional arguments, and a ROS 2 message takes "
         f"its fields as keywords only (it raises TypeError): name them, "
         f"{ast.unparse(call.func)}({', '.join(f'{n}=...' for n in names[: len(call.args)])})",
-        fix,
+        replacement=fix,
+        data={"type": key, "fields": names},
     )
 
 
@@ -1353,7 +1429,13 @@ def _check_arguments(
                 message += f"; {fitting[0]} takes a {given}: {attr} it there"
                 if text.count(f"{receiver}.{attr}(") == 1:
                     replacement = text.replace(f"{receiver}.{attr}(", f"{fitting[0]}.{attr}(")
-            ctx.add("grounding", "error", call.args[0], message, replacement)
+            ctx.add(
+                ARGUMENT_TYPE_MISMATCH,
+                call.args[0],
+                message,
+                replacement=replacement,
+                data={"call": ast.unparse(call.func), "expected": expected, "given": given},
+            )
 
 
 def _wrapping(
@@ -1407,11 +1489,11 @@ def _check_constants(
             continue
         listed = ", ".join(known) or "none"
         ctx.add(
-            "grounding",
-            "error",
+            UNKNOWN_CONSTANT,
             node,
             f"{type_name} has no constant {node.attr!r} (its constants: {listed}){mine}",
-            _with_own_constant(node, own, statement_of.get(id(node))),
+            replacement=_with_own_constant(node, own, statement_of.get(id(node))),
+            data={"type": type_name, "constant": node.attr, "constants": known},
         )
 
 
@@ -1562,16 +1644,21 @@ def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability
             )
             copied = _local_copy(method, attr)
             if copied is None:
-                ctx.add("inputs", "error", node, message)
+                ctx.add(
+                    INPUT_OVERWRITTEN,
+                    node,
+                    message,
+                    data={"input": attributes[attr], "attribute": attr, "local": None},
+                )
                 continue
             local, statements = copied
             for statement, replacement in statements:
                 ctx.add(
-                    "inputs",
-                    "error",
+                    INPUT_OVERWRITTEN,
                     statement,
                     f"{message}; {method.name} works on the local copy {local} instead",
-                    replacement,
+                    replacement=replacement,
+                    data={"input": attributes[attr], "attribute": attr, "local": local},
                 )
 
 
@@ -1626,39 +1713,39 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
         if kind == "skill_parameter" and attr not in reads and attr in idle:
             method_name, local = idle[attr]
             ctx.add(
-                "inputs",
-                "error",
+                INPUT_COPIED_UNUSED,
                 where,
                 f"input {name} is never used: {method_name} copies self.{attr} into {local} "
                 f"and nothing reads {local}, so the skill ignores the value it is given; use "
                 f"{local}{about} where the skill needs it",
+                data={"input": name, "attribute": attr, "method": method_name, "local": local},
             )
         elif kind == "skill_parameter" and attr not in reads and attr in checked:
             ctx.add(
-                "inputs",
-                "error",
+                INPUT_ONLY_VALIDATED,
                 where,
                 f"input {name} is never used: {checked[attr]} only tests self.{attr} to refuse "
                 "a bad value, and nothing the skill does depends on it; use "
                 f"self.{attr}{about} where the skill needs it",
+                data={"input": name, "attribute": attr, "method": checked[attr]},
             )
         elif kind == "skill_parameter" and attr not in reads:
             ctx.add(
-                "inputs",
-                "error",
+                INPUT_NEVER_READ,
                 where,
                 f"input {name} is never read: no method uses self.{attr}, so the skill "
                 "ignores the value it is given (a hard-coded value in its place?); use "
                 f"self.{attr}{about} where the skill needs it",
+                data={"input": name, "attribute": attr},
             )
         elif kind == "skill_output" and attr not in uses.writes:
             ctx.add(
-                "outputs",
-                "error",
+                OUTPUT_NEVER_SET,
                 where,
                 f"output {name} is never set: no method assigns self.{attr}, so the getter "
                 f"returns what __init__ put there; store the value it reports{about} in "
                 f"self.{attr} before execute ends{_sources(cls, capability, name)}",
+                data={"output": name, "attribute": attr},
             )
         elif (
             kind == "skill_output"
@@ -1738,30 +1825,30 @@ def _literal_output(
     if worked_out is not None:
         store, method_name, local = worked_out
         ctx.add(
-            "outputs",
-            "error",
+            OUTPUT_CONSTANT,
             store,
             message + f"{method_name} works out {local} and then stores "
             f"{ast.unparse(store.value)} in its place; store {local}",
             replacement=f"self.{attr} = {local}",
+            data={"output": name, "attribute": attr, "values": values},
         )
     elif (reading := _helper_reading(cls, capability, name, attr)) is not None:
         store, method_name, value = reading
         ctx.add(
-            "outputs",
-            "error",
+            OUTPUT_CONSTANT,
             store,
             message + f"{method_name} finds the nearest reading with _closest_reading() and "
             f"then stores {ast.unparse(store.value)} in its place; store {value}",
             replacement=f"self.{attr} = {value}",
+            data={"output": name, "attribute": attr, "values": values},
         )
     else:
         ctx.add(
-            "outputs",
-            "error",
+            OUTPUT_CONSTANT,
             where,
             message + f"store what it measures{about} in self.{attr} before execute "
             f"ends{_sources(cls, capability, name)}",
+            data={"output": name, "attribute": attr, "values": values},
         )
 
 
@@ -2023,11 +2110,11 @@ def _check_goal_results(ctx: _Context, cls: ast.ClassDef) -> None:
         if not name.endswith("_result") or send not in methods or send in called:
             continue
         ctx.add(
-            "names",
-            "error",
+            GOAL_RESULT_WITHOUT_SEND,
             call,
             f"self.{name}(...) waits for the result of a goal nothing sends: send it first "
             f"with self.{send}(goal, timeout), and then wait for its result",
+            data={"helper": name, "send": send},
         )
 
 
@@ -2062,14 +2149,13 @@ def _check_handles(ctx: _Context, cls: ast.ClassDef) -> None:
                 first = made.setdefault(target.attr, method.name)
                 if first != method.name:
                     ctx.add(
-                        "handles",
-                        "error",
+                        HANDLE_MADE_TWICE,
                         node,
                         f"self.{target.attr} is made in {first} already; use that handle here "
                         "(making it again leaks the first one, and a second subscription "
                         "delivers every message twice)",
-                        # Without the statement, the state uses the handle made first.
                         replacement="" if len(node.targets) == 1 else None,
+                        data={"attribute": target.attr, "first": first},
                     )
 
 
@@ -2090,12 +2176,12 @@ def _check_timers(ctx: _Context, cls: ast.ClassDef) -> None:
             if kept:
                 if kept[0] not in cancelled:
                     ctx.add(
-                        "handles",
-                        "error",
+                        TIMER_NEVER_CANCELLED,
                         statement,
                         f"{kept[0]} is never cancelled: the timer fires until it is, also after "
                         f"the skill stopped; cancel it ({kept[0]}.cancel()) when it is no "
                         "longer needed, in stopping and in resetting",
+                        data={"timer": kept[0]},
                     )
                 continue
             local = {ast.unparse(t) for t in targets}
@@ -2107,14 +2193,14 @@ def _check_timers(ctx: _Context, cls: ast.ClassDef) -> None:
                 for n in ast.walk(method)
             )
             ctx.add(
-                "handles",
-                "error",
+                TIMER_NOT_KEPT,
                 statement,
                 "the timer is not kept on the skill, so nothing cancels it: it fires until the "
                 "node ends, also after the skill stopped and released the handles it uses; "
                 f"keep it as {attribute} and cancel it ({attribute}.cancel()) when it is no "
                 "longer needed, in stopping and in resetting",
-                None if reads else f"{attribute} = {ast.unparse(call)}",
+                replacement=None if reads else f"{attribute} = {ast.unparse(call)}",
+                data={"attribute": attribute},
             )
 
 
@@ -2158,12 +2244,11 @@ def check_skill(
         tree = ast.parse(source, filename=path)
     except SyntaxError as error:
         ctx.findings.append(
-            Finding(
-                check="syntax",
-                severity="error",
+            SYNTAX_ERROR.finding(
                 line=error.lineno or 0,
                 column=error.offset or 0,
                 message=f"syntax error: {error.msg}",
+                data={"detail": error.msg},
             )
         )
         return CheckReport(path=path, findings=ctx.findings)
@@ -2173,7 +2258,7 @@ def check_skill(
     _check_input_constants(ctx, tree, capability, spec)
     found = _skill_class(tree)
     if found is None:
-        ctx.add("annotations", "error", None, "no class decorated with @skill(...)")
+        ctx.add(NO_SKILL_CLASS, None, "no class decorated with @skill(...)")
         ctx.findings += check_names(source, tree, None, imports)
     else:
         cls, decorator = found
@@ -2219,17 +2304,20 @@ def check_skill(
     if retrieved:
         for name in sorted(wanted - set(used)):
             ctx.add(
-                "interfaces", "warning", None, f"{name} was retrieved but the code never uses it"
+                INTERFACE_RETRIEVED_UNUSED,
+                None,
+                f"{name} was retrieved but the code never uses it",
+                data={"name": name},
             )
         for use in uses:
             if use.name not in wanted:
                 where = ast.Constant(value=None, lineno=use.line, col_offset=use.column - 1)
                 ctx.add(
-                    "interfaces",
-                    "warning",
+                    INTERFACE_NOT_RETRIEVED,
                     where,
                     f"{use.name} is used but was not retrieved for this capability; "
                     "check that it is the right interface",
+                    data={"name": use.name},
                 )
     findings = sorted(ctx.findings, key=lambda f: (f.line, f.column, f.check))
     return CheckReport(path=path, findings=findings, used_interfaces=used)

@@ -18,7 +18,8 @@ from __future__ import annotations
 
 import ast
 
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import STOP_IN_WAIT_LOOP
+from skillwright.rules.finding import Finding
 from skillwright.validation.syntax import blocks, error_at, self_method
 
 __all__ = ["check_stops", "loop_publishes", "zero_velocity"]
@@ -66,7 +67,7 @@ def _stopping(loop: ast.While, before: list[ast.stmt], stoppers: dict[str, str])
                 continue
             findings.append(
                 error_at(
-                    "stops",
+                    STOP_IN_WAIT_LOOP,
                     statement,
                     f"this loop commands zero velocity on every pass ({ast.unparse(call)}), "
                     f"right after {publisher}.publish({command}) started the motion before "

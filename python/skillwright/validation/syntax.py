@@ -6,7 +6,8 @@ import ast
 import copy
 from collections.abc import Callable
 
-from skillwright.validation.model import Finding
+from skillwright.rules.finding import Finding
+from skillwright.rules.registry import Rule
 
 __all__ = [
     "blocks",
@@ -20,16 +21,20 @@ __all__ = [
 
 
 def error_at(
-    check: str, statement: ast.stmt, message: str, replacement: str | None = None
+    rule: Rule,
+    statement: ast.stmt,
+    message: str,
+    replacement: str | None = None,
+    *,
+    data: dict[str, object] | None = None,
 ) -> Finding:
-    """An error of ``check`` at ``statement``, with the statements to put in its place when
-    the check knows them."""
-    return Finding(
-        check=check,
-        severity="error",
+    """A finding of ``rule`` at ``statement``, with the statements to put in its place when
+    the rule knows them (its fix)."""
+    return rule.finding(
         line=statement.lineno,
         column=statement.col_offset + 1,
         message=message,
+        data=data,
         replacement=replacement,
     )
 

@@ -42,7 +42,8 @@ from dataclasses import dataclass
 
 from skillwright.capability.model import Capability
 from skillwright.generation.names import snake_case
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import MIXED_ANGLE_UNITS
+from skillwright.rules.finding import Finding
 from skillwright.validation.names import self_attribute
 from skillwright.validation.syntax import error_at, statement_holding
 
@@ -636,7 +637,7 @@ def _finding(problem: _Problem) -> Finding:
     changes = problem.wraps.keys() | problem.swaps.keys()
     if changes and len(changes) == sum(1 for n in ast.walk(problem.statement) if id(n) in changes):
         replacement = ast.unparse(_converted(problem))
-    return error_at("units", problem.statement, "; ".join(problem.messages), replacement)
+    return error_at(MIXED_ANGLE_UNITS, problem.statement, "; ".join(problem.messages), replacement)
 
 
 def _converted(problem: _Problem) -> ast.stmt:

@@ -27,7 +27,8 @@ import ast
 from collections import defaultdict
 from collections.abc import Iterator
 
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import BUILT_NOT_SENT
+from skillwright.rules.finding import Finding
 from skillwright.validation.names import COMPOUND_STATEMENTS, self_attribute
 from skillwright.validation.syntax import blocks, error_at
 
@@ -182,19 +183,19 @@ def _finding(
         "reaches the robot"
     )
     if built.endswith(".Goal"):
-        return error_at("unsent", block[index], f"{message}; send it with {handles}")
+        return error_at(BUILT_NOT_SENT, block[index], f"{message}; send it with {handles}")
     if built.endswith(".Request"):
-        return error_at("unsent", block[index], f"{message}; call {handles} with it")
+        return error_at(BUILT_NOT_SENT, block[index], f"{message}; call {handles} with it")
     fix = f"{senders[0]}.publish({name})"
     statement = _complete(block, index, name)
     if len(set(senders)) == 1 and statement is not None:
         return error_at(
-            "unsent",
+            BUILT_NOT_SENT,
             statement,
             f"{message}; publish it with {fix} once it is complete",
             f"{ast.unparse(statement)}\n{fix}",
         )
-    return error_at("unsent", block[index], f"{message}; publish it with {handles}")
+    return error_at(BUILT_NOT_SENT, block[index], f"{message}; publish it with {handles}")
 
 
 def _complete(block: list[ast.stmt], index: int, name: str) -> ast.stmt | None:

@@ -21,7 +21,8 @@ import ast
 
 from skillwright.interfaces.inventory import Interface
 from skillwright.retrieval.semantics import split_view
-from skillwright.validation.model import Finding
+from skillwright.rules.behaviour import SCANNER_UNREAD
+from skillwright.rules.finding import Finding
 from skillwright.validation.names import self_attribute, simple_statements
 
 __all__ = ["check_views"]
@@ -73,11 +74,10 @@ def check_views(cls: ast.ClassDef, tree: ast.Module) -> list[Finding]:
             else f"wait for self.{kept} too and use the nearer of the two closest readings"
         )
         findings.append(
-            Finding(
-                check="views",
-                severity="error",
+            SCANNER_UNREAD.finding(
                 line=where.lineno,
                 column=where.col_offset + 1,
+                data={"attribute": kept, "interface": unread.interface.name},
                 message=f"{unread.interface.name} and {names} are two scanners of one split "
                 f"view, each seeing a side the other does not, but only {names} is read here "
                 f"and nothing reads self.{kept}: an obstacle only {unread.interface.name} sees "

@@ -29,7 +29,7 @@ from skillwright.tui.screens.base import Pane
 from skillwright.tui.widgets.code_view import CodeView
 
 if TYPE_CHECKING:
-    from skillwright.validation.model import Finding
+    from skillwright.rules.finding import Finding
 
 __all__ = ["SKELETON", "GenerationPane"]
 

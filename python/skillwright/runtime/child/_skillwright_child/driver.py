@@ -62,6 +62,19 @@ class _Output:
         return True
 
 
+def _runtime_data(error: BaseException) -> dict | None:
+    """What a stand-in attached to ``error``, or to the error it was raised from or during
+    (a skill that wraps tf2's LookupException in its own RuntimeError keeps its cause)."""
+    seen = 0
+    while error is not None and seen < 8:
+        data = getattr(error, "skillwright_data", None)
+        if isinstance(data, dict):
+            return data
+        error = error.__cause__ or error.__context__  # type: ignore[assignment]
+        seen += 1
+    return None
+
+
 def _kind(error: BaseException) -> str:
     marked = getattr(type(error), "kind", None)
     if isinstance(marked, str):
@@ -160,6 +173,7 @@ class Driver:
             message = str(error)
         except Exception:
             message = "<unprintable>"
+        data = _runtime_data(error)
         self.core.notify(
             "error",
             phase=phase,
@@ -168,6 +182,7 @@ class Driver:
             message=message[:2000],
             line=line,
             frames=frames[-20:],
+            data=data or {},
         )
 
     # --- loading -------------------------------------------------------------------

@@ -111,11 +111,14 @@ class Buffer:
                 # tf2's own words, then (the sandbox's addition) the frames the robot does
                 # have, so that a repair can pick one: the paper's robot has no map frame.
                 have = ", ".join(sorted(known)) or "none yet"
-                raise LookupException(
+                error = LookupException(
                     f'"{frame}" passed to lookupTransform argument '
                     f"{'target_frame' if frame == target else 'source_frame'} does not exist. "
                     f"(frames on /tf so far: {have})"
                 )
+                # What the run's report reads (the message is for the skill and its reader).
+                error.skillwright_data = {"frame": frame, "frames": sorted(known)}
+                raise error
         target_chain = self._chain(target)
         source_chain = self._chain(source)
         common = next((f for f in source_chain if f in target_chain), None)
