@@ -59,10 +59,8 @@ class Finding(BaseModel):
 
     def __hash__(self) -> int:
         # ``data`` may hold lists and dicts; equal findings still hash alike without it.
-        return hash(
-            (self.code, self.check, self.severity, self.line, self.column, self.message)
-            + (self.replacement, self.fix_safety, self.stack)
-        )
+        place = (self.code, self.check, self.severity, self.line, self.column)
+        return hash((*place, self.message, self.replacement, self.fix_safety, self.stack))
 
     @property
     def label(self) -> str:
