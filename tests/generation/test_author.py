@@ -16,7 +16,12 @@ from skillwright.generation.model import InterfaceRef, Skeleton
 from skillwright.generation.skeleton import build_skeleton, topic_role
 from skillwright.interfaces.inventory import Inventory
 from skillwright.interfaces.load import load_inventory
+from skillwright.rules.api import ATTRIBUTE_NEVER_SET
+from skillwright.rules.behaviour import MIXED_ANGLE_UNITS
+from skillwright.rules.capability import OUTPUT_CONSTANT
 from skillwright.rules.finding import Finding
+from skillwright.rules.interfaces import ARGUMENT_TYPE_MISMATCH
+from skillwright.rules.run import RUN_EXCEPTION, RUN_INPUT_UNREAD
 from skillwright.spec.loader import load_spec
 from skillwright.spec.model import SkillSpec
 from skillwright.validation.catalog import catalog_from_inventory
@@ -355,12 +360,16 @@ def _rest_too_short(case: _Case, *, in_helper: bool = False) -> str:
         if '0.1, "rest"' not in code:
             return None
         call = _line_of(code, '0.1, "rest"')
-        return Finding(
-            check="run.exception",
-            severity="error",
+        return RUN_EXCEPTION.finding(
             line=_line_of(code, 'raise RuntimeError(f"no {what}') if in_helper else call,
             message="execute raised RuntimeError: no rest within 0.1 s",
             stack=(call,) if in_helper else (),
+            data={
+                "state": "execute",
+                "type": "RuntimeError",
+                "detail": "no rest within 0.1 s",
+                "seconds": 0.1,
+            },
         )
 
     _run_also_finds(case, finding)
@@ -430,9 +439,7 @@ def test_a_run_error_at_an_inputs_getter_is_repaired_in_execute(case: _Case) -> 
         execute = code.partition("def execute")[2].partition("@completing")[0]
         if "min(abs(self.in_linear_velocity)" in execute:
             return None
-        return Finding(
-            check="run.input",
-            severity="error",
+        return RUN_INPUT_UNREAD.finding(
             line=_line_of(code, 'name="inLinearVelocity"'),
             message="input inLinearVelocity is never read",
         )
@@ -660,11 +667,8 @@ def test_an_error_left_after_the_checks_fix_is_what_the_repair_is_told(case: _Ca
         for number, line in enumerate(lines, 1):
             if line.endswith('2.0, "odom_msg")') and "wait_for_message" not in code:
                 found.append(
-                    Finding(
-                        check="names",
-                        severity="error",
-                        line=number,
-                        message="the wait needs a longer timeout",
+                    ATTRIBUTE_NEVER_SET.finding(
+                        line=number, message="the wait needs a longer timeout"
                     )
                 )
         return found
@@ -706,9 +710,7 @@ def test_an_answer_only_the_run_faults_beats_one_the_static_checks_stop(case: _C
         findings = case.validate(code, skeleton)
         for number, line in enumerate(code.splitlines(), 1):
             if "faults when run" in line:
-                findings.append(
-                    Finding(check="run.exception", severity="error", line=number, message="boom")
-                )
+                findings.append(RUN_EXCEPTION.finding(line=number, message="boom"))
         return findings
 
     model = MethodScript({**GOOD, "completing": [static_error, runs_badly, static_error]})
@@ -897,38 +899,47 @@ def test_a_worked_examples_helper_copied_into_a_state_is_not_asked_for(case: _Ca
 def test_an_output_finding_that_says_to_read_a_scan_by_hand_names_the_helper() -> None:
     from skillwright.generation.author import _helper_hint
 
-    finding = Finding(
-        check="outputs",
-        severity="error",
+    finding = OUTPUT_CONSTANT.finding(
         line=1,
         message="output outObstacleAngle is only ever set to 0.0: ...; the skill can read it "
         "from self.scan_msg.angle_min + i * self.scan_msg.angle_increment (the direction of "
         "range i, in radians)",
+        data={
+            "output": "outObstacleAngle",
+            "attribute": "out_obstacle_angle",
+            "scans": ["scan_msg"],
+        },
     )
     assert _helper_hint(finding, ["_wait_until", "_closest_reading"]) == (
         "; self._closest_reading(self.scan_msg) returns (distance, bearing) of the nearest "
         "valid reading"
     )
     assert _helper_hint(finding, ["_wait_until"]) == ""
-    other = finding.model_copy(update={"check": "units"})
+    other = finding.model_copy(update={"code": MIXED_ANGLE_UNITS.code, "check": "units"})
     assert _helper_hint(other, ["_closest_reading"]) == ""
 
 
 def test_a_navigation_goal_of_the_wrong_type_is_told_the_goal_helper() -> None:
     from skillwright.generation.author import _helper_hint
 
-    finding = Finding(
-        check="grounding",
-        severity="error",
+    finding = ARGUMENT_TYPE_MISMATCH.finding(
         line=1,
         message="self._send_navigate_to_pose_goal takes a nav2_msgs/action/NavigateToPose.Goal, "
         "not a geometry_msgs/msg/Pose",
+        data={
+            "call": "self._send_navigate_to_pose_goal",
+            "expected": "nav2_msgs/action/NavigateToPose.Goal",
+            "given": "geometry_msgs/msg/Pose",
+        },
     )
     assert _helper_hint(finding, ["_pose_goal", "_result_of"]) == (
         "; self._pose_goal(frame, x, y, yaw) returns one for a point and a heading"
     )
     assert _helper_hint(finding, ["_result_of"]) == ""
     other = finding.model_copy(
-        update={"message": "self.pub.publish takes a geometry_msgs/msg/Twist, not a Pose"}
+        update={
+            "message": "self.pub.publish takes a geometry_msgs/msg/Twist, not a Pose",
+            "data": {"expected": "geometry_msgs/msg/Twist", "given": "geometry_msgs/msg/Pose"},
+        }
     )
     assert _helper_hint(other, ["_pose_goal"]) == ""

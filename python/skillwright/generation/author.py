@@ -53,9 +53,24 @@ from skillwright.generation.conversation import (
     state_ask,
 )
 from skillwright.generation.guard import RepetitionGuard
-from skillwright.generation.model import Attempt, AttemptFinish, InterfaceRef, Skeleton
+from skillwright.generation.model import (
+    AppliedFix,
+    Attempt,
+    AttemptFinish,
+    InterfaceRef,
+    Skeleton,
+)
 from skillwright.llm.base import GenerationOptions, TextGenerator
+from skillwright.rules.capability import (
+    INPUT_COPIED_UNUSED,
+    INPUT_NEVER_READ,
+    INPUT_ONLY_VALIDATED,
+    OUTPUT_CONSTANT,
+    OUTPUT_NEVER_SET,
+)
 from skillwright.rules.finding import Finding
+from skillwright.rules.interfaces import ARGUMENT_TYPE_MISMATCH
+from skillwright.rules.registry import rule_of
 from skillwright.spec.model import SkillSpec
 from skillwright.validation.names import self_attribute
 from skillwright.validation.static import local_name
@@ -389,26 +404,27 @@ def _problems(
     findings: Sequence[Finding],
     code_lines: Sequence[str],
     offered: Collection[str] = (),
-) -> list[str]:
-    """What to tell the model about its last answer: why it gave no code, or the errors
-    in the code it gave (also when the checks wrote that code: their note says what they
-    fixed, not what is still wrong)."""
+) -> list[tuple[str, str]]:
+    """What to tell the model about its last answer, as (rule code, text): why it gave no
+    code (no code), or the errors in the code it gave (also when the checks wrote that code:
+    their note says what they fixed, not what is still wrong)."""
     if attempt.code is None and attempt.note is not None:
-        return [attempt.note]
+        return [("", attempt.note)]
     out = []
     for finding in findings:
         if finding.severity != "error":
             continue
         source = code_lines[finding.line - 1].strip() if 0 < finding.line <= len(code_lines) else ""
         message = finding.message + _helper_hint(finding, offered)
-        out.append(f"`{source}`: {message}" if source else message)
+        out.append((finding.code, f"`{source}`: {message}" if source else message))
     return out[:_MAX_PROBLEMS]
 
 
-_SCAN_SOURCE = re.compile(r"self\.(\w+)\.(?:ranges|angle_min)")
-
-
-_NAVIGATE_GOAL = re.compile(r"takes a nav2_msgs/action/NavigateToPose\.Goal, not a ")
+_NAVIGATION_GOAL = "nav2_msgs/action/NavigateToPose.Goal"
+_OUTPUT_RULES = frozenset({OUTPUT_NEVER_SET.code, OUTPUT_CONSTANT.code})
+_UNUSED_INPUT_RULES = frozenset(
+    {INPUT_NEVER_READ.code, INPUT_COPIED_UNUSED.code, INPUT_ONLY_VALIDATED.code}
+)
 
 
 def _helper_hint(finding: Finding, offered: Collection[str]) -> str:
@@ -417,16 +433,16 @@ def _helper_hint(finding: Finding, offered: Collection[str]) -> str:
     file the checks saw holds only the helpers already called, so the finding cannot name
     the others)."""
     if (
-        finding.check == "grounding"
-        and _NAVIGATE_GOAL.search(finding.message)
+        finding.code == ARGUMENT_TYPE_MISMATCH.code
+        and finding.data.get("expected") == _NAVIGATION_GOAL
         and "_pose_goal" in offered
     ):
         return "; self._pose_goal(frame, x, y, yaw) returns one for a point and a heading"
-    scan = _SCAN_SOURCE.search(finding.message) if finding.check == "outputs" else None
-    if scan is None or "_closest_reading" not in offered or "_closest_reading" in finding.message:
+    scans = finding.data.get("scans") if finding.code in _OUTPUT_RULES else None
+    if not scans or "_closest_reading" not in offered:
         return ""
     return (
-        f"; self._closest_reading(self.{scan.group(1)}) returns (distance, bearing) of the "
+        f"; self._closest_reading(self.{scans[0]}) returns (distance, bearing) of the "
         "nearest valid reading"
     )
 
@@ -456,22 +472,15 @@ def _resume_point(target: _Target, code: str, judgement: _Judgement, error: Find
     return kept
 
 
-_UNSET_OUTPUT = re.compile(r"no method assigns self\.(\w+)")
-
-
 def _unset_output(finding: Finding) -> str | None:
-    """The attribute of the output that ``finding`` says no method sets, if it says so."""
-    found = _UNSET_OUTPUT.search(finding.message) if finding.check == "outputs" else None
-    return found.group(1) if found else None
-
-
-_UNREAD_INPUT = re.compile(r"^input \w+ is never (?:read|used): .*?self\.(\w+)")
+    """The attribute of the output that ``finding`` says no method sets (with a measured
+    value), if it says so."""
+    return str(finding.data["attribute"]) if finding.code in _OUTPUT_RULES else None
 
 
 def _unread_input(finding: Finding) -> str | None:
     """The attribute of the input that ``finding`` says the skill ignores, if it says so."""
-    found = _UNREAD_INPUT.search(finding.message) if finding.check == "inputs" else None
-    return found.group(1) if found else None
+    return str(finding.data["attribute"]) if finding.code in _UNUSED_INPUT_RULES else None
 
 
 def _inputs_resume(target: _Target, attributes: Sequence[str]) -> str:
@@ -514,12 +523,13 @@ def _indented(replacement: str, line: str) -> str:
 
 def _apply_replacements(
     target: _Target, code: str, judgement: _Judgement, errors: Sequence[Finding]
-) -> str | None:
+) -> tuple[str, list[Finding]] | None:
     """``code`` (the answer of ``target`` in the judged file) with each flagged statement
-    whose finding suggests one replaced by it; ``None`` unless at least one applies and the
-    result is a different method that parses. The errors without a suggestion stay for the
-    model, which then repairs a method with fewer of them. Of two suggestions for one
-    statement (or for a statement and one inside it) only the first applies: the other was
+    whose finding suggests one replaced by it, and the findings whose fixes went in; ``None``
+    unless at least one applies and the result is a different method that parses. The errors
+    without a suggestion stay for the model, which then repairs a method with fewer of them.
+    Of two suggestions for one statement (or for a statement and one inside it) only the
+    first applies: the other was
     made for the statement as it was, and the next round's checks make it again for the
     statement as it is (cap2skill collision avoidance's loop needed a sleep and a local
     renamed; keeping the sleep's loop dropped the rename, and the skill compared a float with
@@ -529,6 +539,7 @@ def _apply_replacements(
         return None
     lines = code.splitlines(keepends=True)
     spans: dict[tuple[int, int], str] = {}
+    applied: list[Finding] = []
     for error in errors:
         found = _statements_at(judgement, target.name, error.line, error.column)
         if error.replacement is None or found is None or not _replaceable(found[1]):
@@ -541,10 +552,11 @@ def _apply_replacements(
         last = mine.lineno + (inner.end_lineno or inner.lineno) - top.lineno
         if not any(first <= end and start <= last for start, end in spans):
             spans[(first, last)] = error.replacement
+            applied.append(error)
     for first, last in sorted(spans, reverse=True):
         lines[first - 1 : last] = [_indented(spans[(first, last)], lines[first - 1])]
     fixed = "".join(lines)
-    return fixed if fixed != code and parse_method(fixed) is not None else None
+    return (fixed, applied) if fixed != code and parse_method(fixed) is not None else None
 
 
 def _replaceable(statement: ast.stmt) -> bool:
@@ -607,7 +619,7 @@ def _only_later_stages(judgement: _Judgement) -> bool:
     """Whether the file passed the static checks and only the run or simulation found
     errors."""
     errors = [f for f in judgement.findings if f.severity == "error"]
-    return bool(errors) and all(f.check.startswith(_LATER_STAGES) for f in errors)
+    return bool(errors) and all(_later(f) for f in errors)
 
 
 def _score(attempt: Attempt) -> tuple[int, int, int, int]:
@@ -626,12 +638,18 @@ def _score(attempt: Attempt) -> tuple[int, int, int, int]:
     return (0, attempt.errors - later, later, attempt.warnings or 0)
 
 
-_LATER_STAGES = ("run", "behaviour")
-"""Check-name prefixes of findings from running the skill rather than reading it."""
+def _later(finding: Finding) -> bool:
+    """Whether ``finding`` comes from running the skill (the run, the simulation) rather
+    than from reading it."""
+    rule = rule_of(finding)
+    return rule is not None and rule.stage != "static"
 
-_EXECUTE_OWNS = (*_LATER_STAGES, "inputs", "outputs")
-"""Check-name prefixes whose errors outside any written method (at an input's or output's
-getter: an input never read, an output never set) are ``execute``'s to fix."""
+
+def _execute_owns(finding: Finding) -> bool:
+    """Whether ``finding``, outside any written method (at an input's or output's getter:
+    an input never read, an output never set), is ``execute``'s to fix."""
+    rule = rule_of(finding)
+    return _later(finding) or (rule is not None and rule.group in ("inputs", "outputs"))
 
 
 _Pick = Callable[[_Target], Attempt | None]
@@ -675,7 +693,7 @@ class _Judgement:
             found += [
                 f.model_copy(update={"line": first, "column": 0})
                 for f in self.findings
-                if f.check.startswith(_EXECUTE_OWNS)
+                if _execute_owns(f)
                 and f.severity == "error"
                 and not f.stack
                 and _method_at(spans, f.line) not in self.written | owned
@@ -773,10 +791,7 @@ class _Skill:
         )
         # The run and the simulation follow only a file without static errors: in any other,
         # an answer's behaviour is not known, which is not the same as none found.
-        measured = not any(
-            f.severity == "error" and not f.check.startswith(_LATER_STAGES)
-            for f in judgement.findings
-        )
+        measured = not any(f.severity == "error" and not _later(f) for f in judgement.findings)
         for target in self.targets.values():
             attempt = pick(target)
             mine = judgement.mine(target.name)
@@ -785,12 +800,10 @@ class _Skill:
             errors = [f for f in mine if f.severity == "error"]
             attempt.errors = len(errors)
             attempt.warnings = len(mine) - attempt.errors
-            attempt.behaviour_errors = (
-                sum(f.check.startswith(_LATER_STAGES) for f in errors) if measured else None
-            )
+            attempt.behaviour_errors = sum(_later(f) for f in errors) if measured else None
         return judgement
 
-    def failing(self, judgement: _Judgement) -> list[tuple[_Target, list[str], str]]:
+    def failing(self, judgement: _Judgement) -> list[tuple[_Target, list[tuple[str, str]], str]]:
         """Methods whose latest answer failed or has errors, with what to tell the model and
         the start its repair continues from."""
         lines = judgement.assembly.code.splitlines()
@@ -817,9 +830,12 @@ class _Skill:
                 out.append((target, _problems(last, mine, lines, self.full.helpers), start))
         return out
 
-    def fixes(self, judgement: _Judgement) -> list[tuple[_Target, str, list[str]]]:
+    def fixes(
+        self, judgement: _Judgement
+    ) -> list[tuple[_Target, str, list[tuple[str, str]], list[Finding]]]:
         """Methods with errors that come with the statement to put in their place, with the
-        latest answer so fixed and what it was told (the errors left are the repair's)."""
+        latest answer so fixed, what it was told (the errors left are the repair's) and the
+        findings whose fixes went in."""
         lines = judgement.assembly.code.splitlines()
         out = []
         for target in self.targets.values():
@@ -830,10 +846,19 @@ class _Skill:
             errors = [f for f in mine if f.severity == "error"]
             fixed = _apply_replacements(target, last.code, judgement, errors)
             if fixed is not None:
-                out.append((target, fixed, _problems(last, mine, lines, self.full.helpers)))
+                code, applied = fixed
+                told = _problems(last, mine, lines, self.full.helpers)
+                out.append((target, code, told, applied))
         return out
 
-    def fix(self, target: _Target, code: str, problems: list[str]) -> None:
+    def fix(
+        self,
+        target: _Target,
+        code: str,
+        told: list[tuple[str, str]],
+        applied: Sequence[Finding] = (),
+    ) -> None:
+        problems = [text for _, text in told]
         attempt = Attempt(
             target=target.name,
             kind=target.kind,
@@ -846,6 +871,11 @@ class _Skill:
             response="",
             seconds=0.0,
             problems=problems,
+            problem_codes=[c for c, _ in told if c],
+            fixes=[
+                AppliedFix(code=f.code, safety=f.fix_safety or "unsafe", line=f.line)
+                for f in applied
+            ],
         )
         target.attempts.append(attempt)
         # What the checks fixed is still worth avoiding when the model writes it again.
@@ -858,17 +888,19 @@ class _Skill:
 
     def repair_failing(self, judgement: _Judgement) -> None:
         """Asks again for every method that failed, then for helpers the repairs call."""
-        for target, problems, prefill in self.failing(judgement):
-            self.repair(target, problems, prefill)
+        for target, told, prefill in self.failing(judgement):
+            self.repair(target, told, prefill)
         self.write_helpers()  # a repair may call a helper nobody has written yet
 
-    def repair(self, target: _Target, problems: list[str], prefill: str) -> None:
+    def repair(self, target: _Target, told: list[tuple[str, str]], prefill: str) -> None:
         # A repair branches off where the method was first asked for: the same request with
         # everything found so far, continuing the latest answer up to its first error.
+        problems = [text for _, text in told]
         target.problems += [p for p in problems if p not in target.problems]
         ask = repair_ask(target.ask, target.problems[-_MAX_PROBLEMS:])
         attempt = self.author.answer(self.conversation, target, ask, prefill)
         attempt.problems = problems
+        attempt.problem_codes = [c for c, _ in told if c]
 
 
 def author_skill(
@@ -896,8 +928,8 @@ def author_skill(
         fixable = skill.fixes(judgement) if fixes < _MAX_FIX_ROUNDS else []
         if fixable:
             fixes += 1
-            for target, code, problems in fixable:
-                skill.fix(target, code, problems)
+            for target, code, told, applied in fixable:
+                skill.fix(target, code, told, applied)
         elif rounds < settings.attempts - 1:
             rounds += 1
             skill.repair_failing(judgement)

@@ -80,6 +80,19 @@ answer that is not one method of Python, the user's cancel; or ``fixed``: no mod
 the previous answer with the statements the checks suggested put in place."""
 
 
+class AppliedFix(BaseModel):
+    """A rule's fix the checks put into an answer themselves (no model involved)."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    code: str = Field(description="The rule whose fix it is (`skillwright rules`).")
+    safety: Literal["safe", "unsafe"] = Field(
+        description="`unsafe`: the fix decides something the code did not say (a timeout, a "
+        "wait, a command repeated), which can change what the robot does."
+    )
+    line: int = Field(description="The line of the judged file it replaced.")
+
+
 class Attempt(BaseModel):
     """One answer of the model for one method: a state, or a helper a state calls."""
 
@@ -109,6 +122,15 @@ class Attempt(BaseModel):
     )
     problems: list[str] = Field(
         default_factory=list, description="What it was asked to fix (repair attempts)."
+    )
+    problem_codes: list[str] = Field(
+        default_factory=list,
+        description="The rules of the findings it was asked to fix, in the order of `problems`.",
+    )
+    fixes: list[AppliedFix] = Field(
+        default_factory=list,
+        description="For an answer the checks fixed themselves (finish `fixed`): each fix put "
+        "in, with its rule and safety.",
     )
     kept_lines: int = Field(
         default=0,

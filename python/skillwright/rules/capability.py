@@ -108,7 +108,7 @@ OUTPUT_NEVER_SET = Rule(
     why="pySkillUp reports what the output getter returns after completing; unset, that is "
     "whatever __init__ put there, whatever the robot did.",
     example="# out_distance is set in __init__ and nowhere else",
-    data=("output", "attribute"),
+    data=("output", "attribute", "scans"),
     grounds=_CAPABILITY,
 )
 
@@ -126,6 +126,6 @@ OUTPUT_CONSTANT = Rule(
     fix="Stores the value the method worked out (or the skeleton's closest reading) instead "
     "of the literal.",
     safety="unsafe",
-    data=("output", "attribute", "values"),
+    data=("output", "attribute", "values", "scans"),
     grounds=_CAPABILITY,
 )

@@ -30,7 +30,7 @@ from typing import Any
 
 from skillwright.rules.finding import Finding, FixSafety, Severity, Stage
 
-__all__ = ["RULES", "Rule", "UnknownRuleError", "all_rules", "get", "resolve"]
+__all__ = ["RULES", "Rule", "UnknownRuleError", "all_rules", "get", "resolve", "rule_of"]
 
 _CODE = re.compile(r"^SW[1-7]\d\d$")
 _NAME = re.compile(r"^[a-z][a-z0-9]*(-[a-z0-9]+)*$")
@@ -176,6 +176,12 @@ def get(code: str) -> Rule:
     if found is None:
         raise UnknownRuleError(code)
     return found
+
+
+def rule_of(finding: Finding) -> Rule | None:
+    """The rule that made ``finding`` (``None`` for one read from an old record)."""
+    all_rules()
+    return RULES.get(finding.code)
 
 
 def resolve(selectors: Iterator[str] | list[str] | tuple[str, ...]) -> set[str]:

@@ -19,6 +19,7 @@ from skillwright.interfaces.inventory import Inventory
 from skillwright.rules.finding import Finding
 from skillwright.rules.run import (
     RUN_COMMAND_STILL_MOVING,
+    RUN_EXCEPTION,
     RUN_EXPECTATION,
     RUN_GOAL_LEFT_ACTIVE,
     RUN_INPUT_GETTER,
@@ -391,7 +392,7 @@ def _analyse(
             )
     findings = list(recorder.findings)
     if main and scenario.expect == "abort":
-        findings = [f for f in findings if f.check != "run.exception"]
+        findings = [f for f in findings if f.code != RUN_EXCEPTION.code]
     return findings
 
 

@@ -105,6 +105,16 @@ def measuring_sources(cls: ast.ClassDef, unit: str) -> list[str]:
     return out
 
 
+def raw_scans(cls: ast.ClassDef, unit: str) -> list[str]:
+    """The latest LaserScan messages whose raw fields :func:`measuring_sources` names for a
+    quantity in ``unit`` (the class lacks the skeleton's ``_closest_reading``, which reads
+    them for it)."""
+    methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef)}
+    if "_closest_reading" in methods or not any(unit in u for u, _ in _FIELDS["LaserScan"]):
+        return []
+    return [a for a, type_name in _latest_messages(cls) if type_name == "LaserScan"]
+
+
 def _latest_messages(cls: ast.ClassDef) -> list[tuple[str, str]]:
     """(attribute, message type) of each ``self.<attribute>: <Type> | None`` in ``__init__``."""
     init = next(

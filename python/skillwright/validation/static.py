@@ -95,7 +95,7 @@ from skillwright.validation.names import (
 from skillwright.validation.patience import check_zero_timeouts
 from skillwright.validation.positions import check_filtered_positions
 from skillwright.validation.settle import check_settling
-from skillwright.validation.sources import measuring_sources
+from skillwright.validation.sources import measuring_sources, raw_scans
 from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
 from skillwright.validation.units import check_angle_units
@@ -1745,7 +1745,7 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 f"output {name} is never set: no method assigns self.{attr}, so the getter "
                 f"returns what __init__ put there; store the value it reports{about} in "
                 f"self.{attr} before execute ends{_sources(cls, capability, name)}",
-                data={"output": name, "attribute": attr},
+                data={"output": name, "attribute": attr, "scans": _scans(cls, capability, name)},
             )
         elif (
             kind == "skill_output"
@@ -1830,7 +1830,12 @@ def _literal_output(
             message + f"{method_name} works out {local} and then stores "
             f"{ast.unparse(store.value)} in its place; store {local}",
             replacement=f"self.{attr} = {local}",
-            data={"output": name, "attribute": attr, "values": values},
+            data={
+                "output": name,
+                "attribute": attr,
+                "values": values,
+                "scans": _scans(cls, capability, name),
+            },
         )
     elif (reading := _helper_reading(cls, capability, name, attr)) is not None:
         store, method_name, value = reading
@@ -1840,7 +1845,12 @@ def _literal_output(
             message + f"{method_name} finds the nearest reading with _closest_reading() and "
             f"then stores {ast.unparse(store.value)} in its place; store {value}",
             replacement=f"self.{attr} = {value}",
-            data={"output": name, "attribute": attr, "values": values},
+            data={
+                "output": name,
+                "attribute": attr,
+                "values": values,
+                "scans": _scans(cls, capability, name),
+            },
         )
     else:
         ctx.add(
@@ -1848,7 +1858,12 @@ def _literal_output(
             where,
             message + f"store what it measures{about} in self.{attr} before execute "
             f"ends{_sources(cls, capability, name)}",
-            data={"output": name, "attribute": attr, "values": values},
+            data={
+                "output": name,
+                "attribute": attr,
+                "values": values,
+                "scans": _scans(cls, capability, name),
+            },
         )
 
 
@@ -1928,11 +1943,23 @@ def _worked_out_local(cls: ast.ClassDef, attr: str) -> tuple[ast.Assign, str, st
 
 def _sources(cls: ast.ClassDef, capability: Capability, name: str) -> str:
     """Where the skill can read what output ``name`` measures, as the end of a message."""
+    unit = _measured_unit(capability, name)
+    found = measuring_sources(cls, unit) if unit is not None else []
+    return f"; the skill can read it from {' or '.join(found)}" if found else ""
+
+
+def _measured_unit(capability: Capability, name: str) -> str | None:
+    """The unit of output ``name`` when the capability measures it."""
     unit = next(
         (p.element.unit for p in capability.outputs if p.name == name and p.element.unit), None
     )
-    found = measuring_sources(cls, unit) if unit is not None and _measured(capability, name) else []
-    return f"; the skill can read it from {' or '.join(found)}" if found else ""
+    return unit if unit is not None and _measured(capability, name) else None
+
+
+def _scans(cls: ast.ClassDef, capability: Capability, name: str) -> list[str]:
+    """The scans the finding of output ``name`` tells the skill to read raw."""
+    unit = _measured_unit(capability, name)
+    return raw_scans(cls, unit) if unit is not None else []
 
 
 def _self_stores(method: ast.FunctionDef) -> list[tuple[str, ast.expr | None]]:
@@ -2269,7 +2296,8 @@ def check_skill(
         _check_placeholders(ctx, tree, source, methods)
         _check_swallowed_errors(ctx, methods, spec)
         _check_input_writes(ctx, cls, capability)
-        if not any(f.check == "placeholders" and f.severity == "error" for f in ctx.findings):
+        placeholders = {EMPTY_STATE.code, NOT_IMPLEMENTED.code}
+        if not any(f.code in placeholders for f in ctx.findings):
             _check_parameter_use(ctx, cls, capability)
         _check_handles(ctx, cls)
         _check_goal_results(ctx, cls)
