@@ -6,8 +6,10 @@ interface report. Each runs through the same pipeline as ``skillwright generate`
 retrieval, the default model, repairs from the findings of the checks, the sandboxed run and the
 MuJoCo simulation); the results go to ``eval-out/``
 (one folder per skill with its record, and ``summary.json``) and a table is printed:
-per skill the verdict of the checks, answers and repairs, errors by kind, tokens and seconds,
-then the totals the targets are judged by.
+per skill the verdict of the checks, answers and repairs, errors by rule, tokens and seconds,
+then the totals the targets are judged by, and per rule (its code) how often the model was
+told of it, how often it is left in the final skills, how often the checks fixed it without
+the model and how many of those fixes the final skills kept.
 
     python scripts/eval.py [--only NAME ...] [--attempts N] [--out DIR] [--model ID]
 
@@ -50,6 +52,15 @@ class Row:
     errors: int = 0
     warnings: int = 0
     kinds: dict[str, int] = field(default_factory=dict)
+    """Errors of the final skill's static checks, by rule code."""
+    told: dict[str, int] = field(default_factory=dict)
+    """Findings the model was told of over all its repairs, by rule code."""
+    final: dict[str, int] = field(default_factory=dict)
+    """Errors left in the final skill (checks, run and simulation), by rule code."""
+    fixed: dict[str, int] = field(default_factory=dict)
+    """Fixes the checks put in themselves, by rule code."""
+    kept: dict[str, int] = field(default_factory=dict)
+    """Of those, the ones in answers the final skill holds."""
     answers: int = 0
     repairs: int = 0
     fixes: int = 0
@@ -120,7 +131,12 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
     row.passed = record.checks.passed
     row.errors = record.checks.errors
     row.warnings = record.checks.warnings
-    row.kinds = dict(Counter(f.check for f in record.checks.findings if f.severity == "error"))
+    row.kinds = dict(Counter(f.code for f in record.checks.findings if f.severity == "error"))
+    final = [f for f in record.checks.findings if f.severity == "error"]
+    for stage in (record.run, record.simulation):
+        if stage is not None:
+            final += [f for f in stage.findings if f.severity == "error"]
+    row.final = dict(Counter(f.code for f in final))
     row.generation_seconds = record.timings.get("generation", 0.0)
     if record.model is not None:
         answers = [a for a in record.model.attempts if a.finish != "fixed"]
@@ -130,6 +146,11 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
         row.tokens = record.model.completion_tokens or 0
         row.hit_limit = sum(a.finish == "length" for a in record.model.attempts)
         row.looped = sum(a.finish == "repetition" for a in record.model.attempts)
+        row.told = dict(Counter(c for a in record.model.attempts for c in a.problem_codes))
+        row.fixed = dict(Counter(f.code for a in record.model.attempts for f in a.fixes))
+        row.kept = dict(
+            Counter(f.code for a in record.model.attempts if a.chosen for f in a.fixes)
+        )
     else:
         row.failure = "no model: the skeleton was written"
     if record.run is not None and record.run.skipped is None:
@@ -145,7 +166,7 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
 
 def table(rows: list[Row]) -> str:
     head = (
-        f"{'robot':<10} {'skill':<32} {'checks':<7} {'errors by kind':<28} {'run':<5} "
+        f"{'robot':<10} {'skill':<32} {'checks':<7} {'errors by rule':<28} {'run':<5} "
         f"{'sim':<9} {'answers':>7} {'repairs':>7} {'fixes':>5} {'tokens':>6} {'seconds':>8}"
     )
     lines = [head, "-" * len(head)]
@@ -175,7 +196,26 @@ def table(rows: list[Row]) -> str:
         if seconds
         else "seconds per skill: -",
     ]
-    return "\n".join(lines)
+    return "\n".join([*lines, "", *rule_table(rows)])
+
+
+def rule_table(rows: list[Row]) -> list[str]:
+    """Per rule: told to the model, left in the final skills, fixed by the checks, kept."""
+    from skillwright.rules.registry import RULES, all_rules
+
+    all_rules()
+    totals: dict[str, list[int]] = {}
+    for row in rows:
+        for index, counts in enumerate((row.told, row.final, row.fixed, row.kept)):
+            for code, count in counts.items():
+                totals.setdefault(code, [0, 0, 0, 0])[index] += count
+    head = f"{'rule':<6} {'name':<34} {'told':>5} {'left':>5} {'fixed':>6} {'kept':>5}"
+    lines = [head, "-" * len(head)]
+    for code in sorted(totals):
+        told, left, fixed, kept = totals[code]
+        name = RULES[code].name if code in RULES else "(no code)"
+        lines.append(f"{code or '-':<6} {name:<34} {told:>5} {left:>5} {fixed:>6} {kept:>5}")
+    return lines
 
 
 def main() -> int:

@@ -29,6 +29,7 @@ COMMANDS: dict[str, str] = {
     "inventory": "skillwright.interfaces.inventory_commands:inventory",
     "models": "skillwright.llm.commands:models",
     "retrieve": "skillwright.retrieval.commands:retrieve",
+    "rules": "skillwright.validation.commands:rules",
     "run": "skillwright.runtime.commands:run",
     "spec": "skillwright.spec.commands:spec",
     "tui": "skillwright.tui.commands:tui",

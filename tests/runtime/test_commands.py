@@ -41,7 +41,7 @@ def test_findings_are_printed_compiler_style_and_exit_1(tmp_path: Path) -> None:
     )
     assert result.exit_code == 1
     assert (
-        f"{broken}:79:0: error [run.field] execute raised MessageFieldError: 'TransformStamped' object "
+        f"{broken}:79:0: error SW604 [run.field] execute raised MessageFieldError: 'TransformStamped' object "
         "has no attribute 'translation' (geometry_msgs/msg/TransformStamped has: header, "
         "child_frame_id, transform)" in result.stdout
     )

@@ -38,6 +38,7 @@ from skillwright.pipeline.record import (
     VerdictRecord,
 )
 from skillwright.rules.finding import Finding
+from skillwright.rules.settings import Selection
 
 if TYPE_CHECKING:
     from skillwright.capability.model import Capability
@@ -159,9 +160,13 @@ class Behaviour:
         sim_seconds: float = 240.0,
         cancel: threading.Event | None = None,
         isolated: bool = True,
+        selection: Selection | None = None,
     ) -> None:
         self.capability = capability
         self.isolated = isolated
+        self.selection = selection or Selection()
+        """The rules the run's findings are reported and repaired by (the simulation's
+        verdicts all count: they come from the capability model)."""
         self.inventory = inventory
         self.skill_path = skill_path
         self.work_dir = work_dir
@@ -232,6 +237,7 @@ class Behaviour:
                     # the budget ran out in the second run: the first one's findings stand
                     if self._cancelled() or not budget.expired:
                         raise
+            report = report.model_copy(update={"findings": self.selection.filter(report.findings)})
             result = RunResult(report, time.perf_counter() - started)
         except GenerationCancelledError:
             if self._cancelled() or not budget.expired:

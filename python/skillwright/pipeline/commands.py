@@ -16,6 +16,7 @@ from skillwright.cli_options import (
     spec_option,
     warn_unisolated,
 )
+from skillwright.validation.commands import selection_options
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -228,6 +229,7 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
     help="A models.toml to use instead of the usual ones.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the record as JSON on stdout.")
+@selection_options
 @isolation_option
 def generate(
     capability_file: Path,
@@ -249,6 +251,8 @@ def generate(
     out_dir: Path | None,
     models_file: Path | None,
     as_json: bool,
+    select: tuple[str, ...],
+    ignore: tuple[str, ...],
     unisolated: bool,
 ) -> None:
     """Write a skill for a capability and a specification from the robot's interfaces.
@@ -294,6 +298,8 @@ def generate(
         run=not no_run,
         simulate=not no_sim,
         isolated=not unisolated,
+        select=select,
+        ignore=ignore,
     )
     if unisolated and not (no_run and no_sim):
         warn_unisolated()

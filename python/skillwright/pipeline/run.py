@@ -70,6 +70,7 @@ if TYPE_CHECKING:
     from skillwright.retrieval.retrieve import Embedder, Hit
     from skillwright.rules.finding import Finding
     from skillwright.spec.model import SkillSpec
+from skillwright.rules.settings import Selection, project_selection
 from skillwright.validation.model import CheckReport
 
 __all__ = ["GenerationRequest", "Outcome", "RetrievalResult", "retrieve", "run_generation"]
@@ -116,6 +117,10 @@ class GenerationRequest:
     """Wall-clock budget of one simulation."""
     isolated: bool = True
     """Run and simulate inside the kernel sandbox; ``False`` is ``--unsafe-no-isolation``."""
+    select: tuple[str, ...] = ()
+    """Rules to report and repair (codes, blocks, groups, names); the project's by default."""
+    ignore: tuple[str, ...] = ()
+    """Rules to leave out, besides the project's ignore."""
 
 
 @dataclass
@@ -474,26 +479,46 @@ def _load_model(
         return None, registry
 
 
-def _static_validator(
-    load: CapabilityLoad, spec: SkillSpec, inventory: Inventory, path: Path
-) -> Callable[[str, Skeleton], list[Finding]]:
-    """The static checks of a candidate skill, against the interfaces its skeleton kept."""
-    from skillwright.validation.catalog import catalog_from_inventory
-    from skillwright.validation.static import check_skill
+class _StaticChecks:
+    """The static checks of a candidate skill, against the interfaces its skeleton kept, as
+    far as the project's rule selection reports them."""
 
-    catalog = catalog_from_inventory(inventory)
+    def __init__(
+        self,
+        load: CapabilityLoad,
+        spec: SkillSpec,
+        inventory: Inventory,
+        path: Path,
+        selection: Selection,
+    ) -> None:
+        from skillwright.validation.catalog import catalog_from_inventory
 
-    def validate(code: str, skeleton: Skeleton) -> list[Finding]:
-        return check_skill(
+        self.load, self.spec, self.path, self.selection = load, spec, path, selection
+        self.catalog = catalog_from_inventory(inventory)
+
+    def report(self, code: str, skeleton: Skeleton) -> CheckReport:
+        """The report of ``code``'s checks."""
+        from skillwright.validation.static import check_skill
+
+        report = check_skill(
             code,
-            capability=load.capability,
-            spec=spec,
-            catalog=catalog,
+            capability=self.load.capability,
+            spec=self.spec,
+            catalog=self.catalog,
             retrieved=[i.name for i in skeleton.interfaces],
-            path=str(path),
-        ).findings
+            path=str(self.path),
+        )
+        return report.model_copy(update={"findings": self.selection.filter(report.findings)})
 
-    return validate
+    def __call__(self, code: str, skeleton: Skeleton) -> list[Finding]:
+        return self.report(code, skeleton).findings
+
+
+def _static_validator(
+    load: CapabilityLoad, spec: SkillSpec, inventory: Inventory, path: Path, selection: Selection
+) -> _StaticChecks:
+    """The static checks of a candidate skill (see :class:`_StaticChecks`)."""
+    return _StaticChecks(load, spec, inventory, path, selection)
 
 
 def _generate(
@@ -558,7 +583,9 @@ def _generate(
             spec,
             [CardInterface(interface, ref) for interface, ref in chosen],
             behaviour.validator(
-                _static_validator(load, spec, inventory, request.out_dir / "skill.py")
+                _static_validator(
+                    load, spec, inventory, request.out_dir / "skill.py", behaviour.selection
+                )
             ),
             settings=settings,
             on_event=forward,
@@ -903,11 +930,10 @@ def run_generation(
     from skillwright.generation.skeleton import build_skeleton, unstated_limits
     from skillwright.interfaces.load import load_inventory, read_warnings
     from skillwright.spec.loader import load_spec
-    from skillwright.validation.catalog import catalog_from_inventory
-    from skillwright.validation.static import check_skill
 
     if request.k < 0:
         raise InvalidArgumentError(f"-k must be 0 or more, not {request.k}")
+    selection = project_selection(Path.cwd()).narrowed(request.select, request.ignore)
     stages = _Stages(on_event, cancel)
     notes: list[str] = []
     with stages.stage(
@@ -951,6 +977,7 @@ def run_generation(
             sim_seconds=request.sim_seconds,
             cancel=cancel,
             isolated=request.isolated,
+            selection=selection,
         )
         model_result = _model_stages(
             request, stages, load, spec, inventory, chosen, behaviour, loaded
@@ -960,14 +987,9 @@ def run_generation(
         kept = skeleton if model_result is None else model_result.skeleton
 
         with stages.stage("checks", "static checks") as s:
-            report = check_skill(
-                code,
-                capability=load.capability,
-                spec=spec,
-                catalog=catalog_from_inventory(inventory),
-                retrieved=[i.name for i in kept.interfaces],
-                path=str(request.out_dir / "skill.py"),
-            )
+            report = _static_validator(
+                load, spec, inventory, request.out_dir / "skill.py", selection
+            ).report(code, kept)
             errors = sum(f.severity == "error" for f in report.findings)
             s.append(f"{'passed' if report.passed else 'failed'}, {errors} error(s)")
         stages.check_cancel()

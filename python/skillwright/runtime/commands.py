@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import click
 
 from skillwright.cli_options import interfaces_option, isolation_option, warn_unisolated
+from skillwright.validation.commands import selection_options
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -139,6 +140,7 @@ def _summary(console: Console, path: Path, report: RunReport) -> None:
     help="Also write the report (findings and trace) as JSON to this file.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
+@selection_options
 @isolation_option
 def run(
     skill_file: Path,
@@ -148,6 +150,8 @@ def run(
     world: str | None,
     out_file: Path | None,
     as_json: bool,
+    select: tuple[str, ...],
+    ignore: tuple[str, ...],
     unisolated: bool,
 ) -> None:
     """Run SKILL_FILE's PackML states in a sandbox against the robot's simulated graph.
@@ -167,12 +171,14 @@ def run(
     from skillwright.console import err_console, out_console, print_model_json
     from skillwright.errors import GenerationCancelledError
     from skillwright.interfaces.load import discover_path, is_json_file
+    from skillwright.rules.settings import project_selection
     from skillwright.runtime.run import run_skill
     from skillwright.runtime.scenario import RunScenario, load_scenario
     from skillwright.runtime.waits import probe_waits
 
     if unisolated:
         warn_unisolated()
+    selection = project_selection(skill_file).narrowed(select, ignore)
     inputs = parse_inputs(input_values)
     scenario = load_scenario(scenario_file) if scenario_file is not None else None
     inventory = discover_path(source)
@@ -195,6 +201,7 @@ def run(
         report = run_once(None, None if as_json else _Progress(err_console()))
         deadline = (scenario or RunScenario()).deadlines.state
         report = probe_waits(report, skill_file.read_text(encoding="utf-8"), run_once, deadline)
+        report = report.model_copy(update={"findings": selection.filter(report.findings)})
     except KeyboardInterrupt:
         raise GenerationCancelledError(
             "run interrupted; the sandboxed process was killed"
