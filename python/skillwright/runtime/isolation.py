@@ -381,18 +381,8 @@ def bwrap_arguments(root: Layout, *, as_root: bool) -> list[str]:
     if as_root:
         arguments += ["--cap-add", "CAP_SETUID", "--cap-add", "CAP_SETGID"]
         arguments += ["--cap-add", "CAP_SETPCAP"]
-    # The folders above what is bound are made by bubblewrap; it would copy the host's
-    # modes (``/root`` is 0700), which would lock an unprivileged user out of its own root.
-    links = {link for link, _ in root.links}
-    above: set[str] = set()
-    for path in (*root.folders, *root.files, *links):
-        above.update(str(parent) for parent in Path(path).parents if str(parent) != "/")
-    for folder in sorted(above - links):
-        arguments += ["--perms", "0755", "--dir", folder]
-    for link, target in root.links:
-        arguments += ["--symlink", target, link]
-    for path in (*root.folders, *root.files):
-        arguments += ["--ro-bind", path, path]
+    # The scratch tmpfs first: what is bound below its path (a clone or a virtual
+    # environment under /tmp) then lies on it instead of under it.
     arguments += [
         "--proc",
         "/proc",
@@ -404,7 +394,18 @@ def bwrap_arguments(root: Layout, *, as_root: bool) -> list[str]:
         str(SCRATCH_BYTES),
         "--tmpfs",
         SCRATCH_ROOT,
-        "--chdir",
-        SCRATCH_ROOT,
     ]
+    # The folders above what is bound are made by bubblewrap; it would copy the host's
+    # modes (``/root`` is 0700), which would lock an unprivileged user out of its own root.
+    links = {link for link, _ in root.links}
+    above: set[str] = set()
+    for path in (*root.folders, *root.files, *links):
+        above.update(str(parent) for parent in Path(path).parents if str(parent) != "/")
+    for folder in sorted(above - links - {SCRATCH_ROOT}):
+        arguments += ["--perms", "0755", "--dir", folder]
+    for link, target in root.links:
+        arguments += ["--symlink", target, link]
+    for path in (*root.folders, *root.files):
+        arguments += ["--ro-bind", path, path]
+    arguments += ["--chdir", SCRATCH_ROOT]
     return arguments
