@@ -5,7 +5,9 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 
 from skillwright.cli import main
@@ -59,3 +61,17 @@ def test_help_lists_commands() -> None:
     result = CliRunner().invoke(main, ["--help"])
     assert result.exit_code == 0
     assert "capability models" in result.output
+
+
+def test_ctrl_c_in_any_command_is_exit_130_with_one_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.capability import reader
+
+    def interrupted(*_args: object, **_kwargs: object) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(reader, "load_capability", interrupted)
+    result = CliRunner().invoke(main, ["capability", "show", str(tmp_path / "x.ttl")])
+    assert result.exit_code == 130
+    assert result.stderr == "error: capability interrupted\n"

@@ -6,7 +6,7 @@ loaded when it is used; heavy libraries load inside the command's body.
 
 Errors the user can cause (:class:`~skillwright.errors.SkillwrightError`) are printed
 as one plain message on stderr with exit status 2 (or the error's own status); no
-traceback reaches the user for them.
+traceback reaches the user for them. Ctrl-C ends a command with status 130.
 """
 
 from __future__ import annotations
@@ -59,6 +59,12 @@ class LazyGroup(click.Group):
         except SkillwrightError as error:
             click.echo(f"error: {error}", err=True)
             ctx.exit(error.exit_code)
+        except KeyboardInterrupt:
+            # The commands that know what an interrupt leaves say it themselves (as an
+            # OperationCancelledError, above); any other ends here, with the status a shell
+            # gives a command stopped by Ctrl-C rather than click's "Aborted!" and 1.
+            click.echo(f"error: {ctx.invoked_subcommand or 'skillwright'} interrupted", err=True)
+            ctx.exit(130)
 
 
 class _WarningLines(logging.Handler):

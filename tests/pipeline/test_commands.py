@@ -3,6 +3,12 @@
 from __future__ import annotations
 
 import json
+import os
+import select
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -135,3 +141,55 @@ def test_a_min_share_outside_0_to_1_is_refused(tmp_path: Path) -> None:
     assert result.exit_code == 2
     assert "--min-share" in result.output
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs POSIX named pipes")
+def test_ctrl_c_ends_generate_with_130_and_one_line_saying_what_was_kept(tmp_path: Path) -> None:
+    """A real SIGINT to a real process: the capability is a named pipe nobody writes, so the
+    process waits in its inputs stage until the signal comes."""
+    capability = tmp_path / "capability.ttl"
+    os.mkfifo(capability)
+    out = tmp_path / "out"
+    command = [
+        sys.executable,
+        "-m",
+        "skillwright",
+        *args(out, "--skeleton", "--no-run", "--no-sim"),
+    ]
+    command[command.index("--capability") + 1] = str(capability)
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert process.stderr is not None
+    deadline = time.monotonic() + 60
+    seen = ""
+    while "inputs: " not in seen and time.monotonic() < deadline:
+        ready, _, _ = select.select([process.stderr], [], [], 1.0)
+        if ready:
+            seen += process.stderr.readline()
+    process.send_signal(signal.SIGINT)
+    _, rest = process.communicate(timeout=60)
+    stderr = seen + rest
+    assert process.returncode == 130, stderr
+    assert stderr.splitlines()[-1] == (
+        f"error: generation interrupted in stage inputs; nothing was written ({out} is as it was)"
+    )
+    assert "Aborted" not in stderr
+    assert "Traceback" not in stderr
+    assert not out.exists()
+
+
+def test_ctrl_c_after_the_files_are_written_says_they_are_complete(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.pipeline import commands
+
+    def interrupted(_outcome: object) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(commands, "_summary", interrupted)
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, args(out, "--skeleton", "--no-run", "--no-sim"))
+    assert result.exit_code == 130
+    assert result.stderr.splitlines()[-1] == (
+        f"error: generation interrupted after writing {out}: its files are complete"
+    )
+    assert (out / "skill.py").is_file()

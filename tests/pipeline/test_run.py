@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import hashlib
 import json
+import signal
 import threading
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -416,6 +418,53 @@ def test_cancelling_during_generation_writes_nothing(
         )
     assert model.closed
     assert not (tmp_path / "out").exists()
+
+
+@pytest.fixture
+def ctrl_c_raises() -> Iterator[None]:
+    """Ctrl-C as in a plain ``python`` process (a test runner may have changed it)."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+@pytest.mark.parametrize("stage", ["inputs", "retrieval", "skeleton", "checks", "outputs"])
+def test_ctrl_c_in_a_stage_writes_nothing_and_says_which_stage(tmp_path: Path, stage: str) -> None:
+    def on_event(event: Event) -> None:
+        if isinstance(event, StageStarted) and event.stage == stage:
+            raise KeyboardInterrupt
+
+    out = tmp_path / "out"
+    with pytest.raises(GenerationCancelledError) as info:
+        run_generation(request(out, skeleton=True), on_event=on_event)
+    assert str(info.value) == (
+        f"generation interrupted in stage {stage}; nothing was written ({out} is as it was)"
+    )
+    assert info.value.exit_code == 130
+    assert not out.exists()
+
+
+@pytest.mark.usefixtures("ctrl_c_raises")
+def test_ctrl_c_while_the_files_are_moved_in_comes_after_all_of_them_are(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.generation import output
+
+    write_outputs = output.write_outputs
+
+    def pressed_meanwhile(out_dir: Path, files: dict[str, str]) -> list[Path]:
+        signal.raise_signal(signal.SIGINT)
+        return write_outputs(out_dir, files)
+
+    monkeypatch.setattr(output, "write_outputs", pressed_meanwhile)
+    out = tmp_path / "out"
+    with pytest.raises(GenerationCancelledError) as info:
+        run_generation(request(out, skeleton=True))
+    assert (
+        str(info.value) == f"generation interrupted after writing {out}: its 2 files are complete"
+    )
+    assert sorted(p.name for p in out.iterdir()) == ["record.json", "skill.py"]
+    assert json.loads((out / "record.json").read_text(encoding="utf-8"))["files"]
 
 
 def test_rerunning_into_the_same_folder_backs_up_what_changed(tmp_path: Path) -> None:

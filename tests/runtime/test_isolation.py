@@ -32,7 +32,7 @@ def test_the_root_holds_the_interpreter_its_library_and_the_runtime_only() -> No
     # the allowed packages.
     for path in bound:
         # the repository and its virtual environment may lie anywhere (a clone under /tmp)
-        inside = path.startswith(str(REPO_ROOT)) or path.startswith(sys.base_prefix)
+        inside = path.startswith((str(REPO_ROOT), sys.base_prefix))
         assert inside or not path.startswith(("/home", "/tmp", "/var", "/run", "/srv", "/opt/")), (
             path
         )

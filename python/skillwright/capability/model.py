@@ -152,8 +152,14 @@ class Capability(_Document):
     label: str = Field(description="Readable name, e.g. 'Move forward'.")
     kinds: list[str] = Field(description="Its capability classes, e.g. CaSk:ProvidedCapability.")
     comment: str | None = Field(default=None, description="Its rdfs:comment.")
-    inputs: list[Parameter] = Field(default_factory=list, description="VDI3682:hasInput.")
-    outputs: list[Parameter] = Field(default_factory=list, description="VDI3682:hasOutput.")
+    inputs: list[Parameter] = Field(
+        default_factory=list,
+        description="Its inputs: VDI3682:hasInput or a variant (see capability.terms).",
+    )
+    outputs: list[Parameter] = Field(
+        default_factory=list,
+        description="Its outputs: VDI3682:hasOutput or a variant (see capability.terms).",
+    )
     constraints: list[Constraint] = Field(
         default_factory=list, description="CSS:isRestrictedBy constraints."
     )

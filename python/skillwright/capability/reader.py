@@ -1,8 +1,9 @@
 """Reading a capability model into a :class:`~skillwright.capability.model.Capability`.
 
 The reader follows the ontology design patterns of the CaSk family as the models use
-them; where a model leaves something out it records a warning rather than failing,
-so later stages can still work with what is there.
+them, in each generation's namespaces (:mod:`skillwright.capability.terms`); where a
+model leaves something out it records a warning rather than failing, so later stages can
+still work with what is there.
 """
 
 from __future__ import annotations
@@ -28,6 +29,18 @@ from skillwright.capability.model import (
     Scalar,
 )
 from skillwright.capability.rdf import parse_graph
+from skillwright.capability.terms import (
+    CAPABILITY_CLASSES,
+    CSS,
+    DIN_NAMESPACES,
+    INPUT_PROPERTIES,
+    OM,
+    OUTPUT_PROPERTIES,
+    STATE_CLASSES,
+    VDI3682_NAMESPACES,
+    closure,
+    short,
+)
 from skillwright.errors import CapabilityError, CapabilitySelectionError
 
 if TYPE_CHECKING:
@@ -36,14 +49,6 @@ if TYPE_CHECKING:
 
 __all__ = ["load_capability", "local_name", "readable_label"]
 
-CSS = "http://www.w3id.org/hsu-aut/css#"
-CASK = "http://www.w3id.org/hsu-aut/cask#"
-VDI3682 = "http://www.w3id.org/hsu-aut/VDI3682#"
-DIN = "http://www.w3id.org/hsu-aut/DINEN61360#"
-OM = "http://openmath.org/vocab/math#"
-
-CAPABILITY_CLASSES = (f"{CASK}ProvidedCapability", f"{CASK}RequiredCapability", f"{CSS}Capability")
-_PREFIXES = {CSS: "CSS:", CASK: "CaSk:", VDI3682: "VDI3682:", DIN: "DINEN61360:", OM: "openmath:"}
 _DIN_STRUCTURE = {"Instance_Description", "Type_Description", "Data_Element"}
 
 # OpenMath symbols (content dictionary#name) -> (written form, infix?)
@@ -84,13 +89,6 @@ def readable_label(name: str) -> str:
     return text[0].upper() + text[1:]
 
 
-def _short(iri: str) -> str:
-    for namespace, prefix in _PREFIXES.items():
-        if iri.startswith(namespace):
-            return prefix + iri[len(namespace) :]
-    return iri
-
-
 def _operator(iri: str) -> tuple[str, bool]:
     for key, value in OPERATORS.items():
         if iri.endswith(key):
@@ -110,8 +108,23 @@ class _Reader:
         self.uri = URIRef
 
     # --- small graph helpers -------------------------------------------------
-    def objects(self, subject: Node, predicate: str) -> list[Node]:
-        return sorted(self.graph.objects(subject, self.uri(predicate)), key=str)
+    def objects(self, subject: Node, predicate: str | Iterable[str]) -> list[Node]:
+        """The objects of ``predicate`` (or of any of several), sorted, each once."""
+        predicates = [predicate] if isinstance(predicate, str) else predicate
+        found = {o for p in predicates for o in self.graph.objects(subject, self.uri(p))}
+        return sorted(found, key=str)
+
+    def din(self, subject: Node, name: str) -> list[Node]:
+        """The objects of the DIN EN 61360 property ``name``, in either namespace."""
+        return self.objects(subject, [f"{ns}{name}" for ns in DIN_NAMESPACES])
+
+    def first_din(self, subject: Node, name: str) -> Node | None:
+        found = self.din(subject, name)
+        return found[0] if found else None
+
+    def text_din(self, subject: Node, name: str) -> str | None:
+        node = self.first_din(subject, name)
+        return None if node is None else str(node)
 
     def first(self, subject: Node, predicate: str) -> Node | None:
         found = self.objects(subject, predicate)
@@ -135,6 +148,8 @@ class _Reader:
         if node is None:
             return None
         if isinstance(node, Literal):
+            if node.ill_typed:  # rdf.parse_graph warned about it; its text is what there is
+                return str(node)
             value = node.toPython()
             if isinstance(value, Decimal):
                 return float(value)
@@ -147,9 +162,10 @@ class _Reader:
         if instance is None:
             return None
         names = sorted(
-            t[len(DIN) :]
+            t[len(ns) :]
             for t in self.types(instance)
-            if t.startswith(DIN) and t[len(DIN) :] not in _DIN_STRUCTURE
+            for ns in DIN_NAMESPACES
+            if t.startswith(ns) and t[len(ns) :] not in _DIN_STRUCTURE
         )
         return names[0] if names else None
 
@@ -157,10 +173,13 @@ class _Reader:
         """The type description of the data element(s) an instance description belongs to."""
         from rdflib import URIRef
 
-        for element in sorted(
-            self.graph.subjects(URIRef(f"{DIN}has_Instance_Description"), instance), key=str
-        ):
-            found = self.first(element, f"{DIN}has_Type_Description")
+        elements = {
+            e
+            for ns in DIN_NAMESPACES
+            for e in self.graph.subjects(URIRef(f"{ns}has_Instance_Description"), instance)
+        }
+        for element in sorted(elements, key=str):
+            found = self.first_din(element, "has_Type_Description")
             if found is not None:
                 return found
         return None
@@ -168,23 +187,27 @@ class _Reader:
     def element(
         self, instance: Node | None, type_description: Node | None, fallback_name: str
     ) -> DataElement:
+        from rdflib import BNode
+
         if instance is not None and type_description is None:
             type_description = self.type_description_of(instance)
         unit = definition = None
         if type_description is not None:
-            unit = self.text(type_description, f"{DIN}Unit_of_Measure")
-            definition = self.text(type_description, f"{DIN}Definition")
+            unit = self.text_din(type_description, "Unit_of_Measure")
+            definition = self.text_din(type_description, "Definition")
         if instance is None:
             return DataElement(name=fallback_name, unit=unit, definition=definition)
+        # A blank node (an instance description written inline) has no IRI to name it by.
+        named = not isinstance(instance, BNode)
         return DataElement(
-            iri=str(instance),
-            name=_strip_suffix(local_name(str(instance)), "ID") or fallback_name,
+            iri=str(instance) if named else None,
+            name=_strip_suffix(local_name(str(instance)), "ID") if named else fallback_name,
             data_type=self.data_type(instance),
             unit=unit,
             definition=definition,
-            value=self.scalar(self.first(instance, f"{DIN}Value")),
-            expression_goal=self.text(instance, f"{DIN}Expression_Goal"),
-            logic_interpretation=self.text(instance, f"{DIN}Logic_Interpretation"),
+            value=self.scalar(self.first_din(instance, "Value")),
+            expression_goal=self.text_din(instance, "Expression_Goal"),
+            logic_interpretation=self.text_din(instance, "Logic_Interpretation"),
         )
 
     # --- inputs and outputs --------------------------------------------------
@@ -195,14 +218,14 @@ class _Reader:
                 f"{direction} <{iri}> is referenced but not described in {self.source}; "
                 "its unit and data type are unknown"
             )
-        kinds = sorted(t[len(VDI3682) :] for t in self.types(node) if t.startswith(VDI3682))
+        kinds = sorted({STATE_CLASSES[t] for t in self.types(node) if t in STATE_CLASSES})
         name = local_name(iri)
-        data_element = self.first(node, f"{DIN}has_Data_Element")
-        instances = self.objects(node, f"{VDI3682}isCharacterizedBy")
+        data_element = self.first_din(node, "has_Data_Element")
+        instances = self.objects(node, [f"{ns}isCharacterizedBy" for ns in VDI3682_NAMESPACES])
         type_description = None
         if data_element is not None:
-            instances = instances or self.objects(data_element, f"{DIN}has_Instance_Description")
-            type_description = self.first(data_element, f"{DIN}has_Type_Description")
+            instances = instances or self.din(data_element, "has_Instance_Description")
+            type_description = self.first_din(data_element, "has_Type_Description")
         components = [self.element(i, type_description, name) for i in instances]
         from rdflib import RDFS
 
@@ -231,12 +254,10 @@ class _Reader:
         node = providers[0]
         properties: list[ResourceProperty] = []
         covered: set[str] = set(taken)
-        for data_element in self.objects(node, f"{DIN}has_Data_Element"):
-            type_description = self.first(data_element, f"{DIN}has_Type_Description")
+        for data_element in self.din(node, "has_Data_Element"):
+            type_description = self.first_din(data_element, "has_Type_Description")
             instances = [
-                i
-                for i in self.objects(data_element, f"{DIN}has_Instance_Description")
-                if str(i) not in taken
+                i for i in self.din(data_element, "has_Instance_Description") if str(i) not in taken
             ]
             covered.update(str(i) for i in instances)
             name = _strip_suffix(local_name(str(data_element)), "DE")
@@ -247,7 +268,7 @@ class _Reader:
                     instances=[self.element(i, type_description, name) for i in instances],
                 )
             )
-        for instance in self.objects(node, f"{VDI3682}isCharacterizedBy"):
+        for instance in self.objects(node, [f"{ns}isCharacterizedBy" for ns in VDI3682_NAMESPACES]):
             if str(instance) in covered:
                 continue
             name = _strip_suffix(local_name(str(instance)), "ID")
@@ -330,21 +351,24 @@ def _strip_suffix(name: str, suffix: str) -> str:
     return stripped or name
 
 
-def _capability_classes(graph: Graph, extra: Graph | None) -> set[str]:
-    """The capability classes plus every class declared a subclass of one of them."""
-    from rdflib import RDFS, URIRef
+def _axioms(
+    graphs: Sequence[Graph], kind: Literal["class", "property"]
+) -> list[tuple[str, str, str]]:
+    """The sub-class (or sub-property) and equivalence axioms between named terms."""
+    from rdflib import OWL, RDFS, URIRef
 
-    classes = set(CAPABILITY_CLASSES)
-    graphs = [graph] if extra is None else [graph, extra]
-    changed = True
-    while changed:
-        changed = False
-        for g in graphs:
-            for sub, sup in g.subject_objects(RDFS.subClassOf):
-                if isinstance(sub, URIRef) and str(sup) in classes and str(sub) not in classes:
-                    classes.add(str(sub))
-                    changed = True
-    return classes
+    sub, same = (
+        (RDFS.subClassOf, OWL.equivalentClass)
+        if kind == "class"
+        else (RDFS.subPropertyOf, OWL.equivalentProperty)
+    )
+    return [
+        (str(s), relation, str(o))
+        for g in graphs
+        for predicate, relation in ((sub, "sub"), (same, "same"))
+        for s, o in g.subject_objects(predicate)
+        if isinstance(s, URIRef) and isinstance(o, URIRef)
+    ]
 
 
 def _find_capabilities(graph: Graph, classes: set[str]) -> list[tuple[str, list[str]]]:
@@ -354,8 +378,62 @@ def _find_capabilities(graph: Graph, classes: set[str]) -> list[tuple[str, list[
     for cls in classes:
         for subject in graph.subjects(RDF.type, URIRef(cls)):
             if isinstance(subject, URIRef):
-                found.setdefault(str(subject), []).append(_short(cls))
+                found.setdefault(str(subject), []).append(short(cls))
     return sorted((iri, sorted(kinds)) for iri, kinds in found.items())
+
+
+def _named(iri: str) -> str:
+    """A term as a message names it: prefixed when it has a usual prefix, else ``<IRI>``."""
+    shown = short(iri)
+    return f"<{iri}>" if shown == iri else shown
+
+
+def _nothing_linked(
+    reader: _Reader, capability: Node, direction: Literal["input", "output"], looked_for: set[str]
+) -> str:
+    """The warning for a capability without inputs (or outputs): the properties looked for,
+    and the capability's links whose name says input (output) but whose vocabulary is not one
+    of those."""
+    from rdflib import URIRef
+
+    listed = INPUT_PROPERTIES if direction == "input" else OUTPUT_PROPERTIES
+    extra = sorted(looked_for - set(listed))
+    names = ", ".join(_named(p) for p in (*listed, *extra))
+    message = (
+        f"capability <{capability}> has no {direction}s: none is linked by {names} "
+        "(nor by a sub-property or equivalent the file or an --ontology declares)"
+    )
+    unknown = sorted(
+        {
+            str(p)
+            for p in reader.graph.predicates(capability)
+            if isinstance(p, URIRef) and direction in local_name(str(p)).lower()
+        }
+        - looked_for
+    )
+    if unknown:
+        message += (
+            f"; its {', '.join(_named(p) for p in unknown)} links are not {direction}s in "
+            "any vocabulary skillwright knows (declare the property a sub-property of "
+            f"{_named(listed[0])} to have them read)"
+        )
+    return message
+
+
+def _parameters(
+    reader: _Reader,
+    capability: Node,
+    graphs: Sequence[Graph],
+    direction: Literal["input", "output"],
+) -> list[Parameter]:
+    """The capability's inputs (or outputs) by any of the properties that link them; a
+    warning names the properties when there are none."""
+    listed = INPUT_PROPERTIES if direction == "input" else OUTPUT_PROPERTIES
+    properties = closure(listed, _axioms(graphs, "property"))
+    found = [reader.parameter(n, direction) for n in reader.objects(capability, properties)]
+    if not found:
+        reader.warnings.append(_nothing_linked(reader, capability, direction, properties))
+    return found
 
 
 def _select(choices: Sequence[CapabilityChoice], wanted: str | None, source: Path) -> int:
@@ -398,11 +476,16 @@ def load_capability(
     what = f"reading {path}"
     raise_if_cancelled(cancel, what)
     source = Path(path)
-    graph = parse_graph(source)
+    parsed = parse_graph(source)
+    graph = parsed.graph
     ontology_paths = [Path(p) for p in ontologies]
     vocabulary = load_vocabulary(ontology_paths, cancel=cancel) if ontology_paths else None
     raise_if_cancelled(cancel, what)
     reader = _Reader(graph, source)
+    reader.warnings += parsed.warnings
+    if vocabulary is not None:
+        reader.warnings += vocabulary.warnings
+    graphs = [graph] if vocabulary is None else [graph, vocabulary.graph]
 
     imports = sorted(
         str(o) for o in graph.objects(None, URIRef("http://www.w3.org/2002/07/owl#imports"))
@@ -416,13 +499,11 @@ def load_capability(
             + " not fetched (skillwright works offline); --ontology FILE reads a local copy"
         )
 
-    found = _find_capabilities(
-        graph, _capability_classes(graph, vocabulary.graph if vocabulary else None)
-    )
+    found = _find_capabilities(graph, closure(CAPABILITY_CLASSES, _axioms(graphs, "class")))
     if not found:
         raise CapabilityError(
             f"{source}: no capability found; expected an individual typed "
-            + ", ".join(_short(c) for c in CAPABILITY_CLASSES)
+            + ", ".join(_named(c) for c in CAPABILITY_CLASSES)
             + " (or a subclass declared in the file or an --ontology)"
         )
     choices = [
@@ -444,8 +525,8 @@ def load_capability(
             f"capability <{iri}> has no rdfs:comment; add one sentence saying what it does "
             "(retrieval and generation use it)"
         )
-    inputs = [reader.parameter(n, "input") for n in reader.objects(node, f"{VDI3682}hasInput")]
-    outputs = [reader.parameter(n, "output") for n in reader.objects(node, f"{VDI3682}hasOutput")]
+    inputs = _parameters(reader, node, graphs, "input")
+    outputs = _parameters(reader, node, graphs, "output")
 
     names: dict[str, str] = {}
     for parameter in (*inputs, *outputs):

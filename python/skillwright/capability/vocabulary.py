@@ -2,7 +2,7 @@
 
 Capability models import their ontologies (CaSk, CSS, ...) with ``owl:imports``, which
 skillwright never fetches. A user can give local copies instead; from them we need only
-the vocabulary (sub-class and sub-property axioms, labels), not their thousands of
+the vocabulary (sub-class, sub-property and equivalence axioms, labels), not their thousands of
 individuals. Parsing CaSk's 2.7 MB Turtle with rdflib takes seconds, so the vocabulary
 part is cached as N-Triples keyed by the file's SHA-256 and reused on later runs.
 """
@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from skillwright.cancel import raise_if_cancelled
-from skillwright.capability.rdf import parse_graph
+from skillwright.capability.rdf import captured_rdflib_log, parse_graph
 from skillwright.fileio import write_atomic
 from skillwright.paths import cache_dir
 
@@ -26,21 +26,30 @@ if TYPE_CHECKING:
 __all__ = ["Vocabulary", "load_vocabulary"]
 
 # Bump when the choice of kept triples changes, so old cache entries are not reused.
-_SUBSET_VERSION = "1"
+_SUBSET_VERSION = "2"
 
 
 class Vocabulary:
-    """The vocabulary triples of the supplied ontologies and the ontology IRIs they declare."""
+    """The vocabulary triples of the supplied ontologies, the ontology IRIs they declare
+    and what parsing them had to warn about (nothing when read from the cache)."""
 
-    def __init__(self, graph: Graph, ontology_iris: set[str]) -> None:
+    def __init__(self, graph: Graph, ontology_iris: set[str], warnings: list[str]) -> None:
         self.graph = graph
         self.ontology_iris = ontology_iris
+        self.warnings = warnings
 
 
 def _subset(full: Graph) -> Graph:
     from rdflib import OWL, RDF, RDFS, Graph
 
-    keep = {RDFS.subClassOf, RDFS.subPropertyOf, RDFS.label, OWL.versionIRI}
+    keep = {
+        RDFS.subClassOf,
+        RDFS.subPropertyOf,
+        OWL.equivalentClass,
+        OWL.equivalentProperty,
+        RDFS.label,
+        OWL.versionIRI,
+    }
     subset = Graph()
     for triple in full:
         predicate = triple[1]
@@ -49,7 +58,7 @@ def _subset(full: Graph) -> Graph:
     return subset
 
 
-def _load_one(path: Path) -> Graph:
+def _load_one(path: Path) -> tuple[Graph, list[str]]:
     from rdflib import Graph
 
     from skillwright.core import sha256_file
@@ -59,15 +68,17 @@ def _load_one(path: Path) -> Graph:
     if cached.is_file():
         graph = Graph()
         try:
-            graph.parse(cached, format="nt")
+            with captured_rdflib_log():
+                graph.parse(cached, format="nt")
         except Exception:  # a damaged cache entry is rebuilt, never fatal
             cached.unlink(missing_ok=True)
         else:
-            return graph
-    subset = _subset(parse_graph(path, what="ontology file"))
+            return graph, []
+    parsed = parse_graph(path, what="ontology file")
+    subset = _subset(parsed.graph)
     with contextlib.suppress(OSError):  # an unwritable cache only costs speed next time
         write_atomic(cached, subset.serialize(format="nt", encoding="utf-8"))
-    return subset
+    return subset, parsed.warnings
 
 
 def load_vocabulary(paths: Iterable[Path], *, cancel: threading.Event | None = None) -> Vocabulary:
@@ -78,10 +89,13 @@ def load_vocabulary(paths: Iterable[Path], *, cancel: threading.Event | None = N
     from rdflib import OWL, RDF, Graph
 
     merged = Graph()
+    warnings: list[str] = []
     for path in paths:
         raise_if_cancelled(cancel, "reading the ontologies")
-        for triple in _load_one(path):
+        graph, notes = _load_one(path)
+        warnings += notes
+        for triple in graph:
             merged.add(triple)
     iris = {str(s) for s in merged.subjects(RDF.type, OWL.Ontology)}
     iris |= {str(o) for o in merged.objects(None, OWL.versionIRI)}
-    return Vocabulary(merged, iris)
+    return Vocabulary(merged, iris, warnings)

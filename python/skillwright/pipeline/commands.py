@@ -34,8 +34,20 @@ class _Progress:
         self.console = console
         self.chunks = 0
         self.live = console.is_terminal
+        self.open_line = False
+        """A line ended in a carriage return (a live count) is on the terminal."""
+
+    def end_line(self) -> None:
+        """Ends a live count's line, so what is printed next starts on a line of its own."""
+        if self.open_line:
+            self.console.print()
+            self.open_line = False
 
     def __call__(self, event: Event) -> None:
+        self.open_line = False
+        self._show(event)
+
+    def _show(self, event: Event) -> None:
         from skillwright.pipeline.events import (
             AttemptFinished,
             AttemptStarted,
@@ -68,12 +80,14 @@ class _Progress:
                 style="dim",
                 highlight=False,
             )
+            self.open_line = self.live
         elif isinstance(event, AttemptFinished):
             self.console.print(_attempt_line(event), highlight=False, markup=False)
         elif isinstance(event, TokenChunk):
             self.chunks += 1
             if self.live and self.chunks % 8 == 0:
                 self.console.print(f"  {self.chunks} tokens ...", end="\r", style="dim")
+            self.open_line = self.live
         elif isinstance(event, GenerationStats):
             rate = f", {event.tokens_per_second:.1f} tokens/s" if event.tokens_per_second else ""
             self.console.print(
@@ -264,49 +278,66 @@ def generate(
     errors; their findings also go back to the model. Without an installed model the
     skeleton is written and said so.
     Exit status 0 when the checks, the run and the simulation pass, 1 when they find
-    problems, 2 for bad input.
+    problems, 2 for bad input, 130 when interrupted (Ctrl-C; one line says what was kept).
     """
     from skillwright.console import err_console, print_model_json
-    from skillwright.errors import InvalidArgumentError
+    from skillwright.errors import GenerationCancelledError, InvalidArgumentError
     from skillwright.pipeline.run import GenerationRequest, run_generation
 
-    if skeleton and model_id is not None:
-        raise InvalidArgumentError("--skeleton and --model exclude each other; choose one")
-    if skeleton and rerank:
-        raise InvalidArgumentError("--rerank needs the model that --skeleton leaves out")
-    if out_dir is None:
-        from skillwright.spec.loader import load_spec
+    progress = _Progress(err_console())
+    outcome: Outcome | None = None
+    try:
+        if skeleton and model_id is not None:
+            raise InvalidArgumentError("--skeleton and --model exclude each other; choose one")
+        if skeleton and rerank:
+            raise InvalidArgumentError("--rerank needs the model that --skeleton leaves out")
+        if out_dir is None:
+            from skillwright.spec.loader import load_spec
 
-        out_dir = Path("generated") / load_spec(spec_file).name
-    request = GenerationRequest(
-        capability=capability_file,
-        spec=spec_file,
-        interfaces=source,
-        out_dir=out_dir,
-        capability_iri=capability_iri,
-        model=model_id,
-        skeleton=skeleton,
-        k=k,
-        min_share=min_share,
-        include_infrastructure=include_all,
-        pinned=pin,
-        dropped=drop,
-        models_file=models_file,
-        dense=dense,
-        rerank=rerank,
-        attempts=attempts,
-        run=not no_run,
-        simulate=not no_sim,
-        isolated=not unisolated,
-        select=select,
-        ignore=ignore,
-    )
-    if unisolated and not (no_run and no_sim):
-        warn_unisolated()
-    outcome = run_generation(request, on_event=_Progress(err_console()))
-    if as_json:
-        print_model_json(outcome.record)
-    else:
-        _summary(outcome)
+            out_dir = Path("generated") / load_spec(spec_file).name
+        request = GenerationRequest(
+            capability=capability_file,
+            spec=spec_file,
+            interfaces=source,
+            out_dir=out_dir,
+            capability_iri=capability_iri,
+            model=model_id,
+            skeleton=skeleton,
+            k=k,
+            min_share=min_share,
+            include_infrastructure=include_all,
+            pinned=pin,
+            dropped=drop,
+            models_file=models_file,
+            dense=dense,
+            rerank=rerank,
+            attempts=attempts,
+            run=not no_run,
+            simulate=not no_sim,
+            isolated=not unisolated,
+            select=select,
+            ignore=ignore,
+        )
+        if unisolated and not (no_run and no_sim):
+            warn_unisolated()
+        outcome = run_generation(request, on_event=progress)
+        if as_json:
+            print_model_json(outcome.record)
+        else:
+            _summary(outcome)
+    except KeyboardInterrupt:
+        # run_generation turns an interrupt in its stages into a GenerationCancelledError;
+        # this one came before them (reading the specification) or after (the summary).
+        progress.end_line()
+        if outcome is None:
+            raise GenerationCancelledError(
+                "generation interrupted before its first stage; nothing was written"
+            ) from None
+        raise GenerationCancelledError(
+            f"generation interrupted after writing {outcome.out_dir}: its files are complete"
+        ) from None
+    except GenerationCancelledError:
+        progress.end_line()
+        raise
     if not outcome.passed:
         sys.exit(1)

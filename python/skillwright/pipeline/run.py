@@ -11,7 +11,10 @@ Without a model (``skeleton=True``, or the default model's file is not installed
 skeleton is the result, and the record and a notice say so plainly.
 
 Nothing is written until everything else succeeded; a cancel (``cancel`` set) raises
-:class:`~skillwright.errors.GenerationCancelledError` and writes nothing.
+:class:`~skillwright.errors.GenerationCancelledError` and writes nothing. Ctrl-C
+(``KeyboardInterrupt``, in the main thread) is a cancel too: it raises the same error, saying
+in which stage it came and what was kept. The output folder's files are moved into place
+with Ctrl-C held back, so an interrupt never leaves some of them new and some old.
 """
 
 from __future__ import annotations
@@ -167,6 +170,22 @@ class _Stages:
         self.on_event = on_event
         self.cancel = cancel
         self.timings: dict[str, float] = {}
+        self.current: str | None = None
+        """The stage running, or the last one started."""
+        self.written: int | None = None
+        """How many files the outputs stage wrote, once it has."""
+
+    def interrupted(self, out_dir: Path) -> GenerationCancelledError:
+        """The error for a Ctrl-C now: where it came and what was kept."""
+        if self.written is not None:
+            return GenerationCancelledError(
+                f"generation interrupted after writing {out_dir}: its {self.written} files "
+                "are complete"
+            )
+        when = "before its first stage" if self.current is None else f"in stage {self.current}"
+        return GenerationCancelledError(
+            f"generation interrupted {when}; nothing was written ({out_dir} is as it was)"
+        )
 
     def emit(self, event: Event) -> None:
         if self.on_event is not None:
@@ -180,6 +199,7 @@ class _Stages:
     def stage(self, name: str, detail: str) -> Iterator[list[str]]:
         """Runs a stage; the body may append a result summary to the yielded list."""
         self.check_cancel()
+        self.current = name
         self.emit(StageStarted(name, detail))
         started = time.perf_counter()
         summary: list[str] = []
@@ -925,6 +945,17 @@ def run_generation(
     cancel: threading.Event | None = None,
 ) -> Outcome:
     """Runs the whole pipeline and writes the output folder; see the module docstring."""
+    stages = _Stages(on_event, cancel)
+    try:
+        return _run_stages(request, stages, cancel)
+    except KeyboardInterrupt:
+        raise stages.interrupted(request.out_dir) from None
+
+
+def _run_stages(
+    request: GenerationRequest, stages: _Stages, cancel: threading.Event | None
+) -> Outcome:
+    from skillwright.cancel import interrupts_held
     from skillwright.capability.reader import load_capability
     from skillwright.generation.output import write_outputs
     from skillwright.generation.skeleton import build_skeleton, unstated_limits
@@ -934,7 +965,6 @@ def run_generation(
     if request.k < 0:
         raise InvalidArgumentError(f"-k must be 0 or more, not {request.k}")
     selection = project_selection(Path.cwd()).narrowed(request.select, request.ignore)
-    stages = _Stages(on_event, cancel)
     notes: list[str] = []
     with stages.stage(
         "inputs", "reading the capability, the specification and the interfaces"
@@ -1014,7 +1044,9 @@ def run_generation(
     )
     with stages.stage("outputs", f"writing {request.out_dir}") as s:
         files["record.json"] = json.dumps(record.model_dump(mode="json"), indent=2) + "\n"
-        backups = write_outputs(request.out_dir, files)
+        with interrupts_held():
+            backups = write_outputs(request.out_dir, files)
+            stages.written = len(files)
         s.append(f"{len(files)} files" + (f", {len(backups)} backed up" if backups else ""))
     record.timings = stages.timings
     return Outcome(

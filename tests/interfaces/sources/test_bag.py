@@ -313,6 +313,58 @@ def test_truncated_recording_gives_a_partial_inventory(tmp_path: Path) -> None:
     assert 0 < traffic.message_count < 400
 
 
+def _one_chunk_recording(path: Path, topics: int, messages: int) -> Path:
+    """A recording in one uncompressed chunk whose channels are declared as their topics
+    first publish, as a recorder does: channel records lie all through the chunk."""
+    from mcap.writer import CompressionType, Writer
+
+    with path.open("wb") as stream:
+        writer = Writer(stream, compression=CompressionType.NONE, chunk_size=1 << 30)
+        writer.start(profile="ros2", library="skillwright-tests")
+        schema = writer.register_schema("std_msgs/msg/String", "ros2msg", b"string data")
+        for topic in range(topics):
+            channel = writer.register_channel(f"/sensor_{topic:02}", "cdr", schema)
+            for index in range(messages):
+                stamp = 1_700_000_000_000_000_000 + (topic * messages + index) * 1_000_000
+                writer.add_message(channel, stamp, bytes(400), stamp, sequence=index)
+        writer.finish()
+    return path
+
+
+@pytest.mark.parametrize("share", [50, 90])
+def test_a_recording_cut_inside_its_uncompressed_chunk_keeps_the_channels_before_the_cut(
+    tmp_path: Path, share: int
+) -> None:
+    data = _one_chunk_recording(tmp_path / "full.mcap", topics=32, messages=20).read_bytes()
+    cut_at = len(data) * share // 100
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[:cut_at])
+    # A channel record ends 11 bytes after its topic: the encoding "cdr" (4 + 3 bytes) and
+    # an empty metadata map (4).
+    intact = [
+        f"/sensor_{t:02}"
+        for t in range(32)
+        if 0 <= data.find(f"/sensor_{t:02}".encode()) <= cut_at - len("/sensor_00") - 11
+    ]
+    assert 0 < len(intact) < 32
+    for mode in ("auto", "scan", "full"):
+        inventory = discover_bag(cut, mode)  # type: ignore[arg-type]
+        assert [i.name for i in inventory.interfaces] == intact, mode
+        counts = [i.traffic.message_count if i.traffic else 0 for i in inventory.interfaces]
+        # Every channel before the last intact one has all its messages; the cut may fall
+        # among the last one's.
+        assert counts[:-1] == [20] * (len(intact) - 1)
+        assert 0 <= counts[-1] <= 20
+        file = inventory.sources[0].files[0]
+        assert file.stopped_at is not None
+        assert file.stopped_at.offset <= cut_at
+        recovered = (
+            f"{1 + len(intact) + sum(counts)} records were recovered "
+            f"(1 schema, {len(intact)} channels, {sum(counts)} messages)"
+        )
+        assert recovered in file.stopped_at.message
+
+
 def test_every_read_mode_gives_the_same_interfaces(tmp_path: Path) -> None:
     bag = write_recording(tmp_path / "action.mcap", _action_topics())
     dumps = {

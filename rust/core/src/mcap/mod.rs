@@ -11,6 +11,9 @@
 //!   log times of channels already known), and decompressed otherwise. Reading stops at
 //!   the first broken record frame; everything intact before it is kept and the result
 //!   says where the file broke. A chunk that fails to decompress is skipped and named.
+//!   When the file ends inside an uncompressed chunk (a recorder killed while writing
+//!   its first chunk: schemas and channels lie there), the records before the cut are
+//!   read too, and the result says how many.
 //!
 //! Record bodies are decoded by our own bounded decoder ([`records`]) rather than the
 //! `mcap` crate's reader (0.26), for three reasons found when trying it: its

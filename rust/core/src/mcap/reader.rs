@@ -492,13 +492,15 @@ impl Scanner<'_> {
             let body_offset = offset + RECORD_PREFIX_LEN;
             let available = size - body_offset;
             if len > available {
-                self.stop(
-                    offset,
-                    &format!(
-                        "record (opcode 0x{opcode:02x}) claims {len} bytes but only \
-                         {available} remain: the file is cut short or damaged here"
-                    ),
+                let cut = format!(
+                    "record (opcode 0x{opcode:02x}) claims {len} bytes but only \
+                     {available} remain: the file is cut short or damaged here"
                 );
+                if opcode == op::CHUNK {
+                    self.cut_chunk(offset, available, &cut)?;
+                } else {
+                    self.stop(offset, &cut);
+                }
                 return Ok(());
             }
             let next = body_offset + len;
@@ -667,19 +669,81 @@ impl Scanner<'_> {
         starts_with_message
     }
 
+    /// The chunk whose record starts at `offset` is cut short (`cut` says how): the file
+    /// ends `available` bytes into its body. An uncompressed chunk's records are plain
+    /// bytes, so every record that lies wholly before the cut is read, as `mcap recover`
+    /// does; reading stops where the first incomplete one begins. A compressed chunk is
+    /// not read: that would take decoding a cut compression stream, and its records could
+    /// not be checked against the chunk's CRC either way.
+    fn cut_chunk(&mut self, offset: u64, available: u64, cut: &str) -> CoreResult<()> {
+        let body_offset = offset + RECORD_PREFIX_LEN;
+        let prefix = self
+            .input
+            .read_at(body_offset, available.min(CHUNK_HEADER_PREFIX))?;
+        let header = match ChunkHeader::decode(&prefix) {
+            Ok(header) if header.header_len <= available => header,
+            _ => {
+                self.stop(offset, &format!("{cut} (inside the chunk's header)"));
+                return Ok(());
+            }
+        };
+        if !header.compression.is_empty() {
+            self.stop(
+                offset,
+                &format!(
+                    "{cut}; the chunk's records are {}-compressed, so none of them is read",
+                    header.compression
+                ),
+            );
+            return Ok(());
+        }
+        let data_offset = body_offset + header.header_len;
+        let intact = (available - header.header_len)
+            .min(header.compressed_size)
+            .min(MAX_UNCOMPRESSED_CHUNK);
+        let records = self.input.read_at(data_offset, intact)?;
+        let (read, end) = self.walk_chunk_records(&records, data_offset);
+        self.acc.summary.chunk_count += 1;
+        self.acc.compressions.insert(header.compression);
+        let end = end.unwrap_or(records.len()) as u64;
+        self.stop(
+            data_offset + end,
+            &format!(
+                "{cut}; from the intact start of this uncompressed chunk (byte {offset}) \
+                 {} records were recovered ({}), the rest of it is lost",
+                read.total(),
+                read.describe()
+            ),
+        );
+        Ok(())
+    }
+
     /// Walks the records of an inflated chunk; `data_offset` locates damage in the file.
     fn chunk_records(&mut self, records: &[u8], data_offset: u64) {
+        if let (_, Some(position)) = self.walk_chunk_records(records, data_offset) {
+            self.acc.damaged(
+                data_offset,
+                format!(
+                    "chunk content broken at byte {position} of its uncompressed records; \
+                     the rest of this chunk is skipped"
+                ),
+            );
+        }
+    }
+
+    /// Reads the records at the front of a chunk's uncompressed `records`; returns how
+    /// many of each kind were read and the position of the first one that does not fit
+    /// in what is left, if one does not. `data_offset` locates damage in the file.
+    fn walk_chunk_records(
+        &mut self,
+        records: &[u8],
+        data_offset: u64,
+    ) -> (RecordCounts, Option<usize>) {
+        let mut read = RecordCounts::default();
         let mut position = 0usize;
         while position < records.len() {
             let Some((opcode, body)) = split_record(&records[position..]) else {
-                self.acc.damaged(
-                    data_offset,
-                    format!(
-                        "chunk content broken at byte {position} of its uncompressed records; \
-                         the rest of this chunk is skipped"
-                    ),
-                );
-                return;
+                return (read, Some(position));
             };
             let decoded = match opcode {
                 op::SCHEMA => Schema::decode(body).map(|s| self.acc.add_schema(s)),
@@ -690,17 +754,62 @@ impl Scanner<'_> {
                 }),
                 _ => Ok(()),
             };
-            if let Err(e) = decoded {
-                self.acc.damaged(
+            match decoded {
+                Ok(()) => read.add(opcode),
+                Err(e) => self.acc.damaged(
                     data_offset,
                     format!(
                         "damaged record (opcode 0x{opcode:02x}) inside a chunk at byte \
                          {position} of its uncompressed records: {}",
                         e.message
                     ),
-                );
+                ),
             }
             position += RECORD_PREFIX_LEN as usize + body.len();
+        }
+        (read, None)
+    }
+}
+
+/// How many records of each kind a chunk gave.
+#[derive(Default)]
+struct RecordCounts {
+    schemas: u64,
+    channels: u64,
+    messages: u64,
+    others: u64,
+}
+
+impl RecordCounts {
+    fn add(&mut self, opcode: u8) {
+        match opcode {
+            op::SCHEMA => self.schemas += 1,
+            op::CHANNEL => self.channels += 1,
+            op::MESSAGE => self.messages += 1,
+            _ => self.others += 1,
+        }
+    }
+
+    fn total(&self) -> u64 {
+        self.schemas + self.channels + self.messages + self.others
+    }
+
+    /// `2 schemas, 9 channels, 130 messages` (kinds with none left out).
+    fn describe(&self) -> String {
+        let parts: Vec<String> = [
+            (self.schemas, "schema"),
+            (self.channels, "channel"),
+            (self.messages, "message"),
+            (self.others, "other"),
+        ]
+        .iter()
+        .filter(|(count, _)| *count > 0)
+        .map(|(count, what)| format!("{count} {what}{}", if *count == 1 { "" } else { "s" }))
+        .collect();
+        if parts.is_empty() {
+            "none".to_string()
+        } else {
+            parts.join(", ")
         }
     }
 }

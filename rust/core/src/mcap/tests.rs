@@ -254,6 +254,79 @@ fn truncated_file_keeps_the_intact_chunks_and_names_the_break() {
     assert_eq!(summary.channels.len(), 3);
 }
 
+/// Offset and body length of the first chunk record.
+fn first_chunk(bytes: &[u8]) -> (usize, usize) {
+    let record_len = |at: usize| u64::from_le_bytes(bytes[at + 1..at + 9].try_into().unwrap());
+    let mut at = 8 + 9 + record_len(8) as usize;
+    while bytes[at] != records::op::CHUNK {
+        at += 9 + record_len(at) as usize;
+    }
+    (at, record_len(at) as usize)
+}
+
+#[test]
+fn a_cut_uncompressed_chunk_keeps_the_records_before_the_cut() {
+    // One chunk for the whole recording: the schema, the channels and the messages.
+    let options = mcap::WriteOptions::new().compression(None).chunk_size(None);
+    let bytes = write_bag(options, 200);
+    let (chunk, len) = first_chunk(&bytes);
+    let mut counts = Vec::new();
+    for share in [50, 90] {
+        let cut = chunk + 9 + len * share / 100;
+        let fixture = store(&bytes[..cut]);
+        for mode in [ReadMode::Auto, ReadMode::Scan, ReadMode::Full] {
+            let summary = read_mcap(&fixture.path, mode).unwrap();
+            let names: Vec<&str> = summary.channels.iter().map(|c| c.topic.as_str()).collect();
+            assert_eq!(
+                names,
+                ["/chatter", "/rosout", "/silent"],
+                "{share}% {mode:?}"
+            );
+            assert_eq!(summary.schemas.len(), 1);
+            let stopped = summary.stopped.clone().unwrap();
+            // Reading stops where the first record the cut runs through begins.
+            assert!(stopped.offset <= cut as u64 && stopped.offset + 200 > cut as u64);
+            let recovered = format!(
+                "{} records were recovered (1 schema, 3 channels, {} messages)",
+                4 + summary.message_count,
+                summary.message_count
+            );
+            assert!(
+                stopped.message.contains("cut short") && stopped.message.contains(&recovered),
+                "{}",
+                stopped.message
+            );
+            assert_eq!(summary.chunk_count, 1);
+            counts.push(summary.message_count);
+        }
+    }
+    // The chunk is almost all messages of one size: a cut at half of it keeps about half
+    // of its 400, one at 90 % about 360.
+    assert!((190..=210).contains(&counts[0]), "{counts:?}");
+    assert!((350..400).contains(&counts[3]), "{counts:?}");
+}
+
+#[test]
+fn a_cut_compressed_chunk_says_its_records_are_not_read() {
+    let options = mcap::WriteOptions::new()
+        .compression(Some(mcap::Compression::Zstd))
+        .chunk_size(None);
+    let bytes = write_bag(options, 200);
+    let (chunk, len) = first_chunk(&bytes);
+    let fixture = store(&bytes[..chunk + 9 + len / 2]);
+    let summary = read_mcap(&fixture.path, ReadMode::Auto).unwrap();
+    assert!(summary.channels.is_empty());
+    let stopped = summary.stopped.unwrap();
+    assert_eq!(stopped.offset, chunk as u64);
+    assert!(
+        stopped
+            .message
+            .contains("zstd-compressed, so none of them is read"),
+        "{}",
+        stopped.message
+    );
+}
+
 #[test]
 fn file_cut_at_a_record_boundary_says_it_was_not_closed() {
     let bytes = write_bag(mcap::WriteOptions::new().use_chunks(false), 5);
