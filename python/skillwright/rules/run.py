@@ -219,6 +219,7 @@ RUN_CPU = Rule(
     summary="The skill stays within the sandbox's CPU-time limit.",
     why="A skill that computes for minutes starves the robot's controllers on a shared computer.",
     example="sum(range(10**12))",
+    data=("state",),
     grounds=("the sandbox",),
 )
 

@@ -177,8 +177,9 @@ def _kept(callback: ast.FunctionDef) -> set[str]:
 def _first_read(
     subscription: _Subscription, methods: dict[str, ast.FunctionDef]
 ) -> ast.Attribute | None:
-    """The first place a method other than the callback reads a kept attribute other than to
-    test it against ``None``."""
+    """The first place (by line and column; ``ast.walk`` goes breadth first) a method other
+    than the callback reads a kept attribute other than to test it against ``None``."""
+    reads = []
     for name, method in methods.items():
         if name == subscription.callback:
             continue
@@ -189,12 +190,12 @@ def _first_read(
             and all(isinstance(op, ast.Is | ast.IsNot) for op in node.ops)
             for side in (node.left, *node.comparators)
         }
-        for node in ast.walk(method):
-            if (
-                isinstance(node, ast.Attribute)
-                and isinstance(node.ctx, ast.Load)
-                and self_attribute(node) in subscription.kept
-                and id(node) not in tested
-            ):
-                return node
-    return None
+        reads += [
+            node
+            for node in ast.walk(method)
+            if isinstance(node, ast.Attribute)
+            and isinstance(node.ctx, ast.Load)
+            and self_attribute(node) in subscription.kept
+            and id(node) not in tested
+        ]
+    return min(reads, key=lambda node: (node.lineno, node.col_offset), default=None)
