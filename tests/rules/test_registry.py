@@ -27,10 +27,10 @@ from skillwright.rules.registry import Rule, all_rules
 from skillwright.spec import SkillSpec, load_spec
 from skillwright.validation.model import CheckReport
 from tests.conftest import REPO_ROOT, SHIPPED_CAPABILITIES
-from tests.rules import cases as C
+from tests.rules import cases as rule_cases
 
 RULES = all_rules()
-CASES = {stage: C.load(stage) for stage in C.STAGES}
+CASES = {stage: rule_cases.load(stage) for stage in rule_cases.STAGES}
 
 
 def _params(stage: str) -> list[Any]:
@@ -70,7 +70,7 @@ def test_every_rule_has_valid_and_invalid_cases(rule: Rule) -> None:
 
 
 def test_no_case_is_left_for_a_rule_that_is_gone() -> None:
-    by_stage = {stage: {r.code for r in RULES if r.stage == stage} for stage in C.STAGES}
+    by_stage = {stage: {r.code for r in RULES if r.stage == stage} for stage in rule_cases.STAGES}
     for stage, cases in CASES.items():
         assert set(cases) <= by_stage[stage], f"{stage}.yaml: {set(cases) - by_stage[stage]}"
 
@@ -89,8 +89,7 @@ def test_product_code_makes_findings_only_through_rules() -> None:
             for node in ast.walk(tree)
             if isinstance(node, ast.Call)
             and isinstance(node.func, ast.Name | ast.Attribute)
-            and (node.func.id if isinstance(node.func, ast.Name) else node.func.attr)
-            == "Finding"
+            and (node.func.id if isinstance(node.func, ast.Name) else node.func.attr) == "Finding"
         ]
     assert offenders == []
 
@@ -115,7 +114,7 @@ def _check(source: str, case: dict[str, Any]) -> CheckReport:
     from skillwright.validation.static import check_skill
     from tests.validation.test_static import CATALOG, mr1_catalog
 
-    capability, spec = _inputs(C.capability_stem(case))
+    capability, spec = _inputs(rule_cases.capability_stem(case))
     return check_skill(
         source,
         capability=capability,
@@ -131,7 +130,7 @@ def _of(findings: list[Finding], code: str) -> list[Finding]:
 
 @pytest.mark.parametrize(("code", "kind", "index", "case"), _params("static"))
 def test_static_rule_case(code: str, kind: str, index: int, case: dict[str, Any]) -> None:
-    source = C.source_of(case)
+    source = rule_cases.source_of(case)
     mine = _of(_check(source, case).findings, code)
     if kind == "valid":
         assert mine == [], [f.message for f in mine]
@@ -142,7 +141,7 @@ def test_static_rule_case(code: str, kind: str, index: int, case: dict[str, Any]
         return
     fixed, applied = apply_fixes(source, mine, unsafe=True)
     assert applied, f"{code}'s fix does not apply"
-    assert fixed == C.edited(source, case["fixed"])
+    assert fixed == rule_cases.edited(source, case["fixed"])
     assert _of(_check(fixed, case).findings, code) == [], "the fix leaves the finding"
 
 
@@ -194,9 +193,9 @@ def _run_codes(key: str) -> tuple[str, ...]:
     from skillwright.runtime.waits import probe_waits
 
     case = json.loads(key)
-    source = C.source_of(case)
+    source = rule_cases.source_of(case)
     if case.get("scenario") == "shipped":
-        scenario = load_scenario(C.SKILLS / f"{case['skill']}.scenario.yaml")
+        scenario = load_scenario(rule_cases.SKILLS / f"{case['skill']}.scenario.yaml")
     else:
         scenario = RunScenario.model_validate(case.get("scenario", {}))
     world: Any = case.get("world")
@@ -241,8 +240,8 @@ def _simulation_codes(key: str) -> tuple[str, ...]:
     from skillwright.sim.validate import validate_skill
 
     case = json.loads(key)
-    path = C.base_path(case)
-    capability, _ = _inputs(C.capability_stem(case))
+    path = rule_cases.base_path(case)
+    capability, _ = _inputs(rule_cases.capability_stem(case))
     scenarios = None
     if "scenarios" in case:
         scenarios = ScenarioSet(
@@ -257,7 +256,7 @@ def _simulation_codes(key: str) -> tuple[str, ...]:
         scenarios=scenarios,
         only=None if scenarios else [case["scenario"]],
         plot=False,
-        source=C.source_of(case),
+        source=rule_cases.source_of(case),
     )
     return tuple(f.code for f in report.findings)
 
