@@ -96,3 +96,30 @@ def test_validate_with_a_spec_stops_at_failed_static_checks(tmp_path: Path) -> N
     )
     assert result.exit_code == 1
     assert "the static checks failed; the skill was not run" in _text(result.stdout)
+
+
+def test_validate_reports_the_rules_selected(tmp_path: Path) -> None:
+    """A static rule the project ignores no longer stops the run; the oracles still judge."""
+    skill = tmp_path / "skill.py"
+    text = (HERE / "skills" / "move_forward.py").read_text(encoding="utf-8")
+    logged = '        self.node.get_logger().info(f"travelled {self.out_distance:.3f} m")\n'
+    assert logged in text
+    unset = logged + '        self.node.get_logger().info(f"{self.never_set}")\n'
+    skill.write_text(text.replace(logged, unset), encoding="utf-8")
+    arguments = [
+        *_args(tmp_path / "out"),
+        "--spec",
+        str(SHIPPED_CAPABILITIES / "move-forward.spec.yaml"),
+    ]
+    arguments[1] = str(skill)
+    stopped = CliRunner().invoke(main, arguments, terminal_width=200)
+    assert stopped.exit_code == 1
+    assert "the static checks failed; the skill was not run" in _text(stopped.stdout)
+    codes = {line.split()[2] for line in stopped.stdout.splitlines() if " error SW" in line}
+    assert codes == {"SW313"}  # attribute-never-set
+    (tmp_path / "pyproject.toml").write_text(
+        f"[tool.skillwright]\nignore = {sorted(codes)!r}\n".replace("'", '"'), encoding="utf-8"
+    )
+    ran = CliRunner().invoke(main, arguments, terminal_width=200)
+    assert "the skill was not run" not in _text(ran.stdout)
+    assert "fast" in ran.stdout

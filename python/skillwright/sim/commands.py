@@ -15,12 +15,15 @@ from skillwright.cli_options import (
     spec_option,
     warn_unisolated,
 )
+from skillwright.validation.commands import selection_options
 
 if TYPE_CHECKING:
     from rich.console import Console
 
     from skillwright.capability.model import Capability
     from skillwright.interfaces.inventory import Inventory
+    from skillwright.rules.finding import Finding
+    from skillwright.rules.settings import Selection
     from skillwright.sim.report import ValidationProgress, ValidationReport
 
 __all__ = ["print_report", "validate"]
@@ -96,8 +99,20 @@ def print_report(console: Console, report: ValidationReport) -> None:
     )
 
 
+def _stage_of(finding: Finding) -> str | None:
+    from skillwright.rules.registry import rule_of
+
+    rule = rule_of(finding)
+    return None if rule is None else rule.stage
+
+
 def _static_checks_first(
-    skill_file: Path, capability: Capability, spec_file: Path, inventory: Inventory, as_json: bool
+    skill_file: Path,
+    capability: Capability,
+    spec_file: Path,
+    inventory: Inventory,
+    as_json: bool,
+    selection: Selection,
 ) -> None:
     """With ``--spec``: the static checks, and exit 1 without running when they fail."""
     from skillwright.console import out_console, print_model_json
@@ -118,6 +133,7 @@ def _static_checks_first(
         catalog=catalog_from_inventory(inventory),
         path=str(skill_file),
     )
+    static = static.model_copy(update={"findings": selection.filter(static.findings)})
     if not static.passed:
         if as_json:
             print_model_json(static)
@@ -154,6 +170,7 @@ def _static_checks_first(
     help="Folder for plots, traces and saved maps (default: validation/<skill file's name>).",
 )
 @click.option("--no-plot", is_flag=True, help="Do not draw the trajectory plots.")
+@selection_options
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
 @isolation_option
 def validate(
@@ -166,6 +183,8 @@ def validate(
     only: tuple[str, ...],
     output_dir: Path | None,
     no_plot: bool,
+    select: tuple[str, ...],
+    ignore: tuple[str, ...],
     as_json: bool,
     unisolated: bool,
 ) -> None:
@@ -175,13 +194,15 @@ def validate(
     the robot simulated in MuJoCo (once normally, and once stopped during execute when it
     moves the robot). Oracles derived from the capability model judge each run on the
     simulator's ground truth: its constraints, its outputs, the resource's limits, contacts,
-    the base at rest. Exit status 0 when every oracle passes, 1 when one fails, 2 for bad
-    input, 130 when interrupted.
+    the base at rest. --select and --ignore (and the project's [tool.skillwright]) choose the
+    static and run rules reported; every oracle's verdict is. Exit status 0 when every
+    oracle passes, 1 when one fails, 2 for bad input, 130 when interrupted.
     """
     from skillwright.capability.reader import load_capability
     from skillwright.console import err_console, out_console
     from skillwright.errors import GenerationCancelledError, InputFileError, InputFileNotFoundError
     from skillwright.interfaces.load import discover_path, is_json_file
+    from skillwright.rules.settings import project_selection
     from skillwright.sim.scenario import scenarios_for
     from skillwright.sim.validate import validate_skill
 
@@ -194,6 +215,7 @@ def validate(
         raise InputFileNotFoundError(f"skill file {skill_file}: no such file; check the path")
     if unisolated:
         warn_unisolated()
+    selection = project_selection(skill_file).narrowed(select, ignore)
     capability = load_capability(capability_file, capability_iri=capability_iri).capability
     inventory = discover_path(source)
     chosen = scenarios_for(capability, scenario_file)
@@ -206,7 +228,7 @@ def validate(
             f"--only {unknown[0]}: {chosen.source} has no such scenario ({names})"
         )
     if spec_file is not None:
-        _static_checks_first(skill_file, capability, spec_file, inventory, as_json)
+        _static_checks_first(skill_file, capability, spec_file, inventory, as_json, selection)
     folder = output_dir if output_dir is not None else Path("validation") / skill_file.stem
     try:
         report = validate_skill(
@@ -225,6 +247,8 @@ def validate(
         raise GenerationCancelledError(
             "validation interrupted; the sandboxed process was killed"
         ) from None
+    kept = [f for f in report.findings if _stage_of(f) == "simulation" or selection.keeps(f)]
+    report = report.model_copy(update={"findings": kept})
     if as_json:
         import json
 
