@@ -85,13 +85,17 @@ class AuthorSettings:
     run_repairs: int = 1
     """Repairs beyond ``attempts`` once the static checks pass and only the run's or the
     simulation's findings are left: those come last, often after the static repairs used the
-    attempts up (the demo's navigate-to-point got no repair for its 5-s result wait)."""
+    attempts up, and only running tells some errors (a wait for an action's result shorter
+    than the goal takes, a timer callback that raises), so without these rounds they would
+    never be told to the model."""
     max_tokens: int = 768
     """Tokens per answer of ``execute`` at most (a method, not a file)."""
     short_max_tokens: int = 320
     """Tokens per answer of every other state and of a helper at most (never more than
-    ``max_tokens``). In the evaluation, no such answer without errors took more than 190
-    tokens; the longer ones (up to 594) rambled and were rejected anyway."""
+    ``max_tokens``). The other PackML states and the helpers each do one thing (create or
+    release handles, publish a zero command, wait for one result, return one field): a few
+    statements, so an answer that runs longer is repeating itself rather than adding
+    behaviour, and the tokens are better spent on a repair."""
 
     @property
     def short_budget(self) -> int:
@@ -425,8 +429,9 @@ class _Skill:
             written = {t.name: code for t in self.targets.values() if (code := t.attempts[-1].code)}
             known = _class_methods(self.full) | set(self.targets)
             # A call copied from a worked example (its stopping's self._cancel_dock_robot_goal)
-            # is not asked for: written, it drives an interface this skill does not have
-            # (cap2skill navigate-to-point, three answers). The checks flag the call instead.
+            # is not asked for: the examples are of an invented robot, so their helpers drive
+            # interfaces this skill does not have. The checks flag the call instead, naming
+            # the helpers this skill has.
             known |= example_helpers() - _class_methods(self.full)
             missing = _missing_helpers(written, known, _assigned_attributes(written))
             if not missing:
