@@ -1,9 +1,10 @@
 """The main job: capability + specification + interfaces -> a checked skill in a folder.
 
 Stages (each timed, each announced through ``on_event``): read the inputs, retrieve the
-interfaces the capability needs, write the skeleton, load the model, have it write the
-behaviour method by method and repair what the checks find
-(:mod:`skillwright.generation.author`), run the static checks, then — when they find no
+interfaces the capability needs (ranked, then pinned, set aside or added by
+:mod:`skillwright.retrieval.policy`), write the skeleton, load the model, have it write the
+behaviour method by method (:mod:`skillwright.generation.author`) and repair what the checks
+find (:mod:`skillwright.generation.repair`), run the static checks, then — when they find no
 error — run the skill in the sandbox and simulate it in MuJoCo
 (:mod:`skillwright.pipeline.behaviour`; their findings also feed the repair loop), and
 write the output folder.
