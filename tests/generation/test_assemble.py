@@ -158,8 +158,9 @@ def test_an_answer_that_does_not_parse_leaves_the_state_unwritten() -> None:
 
 
 def test_the_release_of_a_velocity_publisher_leaves_the_base_at_rest() -> None:
-    # cap2skill set-velocity (ev43) completed with the base moving, as its spec asks, and its
-    # resetting only let go of the publisher: the base drove on after the skill was reset.
+    # A base driver keeps the last Twist it received: a skill that completes with the base
+    # moving (a set-velocity skill's spec asks for that) and whose resetting only destroys
+    # the publisher leaves the base driving on after the reset.
     code = assemble(_skeleton([CMD_VEL, ODOM]), {}, {}).code
     body = code[code.index("def resetting") :]
     release = body[body.index("if self.cmd_vel_publisher is not None:") :]

@@ -198,44 +198,6 @@ def test_a_state_that_stops_the_base_brings_its_velocity_command(
         assert extra == []
 
 
-@pytest.mark.parametrize(
-    ("sentence", "asks"),
-    [
-        ("Set the velocity of the robot to zero in all directions.", True),
-        ("Publish a zero velocity command so the base stops.", True),
-        ("Stop the base and log where it stood.", True),
-        ("Cancel the arm's trajectory and stop the manipulator.", False),
-        ("Log the velocity the base reached.", False),
-    ],
-)
-def test_a_velocity_command_set_aside_comes_back_when_a_state_stops_the_base(
-    sentence: str, asks: bool
-) -> None:
-    from skillwright.pipeline.record import HitRecord
-    from skillwright.pipeline.run import _with_stop_command
-    from skillwright.spec.model import SkillSpec
-
-    states = {"execute": "Go.", "stopping": sentence}
-    spec = SkillSpec(name="s", description="d", skill_interface="REST", states=states)
-    hits = [
-        HitRecord(
-            name="/odom", kind="topic", type_name="nav_msgs/msg/Odometry", score=0.5, reason="r"
-        ),
-        HitRecord(
-            name="/cmd_vel",
-            kind="topic",
-            type_name="geometry_msgs/msg/Twist",
-            score=0.01,
-            reason="r",
-            set_aside=True,
-        ),
-    ]
-    kept = _with_stop_command(hits, load_inventory(RECORDING), spec)
-    assert len(kept) == 2
-    assert kept[1].set_aside is not asks
-    assert ("added: stopping asks to stop the base" in kept[1].reason) is asks
-
-
 def test_an_unknown_pinned_interface_is_refused_before_anything_runs(tmp_path: Path) -> None:
     with pytest.raises(InvalidArgumentError, match=r"'/cmd_vell'.*did you mean /cmd_vel"):
         run_generation(request(tmp_path / "out", skeleton=True, pinned=("/cmd_vell",)))

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from skillwright.capability import Capability, load_capability
-from skillwright.generation.author import _unset_output
 from skillwright.generation.model import InterfaceRef
+from skillwright.generation.repair import _unset_output
 from skillwright.generation.skeleton import build_skeleton
 from skillwright.interfaces.load import load_inventory
 from skillwright.spec import SkillSpec, load_spec

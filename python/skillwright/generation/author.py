@@ -1,4 +1,4 @@
-"""A model writes a skill one method at a time, and repairs what the checks find.
+"""Stage 5's model half: a model writes a skill one method at a time.
 
 1. The skeleton (structure, annotations, handles, helpers) comes first; the model gets a
    task card and writes each specified state in turn (:mod:`~skillwright.generation.conversation`),
@@ -9,16 +9,14 @@
 3. The methods go into the skeleton, rebuilt with only the interfaces and helpers the
    behaviour uses (:mod:`~skillwright.generation.assemble`), and the result is validated (the
    static checks, and whatever later stages the caller adds: run, simulation).
-4. Where the checks know the right statement for every error of a method (the wait for a
-   first message, a zero command, a loop with a sleep), it is put in place of the flagged
-   one without asking the model: an attempt that costs no model time.
-5. Every method with an error — a finding on its lines, or an answer that failed outright —
-   is asked for again within ``attempts`` per method: its request once more with every
-   problem found so far, the answer prefilled with the latest answer's statements before its
-   first error (so the model continues where it went wrong, without the wrong lines to copy).
-   The second answer is greedy (sampled when the first looped or ran out of tokens), later
-   ones sampled with a fixed seed. The best answer per method by its findings wins; every
-   attempt is kept for the record.
+
+What the checks find then goes back to the model, a bounded number of rounds, and each
+method's best answer makes the final file: that is stage 7, repair
+(:mod:`~skillwright.generation.repair`), which drives this module's writer (:class:`_Skill`)
+through :class:`~skillwright.generation.repair.Writer`. The writer keeps how an answer is
+asked for: a repair's request is the method's first request with the problems listed, the
+answer prefilled with where the repair goes on, decoded greedily the first time (sampled at
+once after an answer that looped or ran out of tokens) and sampled with a fixed seed after.
 """
 
 from __future__ import annotations
@@ -38,7 +36,6 @@ from skillwright.generation.assemble import (
     Assembly,
     assemble,
     message_classes,
-    method_spans,
     parse_method,
     usage,
 )
@@ -53,27 +50,12 @@ from skillwright.generation.conversation import (
     state_ask,
 )
 from skillwright.generation.guard import RepetitionGuard
-from skillwright.generation.model import (
-    AppliedFix,
-    Attempt,
-    AttemptFinish,
-    InterfaceRef,
-    Skeleton,
-)
+from skillwright.generation.model import Attempt, AttemptFinish, InterfaceRef, Skeleton
+from skillwright.generation.repair import Judgement, repair_skill
 from skillwright.llm.base import GenerationOptions, TextGenerator
-from skillwright.rules.capability import (
-    INPUT_COPIED_UNUSED,
-    INPUT_NEVER_READ,
-    INPUT_ONLY_VALIDATED,
-    OUTPUT_CONSTANT,
-    OUTPUT_NEVER_SET,
-)
 from skillwright.rules.finding import Finding
-from skillwright.rules.interfaces import ARGUMENT_TYPE_MISMATCH
-from skillwright.rules.registry import rule_of
 from skillwright.spec.model import SkillSpec
 from skillwright.validation.names import self_attribute
-from skillwright.validation.static import local_name
 
 __all__ = [
     "AttemptFinished",
@@ -92,10 +74,6 @@ SkeletonBuilder = Callable[[Sequence[InterfaceRef], Collection[str] | None], Ske
 """Builds the skeleton for these interfaces and helpers (``None``: every helper offered)."""
 
 _MAX_HELPERS = 4
-_MAX_FIX_ROUNDS = 3
-"""Rounds of the checks' own fixes per skill (they cost no model time, but a fix may meet a
-new finding that suggests the old statement back)."""
-_MAX_PROBLEMS = 6
 
 
 @dataclass(frozen=True)
@@ -107,13 +85,17 @@ class AuthorSettings:
     run_repairs: int = 1
     """Repairs beyond ``attempts`` once the static checks pass and only the run's or the
     simulation's findings are left: those come last, often after the static repairs used the
-    attempts up (the demo's navigate-to-point got no repair for its 5-s result wait)."""
+    attempts up, and only running tells some errors (a wait for an action's result shorter
+    than the goal takes, a timer callback that raises), so without these rounds they would
+    never be told to the model."""
     max_tokens: int = 768
     """Tokens per answer of ``execute`` at most (a method, not a file)."""
     short_max_tokens: int = 320
     """Tokens per answer of every other state and of a helper at most (never more than
-    ``max_tokens``). In the evaluation, no such answer without errors took more than 190
-    tokens; the longer ones (up to 594) rambled and were rejected anyway."""
+    ``max_tokens``). The other PackML states and the helpers each do one thing (create or
+    release handles, publish a zero command, wait for one result, return one field): a few
+    statements, so an answer that runs longer is repeating itself rather than adding
+    behaviour, and the tokens are better spent on a repair."""
 
     @property
     def short_budget(self) -> int:
@@ -310,8 +292,6 @@ _DEAD_ENDS = ("repetition", "length")
 
 
 def _syntax_note(text: str, name: str) -> str:
-    import textwrap
-
     try:
         ast.parse(textwrap.dedent(text))
     except SyntaxError as error:
@@ -321,9 +301,6 @@ def _syntax_note(text: str, name: str) -> str:
         )
         return f"the answer is not valid Python ({error.msg} at `{where}`)"
     return f"the answer holds more than the one method {name}"
-
-
-_CALL = re.compile(r"self\.(_?[A-Za-z]\w*)\(")
 
 
 _TAKES_CALLBACK = frozenset(
@@ -399,208 +376,6 @@ def _class_methods(skeleton: Skeleton) -> set[str]:
     }
 
 
-def _problems(
-    attempt: Attempt,
-    findings: Sequence[Finding],
-    code_lines: Sequence[str],
-    offered: Collection[str] = (),
-) -> list[tuple[str, str]]:
-    """What to tell the model about its last answer, as (rule code, text): why it gave no
-    code (no code), or the errors in the code it gave (also when the checks wrote that code:
-    their note says what they fixed, not what is still wrong)."""
-    if attempt.code is None and attempt.note is not None:
-        return [("", attempt.note)]
-    out = []
-    for finding in findings:
-        if finding.severity != "error":
-            continue
-        source = code_lines[finding.line - 1].strip() if 0 < finding.line <= len(code_lines) else ""
-        message = finding.message + _helper_hint(finding, offered)
-        out.append((finding.code, f"`{source}`: {message}" if source else message))
-    return out[:_MAX_PROBLEMS]
-
-
-_NAVIGATION_GOAL = "nav2_msgs/action/NavigateToPose.Goal"
-_OUTPUT_RULES = frozenset({OUTPUT_NEVER_SET.code, OUTPUT_CONSTANT.code})
-_UNUSED_INPUT_RULES = frozenset(
-    {INPUT_NEVER_READ.code, INPUT_COPIED_UNUSED.code, INPUT_ONLY_VALIDATED.code}
-)
-
-
-def _helper_hint(finding: Finding, offered: Collection[str]) -> str:
-    """The skeleton helper that gives what a finding says was done by hand: the nearest
-    reading and its bearing from a scan, a navigation goal from a point and a heading (the
-    file the checks saw holds only the helpers already called, so the finding cannot name
-    the others)."""
-    if (
-        finding.code == ARGUMENT_TYPE_MISMATCH.code
-        and finding.data.get("expected") == _NAVIGATION_GOAL
-        and "_pose_goal" in offered
-    ):
-        return "; self._pose_goal(frame, x, y, yaw) returns one for a point and a heading"
-    scans = finding.data.get("scans") if finding.code in _OUTPUT_RULES else None
-    if not scans or "_closest_reading" not in offered:
-        return ""
-    return (
-        f"; self._closest_reading(self.{scans[0]}) returns (distance, bearing) of the "
-        "nearest valid reading"
-    )
-
-
-def _resume_point(target: _Target, code: str, judgement: _Judgement, error: Finding) -> str:
-    """``code`` (an answer of ``target``) up to the statement that holds the ``error`` (in
-    its body, or nested in a loop or branch of it), followed by the statement the check
-    suggests instead when there is one and the flagged statement is a plain one (or a loop)
-    that it can take the place of; the target's own prefill when the statement cannot be
-    told."""
-    found = _statements_at(judgement, target.name, error.line, error.column)
-    method = parse_method(code)
-    if found is None or method is None:
-        return target.prefill
-    top, inner = found
-    key = ast.unparse(top)
-    mine = next((s for s in method.body if ast.unparse(s) == key), None)
-    if mine is None:
-        return target.prefill
-    lines = code.splitlines(keepends=True)
-    cut = mine.lineno + inner.lineno - top.lineno
-    kept = "".join(lines[: cut - 1])
-    if len(kept) < len(target.prefill):
-        kept = target.prefill
-    elif error.replacement is not None and _replaceable(inner):
-        kept += _indented(error.replacement, lines[cut - 1])
-    return kept
-
-
-def _unset_output(finding: Finding) -> str | None:
-    """The attribute of the output that ``finding`` says no method sets (with a measured
-    value), if it says so."""
-    return str(finding.data["attribute"]) if finding.code in _OUTPUT_RULES else None
-
-
-def _unread_input(finding: Finding) -> str | None:
-    """The attribute of the input that ``finding`` says the skill ignores, if it says so."""
-    return str(finding.data["attribute"]) if finding.code in _UNUSED_INPUT_RULES else None
-
-
-def _inputs_resume(target: _Target, attributes: Sequence[str]) -> str:
-    """The method's start with a local copy of each input it ignored, for the model to go on
-    from: cap2skill collision-avoidance wrote an execute that ignored its four inputs three
-    times over after being told so, and a small model uses the variables it is handed. A
-    copy that nothing then reads is still an input never used (the checks say so)."""
-    taken: set[str] = set()
-    lines = []
-    for attribute in dict.fromkeys(attributes):
-        local = local_name(attribute, taken)
-        taken.add(local)
-        lines.append(f"        {local} = self.{attribute}\n")
-    return target.prefill + "".join(lines)
-
-
-def _output_resume(target: _Target, code: str, attribute: str) -> str:
-    """``code`` whole (but a ``return`` that ends it), then the start of the statement that
-    sets the output ``attribute``: a small model told three times that an output is never
-    set wrote the same method again, and completes an assignment it is handed."""
-    method = parse_method(code)
-    if method is None:
-        return target.prefill
-    lines = code.splitlines(keepends=True)
-    last = method.body[-1]
-    end = last.lineno - 1 if isinstance(last, ast.Return) else last.end_lineno or last.lineno
-    kept = "".join(lines[:end])
-    if not kept.endswith("\n"):
-        kept += "\n"
-    first = lines[method.body[0].lineno - 1]
-    return f"{kept}{first[: len(first) - len(first.lstrip())]}self.{attribute} = "
-
-
-def _indented(replacement: str, line: str) -> str:
-    """``replacement`` (statements; empty for none) indented as ``line`` is."""
-    if not replacement:
-        return ""
-    return textwrap.indent(replacement, line[: len(line) - len(line.lstrip())]) + "\n"
-
-
-def _apply_replacements(
-    target: _Target, code: str, judgement: _Judgement, errors: Sequence[Finding]
-) -> tuple[str, list[Finding]] | None:
-    """``code`` (the answer of ``target`` in the judged file) with each flagged statement
-    whose finding suggests one replaced by it, and the findings whose fixes went in; ``None``
-    unless at least one applies and the result is a different method that parses. The errors
-    without a suggestion stay for the model, which then repairs a method with fewer of them.
-    Of two suggestions for one statement (or for a statement and one inside it) only the
-    first applies: the other was
-    made for the statement as it was, and the next round's checks make it again for the
-    statement as it is (cap2skill collision avoidance's loop needed a sleep and a local
-    renamed; keeping the sleep's loop dropped the rename, and the skill compared a float with
-    the module ``time``)."""
-    method = parse_method(code)
-    if method is None or not errors:
-        return None
-    lines = code.splitlines(keepends=True)
-    spans: dict[tuple[int, int], str] = {}
-    applied: list[Finding] = []
-    for error in errors:
-        found = _statements_at(judgement, target.name, error.line, error.column)
-        if error.replacement is None or found is None or not _replaceable(found[1]):
-            continue
-        top, inner = found
-        mine = next((s for s in method.body if ast.unparse(s) == ast.unparse(top)), None)
-        if mine is None:
-            continue
-        first = mine.lineno + inner.lineno - top.lineno
-        last = mine.lineno + (inner.end_lineno or inner.lineno) - top.lineno
-        if not any(first <= end and start <= last for start, end in spans):
-            spans[(first, last)] = error.replacement
-            applied.append(error)
-    for first, last in sorted(spans, reverse=True):
-        lines[first - 1 : last] = [_indented(spans[(first, last)], lines[first - 1])]
-    fixed = "".join(lines)
-    return (fixed, applied) if fixed != code and parse_method(fixed) is not None else None
-
-
-def _replaceable(statement: ast.stmt) -> bool:
-    """Whether a check's suggested statements may take the place of ``statement`` whole: a
-    plain statement (a ``raise`` whose text names a timeout the run changed, a helper's
-    ``return`` of a field that is one level deeper), a loop, or an ``if`` (a guard on
-    something that does not exist, which the suggestion replaces by what it comes to)."""
-    return isinstance(
-        statement,
-        ast.Assign
-        | ast.AugAssign
-        | ast.AnnAssign
-        | ast.Expr
-        | ast.While
-        | ast.If
-        | ast.Raise
-        | ast.Return,
-    )
-
-
-def _statements_at(
-    judgement: _Judgement, name: str, line: int, column: int
-) -> tuple[ast.stmt, ast.stmt] | None:
-    """(statement of the method's body, innermost statement in it) holding the position
-    ``line``:``column`` (1-based column; 0 for anywhere on the line) of the judged file."""
-    tree = ast.parse(judgement.assembly.code)
-    for cls in tree.body:
-        if isinstance(cls, ast.ClassDef) and cls.name == judgement.skeleton.class_name:
-            for member in cls.body:
-                if isinstance(member, ast.FunctionDef) and member.name == name:
-                    holding = [s for s in member.body if _holds(s, line, column)]
-                    if not holding:
-                        return None
-                    inner = [s for s in ast.walk(holding[0]) if isinstance(s, ast.stmt)]
-                    return holding[0], [s for s in inner if _holds(s, line, column)][-1]
-    return None
-
-
-def _holds(statement: ast.stmt, line: int, column: int) -> bool:
-    start = (statement.lineno, statement.col_offset + 1 if column else 0)
-    end = (statement.end_lineno or statement.lineno, statement.end_col_offset or 10**6)
-    return start <= (line, column) <= end
-
-
 def _called(states: Mapping[str, str], helpers: Mapping[str, str]) -> dict[str, str]:
     """The ``helpers`` (name -> code) the ``states`` call or hand over as callbacks, directly
     or through each other: a helper written for an answer that was not kept is dead code,
@@ -613,106 +388,6 @@ def _called(states: Mapping[str, str], helpers: Mapping[str, str]) -> dict[str, 
                 reached[name] = helpers[name]
                 pending.append(helpers[name])
     return {name: code for name, code in helpers.items() if name in reached}
-
-
-def _only_later_stages(judgement: _Judgement) -> bool:
-    """Whether the file passed the static checks and only the run or simulation found
-    errors."""
-    errors = [f for f in judgement.findings if f.severity == "error"]
-    return bool(errors) and all(_later(f) for f in errors)
-
-
-def _score(attempt: Attempt) -> tuple[int, int, int, int]:
-    """Lower is better: unusable answers last, then errors the static checks find (an answer
-    that passed them got further), then the run's and simulation's errors (an answer whose
-    file did not get that far after one that did), then warnings."""
-    if attempt.code is None or attempt.errors is None:
-        return (1, 10**6, 10**6, 10**6)
-    later = attempt.behaviour_errors
-    if later is None:
-        # Not run: another method's static error stopped the file. Zero run errors then
-        # says nothing, so the answer ranks behind one whose run was judged (cap2skill
-        # collision-avoidance's final execute "beat" one with four simulation findings only
-        # because a helper it called failed the checks and nothing ran).
-        return (0, attempt.errors, 10**6, attempt.warnings or 0)
-    return (0, attempt.errors - later, later, attempt.warnings or 0)
-
-
-def _later(finding: Finding) -> bool:
-    """Whether ``finding`` comes from running the skill (the run, the simulation) rather
-    than from reading it."""
-    rule = rule_of(finding)
-    return rule is not None and rule.stage != "static"
-
-
-def _execute_owns(finding: Finding) -> bool:
-    """Whether ``finding``, outside any written method (at an input's or output's getter:
-    an input never read, an output never set), is ``execute``'s to fix."""
-    rule = rule_of(finding)
-    return _later(finding) or (rule is not None and rule.group in ("inputs", "outputs"))
-
-
-_Pick = Callable[[_Target], Attempt | None]
-
-
-def _latest(target: _Target) -> Attempt | None:
-    return target.attempts[-1] if target.attempts else None
-
-
-def _best(target: _Target) -> Attempt | None:
-    """The answer with the best score; of equals the latest, which was told more of what was
-    wrong (its count may include findings another method's answer caused)."""
-    judged = [a for a in target.attempts if a.code is not None and a.errors is not None]
-    return min(judged, key=lambda a: (_score(a), -a.number)) if judged else None
-
-
-@dataclass
-class _Judgement:
-    skeleton: Skeleton
-    assembly: Assembly
-    findings: list[Finding]
-    written: frozenset[str] = frozenset()
-    """The methods the model writes (states and helpers)."""
-
-    def mine(self, name: str) -> list[Finding] | None:
-        """The findings on method ``name``'s lines, or ``None`` if the file has no such method.
-
-        A run's finding in a helper of the skeleton (``_result_of`` timing out) belongs to the
-        written method whose call led there, and is given at the line of that call: the
-        helper is not the model's to change, the call (its timeout, its goal) is. A run's
-        finding, or an input's or output's, in no written method or helper (an input never
-        read, at its getter) belongs to ``execute``, given at its first line.
-        """
-        spans = method_spans(self.assembly.code, self.skeleton.class_name)
-        if name not in spans:
-            return None
-        first, last = spans[name]
-        found = [f for f in self.findings if first <= f.line <= last]
-        owned = set(self.skeleton.helpers)
-        if name == "execute":
-            found += [
-                f.model_copy(update={"line": first, "column": 0})
-                for f in self.findings
-                if _execute_owns(f)
-                and f.severity == "error"
-                and not f.stack
-                and _method_at(spans, f.line) not in self.written | owned
-            ]
-        for finding in self.findings:
-            if not finding.stack or _method_at(spans, finding.line) not in owned:
-                continue
-            for line in reversed(finding.stack):
-                caller = _method_at(spans, line)
-                if caller is not None and caller not in owned:
-                    if caller == name:
-                        found.append(finding.model_copy(update={"line": line, "column": 0}))
-                    break
-        return found
-
-
-def _method_at(spans: Mapping[str, tuple[int, int]], line: int) -> str | None:
-    """The method whose lines hold ``line``."""
-    return next((name for name, (first, last) in spans.items() if first <= line <= last), None)
 
 
 class _Skill:
@@ -754,8 +429,9 @@ class _Skill:
             written = {t.name: code for t in self.targets.values() if (code := t.attempts[-1].code)}
             known = _class_methods(self.full) | set(self.targets)
             # A call copied from a worked example (its stopping's self._cancel_dock_robot_goal)
-            # is not asked for: written, it drives an interface this skill does not have
-            # (cap2skill navigate-to-point, three answers). The checks flag the call instead.
+            # is not asked for: the examples are of an invented robot, so their helpers drive
+            # interfaces this skill does not have. The checks flag the call instead, naming
+            # the helpers this skill has.
             known |= example_helpers() - _class_methods(self.full)
             missing = _missing_helpers(written, known, _assigned_attributes(written))
             if not missing:
@@ -767,12 +443,21 @@ class _Skill:
                 target = _Target(item.name, "helper", ask, prefill, turn, item.caller)
                 self.first_answer(target)
 
-    def judge(self, pick: _Pick) -> _Judgement:
-        """Assembles the picked answers, validates the file and scores each answer."""
+    def methods(self) -> list[_Target]:
+        """The methods asked for so far, in the order they were."""
+        return list(self.targets.values())
+
+    @property
+    def offered(self) -> list[str]:
+        """The helpers the full skeleton offers the behaviour."""
+        return self.full.helpers
+
+    def judge(self, picked: Mapping[str, Attempt | None]) -> Judgement:
+        """Assembles the ``picked`` answers (by method) and validates the file."""
         states: dict[str, str] = {}
         helpers: dict[str, str] = {}
         for target in self.targets.values():
-            attempt = pick(target)
+            attempt = picked[target.name]
             if attempt is not None and attempt.code is not None:
                 (states if target.kind == "state" else helpers)[target.name] = attempt.code
         helpers = _called(states, helpers)
@@ -786,121 +471,25 @@ class _Skill:
             author=self.model_name,
             classes=self.classes,
         )
-        judgement = _Judgement(
+        return Judgement(
             skeleton, assembly, self.validate(assembly.code, skeleton), frozenset(self.targets)
         )
-        # The run and the simulation follow only a file without static errors: in any other,
-        # an answer's behaviour is not known, which is not the same as none found.
-        measured = not any(f.severity == "error" and not _later(f) for f in judgement.findings)
-        for target in self.targets.values():
-            attempt = pick(target)
-            mine = judgement.mine(target.name)
-            if attempt is None or attempt.code is None or mine is None:
-                continue
-            errors = [f for f in mine if f.severity == "error"]
-            attempt.errors = len(errors)
-            attempt.warnings = len(mine) - attempt.errors
-            attempt.behaviour_errors = sum(_later(f) for f in errors) if measured else None
-        return judgement
 
-    def failing(self, judgement: _Judgement) -> list[tuple[_Target, list[tuple[str, str]], str]]:
-        """Methods whose latest answer failed or has errors, with what to tell the model and
-        the start its repair continues from."""
-        lines = judgement.assembly.code.splitlines()
-        out = []
-        for target in self.targets.values():
-            last = target.attempts[-1]
-            mine = judgement.mine(target.name)
-            if last.code is None:
-                out.append((target, _problems(last, [], lines), target.prefill))
-            elif last.errors and mine is not None:
-                errors = [f for f in mine if f.severity == "error"]
-                unset = [a for f in errors if (a := _unset_output(f)) is not None]
-                unread = [a for f in errors if (a := _unread_input(f)) is not None]
-                others = [
-                    f for f in errors if _unset_output(f) is None and _unread_input(f) is None
-                ]
-                if others:
-                    first = min(others, key=lambda f: f.line)
-                    start = _resume_point(target, last.code, judgement, first)
-                elif unread:
-                    start = _inputs_resume(target, unread)
-                else:
-                    start = _output_resume(target, last.code, unset[0])
-                out.append((target, _problems(last, mine, lines, self.full.helpers), start))
-        return out
-
-    def fixes(
-        self, judgement: _Judgement
-    ) -> list[tuple[_Target, str, list[tuple[str, str]], list[Finding]]]:
-        """Methods with errors that come with the statement to put in their place, with the
-        latest answer so fixed, what it was told (the errors left are the repair's) and the
-        findings whose fixes went in."""
-        lines = judgement.assembly.code.splitlines()
-        out = []
-        for target in self.targets.values():
-            last = target.attempts[-1]
-            mine = judgement.mine(target.name)
-            if last.code is None or not last.errors or mine is None:
-                continue
-            errors = [f for f in mine if f.severity == "error"]
-            fixed = _apply_replacements(target, last.code, judgement, errors)
-            if fixed is not None:
-                code, applied = fixed
-                told = _problems(last, mine, lines, self.full.helpers)
-                out.append((target, code, told, applied))
-        return out
-
-    def fix(
-        self,
-        target: _Target,
-        code: str,
-        told: list[tuple[str, str]],
-        applied: Sequence[Finding] = (),
-    ) -> None:
-        problems = [text for _, text in told]
-        attempt = Attempt(
-            target=target.name,
-            kind=target.kind,
-            number=len(target.attempts) + 1,
-            temperature=0.0,
-            seed=0,
-            finish="fixed",
-            note="the statements the checks suggested, put in place of the flagged ones",
-            code=code,
-            response="",
-            seconds=0.0,
-            problems=problems,
-            problem_codes=[c for c, _ in told if c],
-            fixes=[
-                AppliedFix(code=f.code, safety=f.fix_safety or "unsafe", line=f.line)
-                for f in applied
-            ],
+    def ask_again(self, name: str, problems: Sequence[str], prefill: str) -> Attempt:
+        """The model's next answer for ``name``: its request with the ``problems``, the answer
+        starting with ``prefill``, after the turns before the method's first request."""
+        target = self.targets[name]
+        return self.author.answer(
+            self.conversation, target, repair_ask(target.ask, problems), prefill
         )
-        target.attempts.append(attempt)
-        # What the checks fixed is still worth avoiding when the model writes it again.
-        target.problems += [p for p in problems if p not in target.problems]
+
+    def record_fix(self, name: str, attempt: Attempt) -> None:
+        """Logs the checks' own fix of ``name`` and announces it."""
         self.author.log.append(
-            f"===== checks' fix of {target.name} (attempt {attempt.number}) =====\n"
-            f"```python\n{code}```"
+            f"===== checks' fix of {name} (attempt {attempt.number}) =====\n"
+            f"```python\n{attempt.code}```"
         )
         self.author.emit(AttemptFinished(attempt))
-
-    def repair_failing(self, judgement: _Judgement) -> None:
-        """Asks again for every method that failed, then for helpers the repairs call."""
-        for target, told, prefill in self.failing(judgement):
-            self.repair(target, told, prefill)
-        self.write_helpers()  # a repair may call a helper nobody has written yet
-
-    def repair(self, target: _Target, told: list[tuple[str, str]], prefill: str) -> None:
-        # A repair branches off where the method was first asked for: the same request with
-        # everything found so far, continuing the latest answer up to its first error.
-        problems = [text for _, text in told]
-        target.problems += [p for p in problems if p not in target.problems]
-        ask = repair_ask(target.ask, target.problems[-_MAX_PROBLEMS:])
-        attempt = self.author.answer(self.conversation, target, ask, prefill)
-        attempt.problems = problems
-        attempt.problem_codes = [c for c, _ in told if c]
 
 
 def author_skill(
@@ -921,36 +510,11 @@ def author_skill(
     skill = _Skill(author, build_skeleton, capability, interfaces, validate)
     skill.write_states(spec)
     skill.write_helpers()
-    judgement = skill.judge(_latest)
-    rounds = fixes = later = 0
-    # The checks' own fixes cost no model time, so they also follow the last repairs.
-    while skill.failing(judgement):
-        fixable = skill.fixes(judgement) if fixes < _MAX_FIX_ROUNDS else []
-        if fixable:
-            fixes += 1
-            for target, code, told, applied in fixable:
-                skill.fix(target, code, told, applied)
-        elif rounds < settings.attempts - 1:
-            rounds += 1
-            skill.repair_failing(judgement)
-        elif later < settings.run_repairs and _only_later_stages(judgement):
-            later += 1
-            skill.repair_failing(judgement)
-        else:
-            break
-        judgement = skill.judge(_latest)
-    # The final file takes each method's best answer (fewest errors, then warnings), chosen
-    # once: judging the final file counts again and may move a score, not the choice.
-    choices = {name: _best(t) or _latest(t) for name, t in skill.targets.items()}
-    judgement = skill.judge(lambda t: choices[t.name])
-    for target in skill.targets.values():
-        kept = judgement.mine(target.name) is not None
-        for attempt in target.attempts:
-            attempt.chosen = kept and attempt is choices[target.name] and attempt.code is not None
+    judgement = repair_skill(skill, attempts=settings.attempts, run_repairs=settings.run_repairs)
     return Authored(
         code=judgement.assembly.code,
         findings=judgement.findings,
-        attempts=[a for t in skill.targets.values() for a in t.attempts],
+        attempts=[a for t in skill.methods() for a in t.attempts],
         assembly=judgement.assembly,
         skeleton=judgement.skeleton,
         card=skill.conversation.card,

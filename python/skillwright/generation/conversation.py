@@ -120,7 +120,8 @@ def repair_ask(ask: str, problems: Sequence[str]) -> str:
     """The method's request again, with what the checks found in earlier answers to it.
 
     The earlier answers themselves are not shown: a small model shown its own answer copies
-    it, mistakes and all (three answers of 311 identical tokens, the last one sampled)."""
+    it, mistakes and all, even when sampled; the repair's prefill gives it the statements
+    of the latest answer worth keeping instead (:mod:`~skillwright.generation.repair`)."""
     listed = "\n".join(f"- {problem}" for problem in problems)
     return f"{ask}\nEarlier answers to this had these problems; avoid them:\n{listed}"
 

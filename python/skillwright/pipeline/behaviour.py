@@ -8,9 +8,11 @@ Static checks cannot tell whether a skill works. Once a candidate passes them, i
   scenario file for the capability, else one derived from its parameters), and
 * **simulated** (:func:`skillwright.sim.validate.validate_skill`): in MuJoCo in that
   scenario and the capability's others (a skill that only works where the default scenario
-  puts the robot is not one to trust: MR-1 get-distance took the index of the nearest range
-  among the valid ones for its index in the scan, right in a walled room and 13 degrees off
-  in a corridor with open ends), judged by the oracles derived from the capability model.
+  puts the robot is not one to trust: a ``sensor_msgs/LaserScan`` range ``i`` lies at
+  ``angle_min + i * angle_increment``, so a skill that takes the index of the nearest range
+  among the valid ones for its index in the scan is right in a walled room, where every
+  range is valid, and wrong where some look into open space), judged by the oracles derived
+  from the capability model.
 
 Both report findings at the skill's lines, so :func:`Behaviour.validator` hands them to the
 repair loop exactly like static findings: the method holding the line is asked for again.

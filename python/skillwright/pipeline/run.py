@@ -1,9 +1,10 @@
 """The main job: capability + specification + interfaces -> a checked skill in a folder.
 
 Stages (each timed, each announced through ``on_event``): read the inputs, retrieve the
-interfaces the capability needs, write the skeleton, load the model, have it write the
-behaviour method by method and repair what the checks find
-(:mod:`skillwright.generation.author`), run the static checks, then — when they find no
+interfaces the capability needs (ranked, then pinned, set aside or added by
+:mod:`skillwright.retrieval.policy`), write the skeleton, load the model, have it write the
+behaviour method by method (:mod:`skillwright.generation.author`) and repair what the checks
+find (:mod:`skillwright.generation.repair`), run the static checks, then — when they find no
 error — run the skill in the sandbox and simulate it in MuJoCo
 (:mod:`skillwright.pipeline.behaviour`; their findings also feed the repair loop), and
 write the output folder.
@@ -22,7 +23,6 @@ from __future__ import annotations
 import difflib
 import hashlib
 import json
-import re
 import tempfile
 import threading
 import time
@@ -69,6 +69,7 @@ if TYPE_CHECKING:
     from skillwright.interfaces.inventory import Interface, Inventory
     from skillwright.llm.base import TextGenerator
     from skillwright.llm.config import Registry
+    from skillwright.retrieval.policy import Given
     from skillwright.retrieval.rerank import Reranking
     from skillwright.retrieval.retrieve import Embedder, Hit
     from skillwright.rules.finding import Finding
@@ -340,104 +341,25 @@ def retrieve(
     return RetrievalResult(load, skill_spec, inventory, hits, method, reranking)
 
 
-def _with_pins(hits: list[Hit], inventory: Inventory, pinned: Sequence[str]) -> list[HitRecord]:
-    records = [
-        HitRecord(
-            name=h.name,
-            kind=h.kind,
-            type_name=h.type_name,
-            score=round(h.score, 4),
-            dense=None if h.dense is None else round(h.dense, 4),
-            lexical=round(h.lexical, 4),
-            reason=h.reason,
-            needed=h.needed,
-            judgement=h.judgement,
-            twins=list(h.twins),
-            pinned=h.name in pinned,
-        )
-        for h in hits
-    ]
-    chosen = {h.name for h in hits}
-    for name in pinned:
-        if name in chosen:
-            continue
-        interface = inventory.interface(name)
-        records.append(
-            HitRecord(
-                name=name,
-                kind=interface.kind,
-                type_name=interface.type_name,
-                score=None,
-                reason="pinned by the user",
-                pinned=True,
-            )
-        )
-        chosen.add(name)
-    return records
+def _hit_record(given: Given) -> HitRecord:
+    """The record of one interface of the retrieval's result."""
+    from skillwright.retrieval.policy import SCORE_PLACES
 
-
-def _set_aside_weak(hits: list[HitRecord], share: float) -> list[HitRecord]:
-    """``hits`` with those that score under ``share`` of the best score marked set aside
-    (never a pinned one). On the labelled robots a share of 0.1 keeps 357 of the 363 needed
-    interfaces the first four hold and leaves out 111 of their 312 others: the MR-1's
-    move-forward got /navigate_to_pose and /tf beside /odom and /cmd_vel (score 0.05 and
-    0.04 against 0.54), and the 1.5B model drove it with a navigation goal."""
-    best = max((h.score for h in hits if h.score is not None), default=0.0)
-    return [
-        h.model_copy(update={"set_aside": True})
-        if not h.pinned and h.score is not None and h.score < share * best
-        else h
-        for h in hits
-    ]
-
-
-_ASKS_TO_STOP = re.compile(
-    r"zero velocit|velocit(y|ies)\b[^.;]*\b(to|at|of) zero\b|\bstop(s|ping)? the base\b|"
-    r"\bbase stops\b",
-    re.IGNORECASE,
-)
-"""A state sentence that stops the base by its velocity command ("publish a zero velocity
-command", "set the velocity of the robot to zero in all directions")."""
-
-
-def _with_stop_command(
-    hits: list[HitRecord], inventory: Inventory, spec: SkillSpec, dropped: Collection[str] = ()
-) -> list[HitRecord]:
-    """``hits`` with the base's velocity command added (or taken back from the set-aside)
-    when a state of ``spec`` asks to stop the base, no hit given to the skill commands it and
-    the user did not drop it. Retrieval ranks what the capability is about; the MR-1's
-    mapping (stopping: "publish a zero velocity command so the base stops") got /map, /scan,
-    Nav2 and the map saver at k=4, and the model then published on a /cmd_vel publisher it
-    never had."""
-    from skillwright.interfaces.roles import TWIST_TYPES, command_topic
-
-    asked = next(
-        ((state, text) for state, text in spec.states.items() if _ASKS_TO_STOP.search(text)),
-        None,
+    hit = given.hit
+    return HitRecord(
+        name=given.name,
+        kind=given.kind,
+        type_name=given.type_name,
+        score=given.score,
+        dense=None if hit is None or hit.dense is None else round(hit.dense, SCORE_PLACES),
+        lexical=None if hit is None else round(hit.lexical, SCORE_PLACES),
+        reason=given.reason,
+        needed=None if hit is None else hit.needed,
+        judgement=None if hit is None else hit.judgement,
+        twins=[] if hit is None else list(hit.twins),
+        pinned=given.pinned,
+        set_aside=given.set_aside,
     )
-    twists = [
-        i.name for i in inventory.interfaces if i.kind == "topic" and i.type_name in TWIST_TYPES
-    ]
-    command = command_topic(twists)
-    given = [h for h in hits if not h.set_aside]
-    if asked is None or command is None or command in dropped:
-        return hits
-    if any(h.type_name in TWIST_TYPES for h in given):
-        return hits
-    sentence = next(s for s in re.split(r"(?<=[.;])\s+", asked[1]) if _ASKS_TO_STOP.search(s))
-    why = f"added: {asked[0]} asks to stop the base ({sentence.strip()!r}), by its velocity command"
-    if any(h.name == command for h in hits):
-        return [
-            h.model_copy(update={"set_aside": False, "reason": f"{h.reason}; {why}"})
-            if h.name == command
-            else h
-            for h in hits
-        ]
-    interface = inventory.interface(command, "topic")
-    added = HitRecord(
-        name=command, kind="topic", type_name=interface.type_name, score=None, reason=why
-    )
-    return [*hits, added]
 
 
 def _interface_refs(
@@ -891,6 +813,7 @@ def _retrieval_stage(
 ]:
     """Ranks (and with ``request.rerank`` loads the model and re-ranks); the model loaded
     for re-ranking is returned for generation."""
+    from skillwright.retrieval.policy import given_interfaces
     from skillwright.retrieval.retrieve import twin_notes
 
     method = "hybrid" if request.dense else "lexical"
@@ -916,12 +839,15 @@ def _retrieval_stage(
             if loaded is not None and loaded[0] is not None:
                 loaded[0].close()
             raise
-        chosen_hits = _with_stop_command(
-            _set_aside_weak(_with_pins(hits, inventory, request.pinned), request.min_share),
+        result = given_interfaces(
+            hits,
             inventory,
             spec,
-            request.dropped,
+            pinned=request.pinned,
+            dropped=request.dropped,
+            min_share=request.min_share,
         )
+        chosen_hits = [_hit_record(g) for g in result]
         s.append(", ".join(h.name for h in chosen_hits if not h.set_aside) or "none")
         weak = [h.name for h in chosen_hits if h.set_aside]
         if weak:
