@@ -9,10 +9,12 @@ from typing import TypeVar
 import click
 
 __all__ = [
+    "bind_option",
     "capability_options",
     "dense_option",
     "interfaces_option",
     "isolation_option",
+    "optional_capability_options",
     "spec_option",
     "warn_unisolated",
 ]
@@ -62,17 +64,57 @@ def warn_unisolated() -> None:
     )
 
 
+def _capability(*, required: bool) -> Callable[[F], F]:
+    def decorate(function: F) -> F:
+        function = click.option(
+            "--capability-iri",
+            metavar="IRI",
+            help="Which capability, when the file holds several.",
+        )(function)
+        return click.option(
+            "--capability",
+            "capability_file",
+            required=required,
+            type=click.Path(path_type=Path),
+            help="The capability model (Turtle or another RDF syntax)."
+            + ("" if required else " With it, inputs may be given by its names."),
+        )(function)
+
+    return decorate
+
+
 def capability_options(function: F) -> F:
     """``--capability FILE`` (required, as ``capability_file``) and ``--capability-iri IRI``."""
-    function = click.option(
-        "--capability-iri", metavar="IRI", help="Which capability, when the file holds several."
-    )(function)
+    return _capability(required=True)(function)
+
+
+def optional_capability_options(function: F) -> F:
+    """``--capability FILE`` (optional, as ``capability_file``) and ``--capability-iri IRI``."""
+    return _capability(required=False)(function)
+
+
+def _bindings(_: click.Context, __: click.Parameter, values: tuple[str, ...]) -> dict[str, str]:
+    pairs: dict[str, str] = {}
+    for value in values:
+        skill_name, equals, capability_name = value.partition("=")
+        if not equals or not skill_name.strip() or not capability_name.strip():
+            raise click.BadParameter(
+                f"{value!r} is not SKILL_NAME=CAPABILITY_NAME (e.g. --bind distance=inDistance)"
+            )
+        pairs[skill_name.strip()] = capability_name.strip()
+    return pairs
+
+
+def bind_option(function: F) -> F:
+    """``--bind SKILL_NAME=CAPABILITY_NAME`` (repeatable, as ``bind``, a dict)."""
     return click.option(
-        "--capability",
-        "capability_file",
-        required=True,
-        type=click.Path(path_type=Path),
-        help="The capability model (Turtle or another RDF syntax).",
+        "--bind",
+        "bind",
+        multiple=True,
+        metavar="NAME=CAPABILITY_NAME",
+        callback=_bindings,
+        help="Bind the skill's parameter or output NAME to the capability's input or output "
+        "(repeatable); others bind by name, else by their meaning (name, description, unit).",
     )(function)
 
 

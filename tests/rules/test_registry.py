@@ -214,6 +214,7 @@ def _run_codes(key: str) -> tuple[str, ...]:
                 scenario=scenario,
                 world=world,
                 source=text,
+                capability=_inputs(case["capability"])[0] if "capability" in case else None,
             )
 
         report = probe_waits(once(source), source, once, scenario.deadlines.state)

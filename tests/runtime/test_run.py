@@ -207,3 +207,75 @@ def test_inputs_never_read_are_found_whatever_the_class_does_with_attributes(
     assert [f.check for f in careless.findings] == ["run.input"]
     assert "inLinearVelocity" in careless.findings[0].message
     assert careless.trace.episodes[0].outputs["outDistance"] > 0.4
+
+
+def _renamed(tmp_path: Path) -> Path:
+    """The shipped move forward with its parameters and outputs named as its author liked."""
+    text = (SKILLS / "move_forward.py").read_text(encoding="utf-8")
+    for old, new in (
+        (
+            'name="inDistance", description="Distance to drive. Unit: m."',
+            'name="how_far", description="How far to drive forward, in metres."',
+        ),
+        ('name="inLinearVelocity"', 'name="speed"'),
+        ('name="outDistance"', 'name="travelled_distance"'),
+    ):
+        assert old in text
+        text = text.replace(old, new)
+    path = tmp_path / "move_forward.py"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_inputs_by_the_capability_s_names_reach_the_parameters_bound_to_them(
+    tmp_path: Path, mr1_inventory: Inventory
+) -> None:
+    from skillwright.capability import load_capability
+    from tests.conftest import SHIPPED_CAPABILITIES
+
+    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
+    skill = _renamed(tmp_path)
+    inputs = {"inDistance": 0.3, "inLinearVelocity": 0.3}
+    with pytest.raises(InvalidArgumentError, match="give the capability with --capability"):
+        run_skill(skill, mr1_inventory, inputs=inputs, world="kinematic")
+    report = run_skill(
+        skill,
+        mr1_inventory,
+        inputs=inputs,
+        world="kinematic",
+        capability=capability,
+        bindings={"speed": "inLinearVelocity"},
+    )
+    assert report.passed, report.findings
+    assert report.trace.binding == {
+        "inDistance": "how_far",
+        "inLinearVelocity": "speed",
+        "outDistance": "travelled_distance",
+        "outLinearVelocity": "outLinearVelocity",
+    }
+    assert report.trace.inputs == {"how_far": 0.3, "speed": 0.3}
+    travelled = report.trace.episodes[0].outputs["travelled_distance"]
+    assert abs(travelled - 0.3) < 0.05
+
+
+def test_an_input_that_reaches_no_parameter_is_a_finding_not_bad_input(
+    tmp_path: Path, mr1_inventory: Inventory
+) -> None:
+    from skillwright.capability import load_capability
+    from tests.conftest import SHIPPED_CAPABILITIES
+
+    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
+    skill = _renamed(tmp_path)
+    text = skill.read_text(encoding="utf-8")
+    text = text.replace('name="speed", description="Requested speed. Unit: m/s."', 'name="knob"')
+    skill.write_text(text, encoding="utf-8")
+    report = run_skill(
+        skill,
+        mr1_inventory,
+        inputs={"inDistance": 0.3, "inLinearVelocity": 0.3},
+        world="kinematic",
+        capability=capability,
+    )
+    [unbound] = [f for f in report.findings if f.code == "SW630"]
+    assert unbound.data == {"input": "inLinearVelocity", "candidates": []}
+    assert "none of its parameters (how_far, knob) means it" in unbound.message

@@ -23,6 +23,7 @@ __all__ = [
     "RUN_GOAL_LEFT_ACTIVE",
     "RUN_IMPORT",
     "RUN_INPUT_GETTER",
+    "RUN_INPUT_UNBOUND",
     "RUN_INPUT_UNREAD",
     "RUN_MEMORY",
     "RUN_NO_DATA",
@@ -449,4 +450,20 @@ WORLD_REPORT = Rule(
     example="# a world plug-in's host.report('collision', ...)",
     data=("check",),
     grounds=("the world plug-in",),
+)
+
+RUN_INPUT_UNBOUND = Rule(
+    "SW630",
+    "run-input-unbound",
+    group="run.binding",
+    stage="run",
+    severity="error",
+    summary="Every input the scenario gives by its capability name reaches a parameter of the "
+    "skill: one of that name, one whose name and description mean it, or one --bind names.",
+    why="pySkillUp sets a skill's inputs by the names its @skill_parameter decorators give; "
+    "a capability input no parameter stands for is never given to the skill, which then runs "
+    "with what its __init__ put there.",
+    example="@skill_parameter(name='speed', description='how fast')  # inVelocityX or inVelocityY?",
+    data=("input", "candidates"),
+    grounds=("pySkillUp", "the capability"),
 )

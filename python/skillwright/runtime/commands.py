@@ -8,7 +8,13 @@ from typing import TYPE_CHECKING
 
 import click
 
-from skillwright.cli_options import interfaces_option, isolation_option, warn_unisolated
+from skillwright.cli_options import (
+    bind_option,
+    interfaces_option,
+    isolation_option,
+    optional_capability_options,
+    warn_unisolated,
+)
 from skillwright.validation.commands import selection_options
 
 if TYPE_CHECKING:
@@ -108,6 +114,13 @@ def _summary(console: Console, path: Path, report: RunReport) -> None:
     )
 
 
+def _binding_lines(console: Console, report: RunReport) -> None:
+    """One line per input or output bound under another name than the capability's."""
+    for capability_name, skill_name in report.trace.binding.items():
+        if capability_name != skill_name:
+            console.print(f"bound: {skill_name} is {capability_name}", highlight=False)
+
+
 @click.command("run")
 @click.argument("skill_file", type=click.Path(path_type=Path))
 @interfaces_option(required=True, extra_help=" A recording is also replayed during the run.")
@@ -117,9 +130,11 @@ def _summary(console: Console, path: Path, report: RunReport) -> None:
     "input_values",
     multiple=True,
     metavar="NAME=VALUE",
-    help="A skill input by its capability name (repeatable; several may share one value, "
-    "separated by spaces).",
+    help="A skill input, by the skill's name or, with --capability, the capability's "
+    "(repeatable; several may share one value, separated by spaces).",
 )
+@optional_capability_options
+@bind_option
 @click.option(
     "--scenario",
     "scenario_file",
@@ -146,6 +161,9 @@ def run(
     skill_file: Path,
     source: Path,
     input_values: tuple[str, ...],
+    capability_file: Path | None,
+    capability_iri: str | None,
+    bind: dict[str, str],
     scenario_file: Path | None,
     world: str | None,
     out_file: Path | None,
@@ -165,8 +183,11 @@ def run(
     a timeout too short for the motion (the finding gives a measured one) from a wait for
     what never happens; then, and for a loop that ran into the state's deadline, the
     comparison the loop waits on is logged on every pass of that second run, to say why it
-    never held (it steps over its goal, never changes, or moves away). Exit status 0 when
-    the run finds no error, 1 when it does, 2 for bad input, 130 when interrupted.
+    never held (it steps over its goal, never changes, or moves away). With --capability,
+    inputs may be given by the capability's names: the skill's parameters are bound to them
+    by name, else by what their names and descriptions mean, else by --bind; the binding is
+    printed and kept in the report. Exit status 0 when the run finds no error, 1 when it
+    does, 2 for bad input, 130 when interrupted.
     """
     from skillwright.console import err_console, out_console, print_model_json
     from skillwright.errors import GenerationCancelledError
@@ -183,6 +204,11 @@ def run(
     scenario = load_scenario(scenario_file) if scenario_file is not None else None
     inventory = discover_path(source)
     recording = None if is_json_file(source) else source
+    capability = None
+    if capability_file is not None:
+        from skillwright.capability.reader import load_capability
+
+        capability = load_capability(capability_file, capability_iri=capability_iri).capability
     try:
 
         def run_once(source_text: str | None, progress: _Progress | None = None) -> RunReport:
@@ -196,6 +222,8 @@ def run(
                 source=source_text,
                 on_progress=progress,
                 isolated=not unisolated,
+                capability=capability,
+                bindings=bind,
             )
 
         report = run_once(None, None if as_json else _Progress(err_console()))
@@ -213,6 +241,7 @@ def run(
     if as_json:
         print_model_json(report)
     else:
+        _binding_lines(err_console(), report)
         _summary(out_console(), skill_file, report)
     if not report.passed:
         sys.exit(1)

@@ -70,7 +70,12 @@ class RunTrace(_Model):
     """Everything the runs did (JSON-serialisable)."""
 
     skill: str = Field(description="The skill file that ran.")
-    inputs: dict[str, Any] = Field(default_factory=dict, description="Inputs by capability name.")
+    inputs: dict[str, Any] = Field(default_factory=dict, description="Inputs by the skill's names.")
+    binding: dict[str, str] = Field(
+        default_factory=dict,
+        description="Capability name -> the skill's name of each input and output bound to it "
+        "(with a capability; by name, by meaning or by --bind).",
+    )
     world: str | None = Field(default=None, description="The world plug-in, if one ran.")
     seed: int = Field(default=0, description="The scenario's seed.")
     scenario: str = Field(default="", description="The scenario's description.")

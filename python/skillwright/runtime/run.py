@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Final
 
+from skillwright.capability.binding import Annotation, Binding, bind
+from skillwright.capability.model import Capability
 from skillwright.errors import InputFileError, InputFileNotFoundError, InvalidArgumentError
 from skillwright.interfaces.inventory import Inventory
 from skillwright.rules.finding import Finding
@@ -23,6 +26,7 @@ from skillwright.rules.run import (
     RUN_EXPECTATION,
     RUN_GOAL_LEFT_ACTIVE,
     RUN_INPUT_GETTER,
+    RUN_INPUT_UNBOUND,
     RUN_INPUT_UNREAD,
     RUN_NO_DATA,
     RUN_OUTPUT_UNSET,
@@ -37,7 +41,7 @@ from skillwright.runtime.session import Episode, EpisodePlan, EpisodeResult
 from skillwright.runtime.skillinfo import SkillInfo, SkillSourceError, read_skill
 from skillwright.runtime.typesys import MOTION_TYPES, is_zero_motion, registry_for
 
-__all__ = ["MOTION_TYPES", "WorldSpec", "recording_files", "run_skill"]
+__all__ = ["MOTION_TYPES", "WorldSpec", "recording_files", "run_skill", "skill_binding"]
 
 """Message types whose non-zero values command a base to move."""
 
@@ -106,6 +110,90 @@ def _coerce(value: float | int | bool | str, annotation: str | None, name: str) 
     return value
 
 
+def _annotations(info: SkillInfo) -> list[Annotation]:
+    """The skill's parameters and outputs as the binding reads them."""
+    return [
+        *(Annotation(v.name, "input", v.description, v.line) for v in info.parameters),
+        *(Annotation(v.name, "output", v.description, v.line) for v in info.outputs),
+    ]
+
+
+def skill_binding(
+    info: SkillInfo, capability: Capability, bindings: Mapping[str, str]
+) -> dict[str, str]:
+    """Capability name -> the skill's name of each input and output bound to it."""
+    return {b.target: b.annotation for b in bind(_annotations(info), capability, bindings).bound}
+
+
+def _skill_inputs(
+    info: SkillInfo,
+    given: Mapping[str, float | int | bool | str],
+    binding: Binding | None,
+    recorder: Recorder,
+) -> dict[str, float | int | bool | str]:
+    """``given`` by the skill's own names: a name the skill has stays, a capability name goes
+    to the parameter bound to it; one that reaches none is a finding (with a capability) and
+    is left for :func:`_inputs` to refuse (without one)."""
+    own = {v.name for v in info.parameters}
+    named: dict[str, float | int | bool | str] = {}
+    for name, value in given.items():
+        bound = binding.annotation_of(name) if binding is not None else None
+        if name in own or binding is None:
+            named[name] = value
+        elif bound is not None:
+            named[bound] = value
+        else:
+            candidates = [a for a, targets in binding.ambiguous.items() if name in targets]
+            why = (
+                f"{', '.join(candidates)} could mean it; say which with --bind "
+                f"{candidates[0]}={name}"
+                if candidates
+                else f"none of its parameters ({', '.join(sorted(own)) or 'none'}) means it"
+            )
+            recorder.finding(
+                RUN_INPUT_UNBOUND,
+                f"input {name} of the capability reaches no parameter of the skill: {why}",
+                line=info.class_line,
+                data={"input": name, "candidates": candidates},
+            )
+    return named
+
+
+def _read_skill_file(path: Path) -> str:
+    """The text of the skill file ``path``; the input-file errors when it cannot be read."""
+    if path.is_dir():
+        raise InputFileError(
+            f"skill file {path}: is a folder; give the skill's .py file (the folder "
+            "`skillwright generate` writes holds it as skill.py)"
+        )
+    if not path.is_file():
+        raise InputFileNotFoundError(f"skill file {path}: no such file; check the path")
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputFileError(f"skill file {path}: cannot be read as UTF-8 text ({error})") from None
+
+
+def _bound(
+    info: SkillInfo,
+    given: Mapping[str, float | int | bool | str],
+    capability: Capability | None,
+    bindings: Mapping[str, str] | None,
+    trace: RunTrace,
+    recorder: Recorder,
+) -> tuple[SkillInfo, dict[str, float | int | bool | str]]:
+    """The skill and ``given`` by its own names, bound to ``capability`` when there is one.
+    A parameter that nothing given reaches is then no longer required: the finding about the
+    input that did not reach it says what the run lacks, and the run goes on."""
+    if capability is None:
+        return info, dict(given)
+    binding = bind(_annotations(info), capability, bindings or {})
+    trace.binding = {b.target: b.annotation for b in binding.bound}
+    named = _skill_inputs(info, given, binding, recorder)
+    parameters = [v if v.name in named else replace(v, required=False) for v in info.parameters]
+    return replace(info, parameters=parameters), named
+
+
 def _inputs(
     info: SkillInfo,
     given: Mapping[str, float | int | bool | str],
@@ -117,7 +205,8 @@ def _inputs(
     if unknown:
         names = ", ".join(sorted(by_name)) or "none"
         raise InvalidArgumentError(
-            f"{path}: the skill has no input {unknown[0]!r} (its inputs: {names})"
+            f"{path}: the skill has no input {unknown[0]!r} (its inputs: {names}); give the "
+            "capability with --capability to give inputs by its names"
         )
     missing = [v.name for v in info.parameters if v.required and v.name not in given]
     if missing:
@@ -159,8 +248,15 @@ def run_skill(
     cancel: threading.Event | None = None,
     children: ChildPool | None = None,
     isolated: bool = True,
+    capability: Capability | None = None,
+    bindings: Mapping[str, str] | None = None,
 ) -> RunReport:
     """Runs ``skill`` against a simulated graph of ``inventory`` in a sandbox.
+
+    With ``capability``, inputs may be given by the capability's names: each goes to the
+    parameter bound to it (:mod:`skillwright.capability.binding`: by name, by meaning, or by
+    ``bindings``, the skill's name -> the capability's, as ``--bind`` gives them); the trace
+    records the binding, and an input that reaches no parameter is a finding.
 
     ``skill`` names the skill file (findings refer to it); its text is read from there
     unless ``source`` gives it. ``inputs`` are by capability name and override the
@@ -180,19 +276,7 @@ def run_skill(
     """
     path = Path(skill)
     if source is None:
-        if path.is_dir():
-            raise InputFileError(
-                f"skill file {path}: is a folder; give the skill's .py file (the folder "
-                "`skillwright generate` writes holds it as skill.py)"
-            )
-        if not path.is_file():
-            raise InputFileNotFoundError(f"skill file {path}: no such file; check the path")
-        try:
-            source = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as error:
-            raise InputFileError(
-                f"skill file {path}: cannot be read as UTF-8 text ({error})"
-            ) from None
+        source = _read_skill_file(path)
     scenario = scenario or RunScenario()
     given = {**scenario.inputs, **dict(inputs or {})}
     world_factory = _world_factory(world, scenario)
@@ -214,7 +298,8 @@ def run_skill(
         return RunReport(findings=[finding], trace=trace)
     _check_scenario_names(scenario, inventory)
     setup = Recorder()
-    resolved, shown = _inputs(info, given, str(path), setup)
+    info, named = _bound(info, given, capability, bindings, trace, setup)
+    resolved, shown = _inputs(info, named, str(path), setup)
     trace.inputs = shown
     registry = registry_for(inventory)
     files = recording_files(recording) if recording is not None else _default_recording(inventory)

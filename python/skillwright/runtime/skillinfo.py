@@ -52,6 +52,9 @@ class Variable:
     annotation: str | None
     required: bool
     line: int
+    description: str = ""
+    """The decorator's ``description``: what binds the variable to its capability by meaning
+    when its name is not the capability's."""
 
 
 @dataclass
@@ -108,6 +111,7 @@ def _variable(function: ast.FunctionDef, call: ast.Call) -> Variable:
         if isinstance(name_node, ast.Constant) and isinstance(name_node.value, str)
         else function.name
     )
+    described = _keyword(call, "description")
     required_node = _keyword(call, "is_required")
     required = not (isinstance(required_node, ast.Constant) and required_node.value is False)
     return Variable(
@@ -117,6 +121,9 @@ def _variable(function: ast.FunctionDef, call: ast.Call) -> Variable:
         annotation=ast.unparse(function.returns) if function.returns is not None else None,
         required=required,
         line=function.lineno,
+        description=described.value
+        if isinstance(described, ast.Constant) and isinstance(described.value, str)
+        else "",
     )
 
 

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import click
 
 from skillwright.cli_options import (
+    bind_option,
     capability_options,
     interfaces_option,
     isolation_option,
@@ -59,6 +60,9 @@ def print_report(console: Console, report: ValidationReport) -> None:
 
     from skillwright.validation.commands import print_findings
 
+    for capability_name, skill_name in report.binding.items():
+        if capability_name != skill_name:
+            console.print(f"bound: {escape(skill_name)} is {escape(capability_name)}")
     for scenario in report.scenarios:
         inputs = ", ".join(f"{k}={v}" for k, v in scenario.inputs.items())
         console.print(
@@ -170,6 +174,7 @@ def _static_checks_first(
     help="Folder for plots, traces and saved maps (default: validation/<skill file's name>).",
 )
 @click.option("--no-plot", is_flag=True, help="Do not draw the trajectory plots.")
+@bind_option
 @selection_options
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON on stdout.")
 @isolation_option
@@ -183,6 +188,7 @@ def validate(
     only: tuple[str, ...],
     output_dir: Path | None,
     no_plot: bool,
+    bind: dict[str, str],
     select: tuple[str, ...],
     ignore: tuple[str, ...],
     as_json: bool,
@@ -242,6 +248,7 @@ def validate(
             plot=not no_plot,
             on_progress=None if as_json else _Progress(err_console()),
             isolated=not unisolated,
+            bind=bind,
         )
     except KeyboardInterrupt:
         raise GenerationCancelledError(

@@ -84,6 +84,10 @@ class ValidationReport(_Model):
         description="Run findings and failed oracles, located at the skill's lines.",
     )
     notes: list[str] = Field(default_factory=list, description="What was derived or assumed.")
+    binding: dict[str, str] = Field(
+        default_factory=dict,
+        description="Capability name -> the skill's name of each input and output bound to it.",
+    )
     wall_seconds: float = Field(default=0.0, description="Wall time of the whole validation.")
 
     @property

@@ -20,7 +20,7 @@ import shutil
 import tempfile
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
@@ -62,8 +62,9 @@ def _noise(scenario: Scenario) -> Noise:
     return Noise(**given)
 
 
-def _run_view(episode: Any, command_topic: str | None) -> RunView:
-    """The runtime's episode trace as the oracles see it."""
+def _run_view(episode: Any, command_topic: str | None, binding: dict[str, str]) -> RunView:
+    """The runtime's episode trace as the oracles see it: its outputs by the capability's
+    names (``binding``: capability name -> the skill's)."""
     states = [
         StateSpan(
             name=s.name,
@@ -101,7 +102,10 @@ def _run_view(episode: Any, command_topic: str | None) -> RunView:
         message = "the states did not run through"
     return RunView(
         states=states,
-        outputs=dict(episode.outputs),
+        outputs={
+            **dict(episode.outputs),
+            **{c: episode.outputs[k] for c, k in binding.items() if k in episode.outputs},
+        },
         ended=ended,
         end_time=float(episode.virtual_seconds),
         message=message,
@@ -196,6 +200,8 @@ class _Setup:
     fallback_line: int
     cancel: threading.Event | None
     children: ChildPool
+    bind: dict[str, str]
+    """The skill's name -> the capability's, as ``--bind`` gives them."""
 
 
 class _Worlds:
@@ -307,6 +313,8 @@ def _run_scenario(
             on_progress=on_progress,
             cancel=setup.cancel,
             children=setup.children,
+            capability=setup.capability,
+            bindings=setup.bind,
         )
 
     cpu_started = time.process_time()
@@ -330,7 +338,7 @@ def _run_scenario(
         notes=list(dict.fromkeys(n for w in worlds.made[:1] for n in w.notes)),
     )
     for episode, world in zip(run.trace.episodes, worlds.made, strict=False):
-        view = _run_view(episode, setup.bindings.command_topic)
+        view = _run_view(episode, setup.bindings.command_topic, run.trace.binding)
         expected: Literal["completed", "stopped", "aborted"] = (
             "stopped" if episode.name == "stop" else scenario.expect
         )
@@ -411,8 +419,13 @@ def validate_skill(
     cancel: threading.Event | None = None,
     children: ChildPool | None = None,
     isolated: bool = True,
+    bind: Mapping[str, str] | None = None,
 ) -> ValidationReport:
     """Run ``skill`` in each scenario of ``capability`` and judge it with the oracles.
+
+    The scenarios give inputs and the oracles read outputs by the capability's names; the
+    skill's own are bound to them by name, by meaning, or as ``bind`` (the skill's name ->
+    the capability's, ``--bind``) says (:mod:`skillwright.capability.binding`).
 
     ``scenarios`` (or ``scenario_file``) chooses the scenarios, else the shipped file for the
     capability or one derived from it; ``only`` keeps the scenarios with those names.
@@ -426,6 +439,7 @@ def validate_skill(
     processes (default: a pool that boots each run's child while the previous run goes on,
     inside the kernel sandbox unless ``isolated`` is false: ``--unsafe-no-isolation``).
     """
+    from skillwright.runtime.run import skill_binding
     from skillwright.runtime.skillinfo import SkillSourceError, read_skill
 
     started = time.perf_counter()
@@ -442,8 +456,9 @@ def validate_skill(
             text = source if source is not None else skill.read_text(encoding="utf-8")
             info = read_skill(text, str(skill))
             lines, fallback = dict(info.states), info.class_line
+            binding = skill_binding(info, capability, bind or {})
         except (OSError, UnicodeDecodeError, SkillSourceError):
-            lines, fallback = {}, 0
+            lines, fallback, binding = {}, 0, {}
         setup = _Setup(
             skill=skill,
             source=source,
@@ -459,12 +474,14 @@ def validate_skill(
             fallback_line=fallback,
             cancel=cancel,
             children=pool,
+            bind=dict(bind or {}),
         )
         report = ValidationReport(
             skill=str(skill),
             capability=capability.iri,
             scenario_source=chosen.source,
             notes=list(chosen.notes),
+            binding=binding,
         )
         try:
             for index, scenario in enumerate(selected):

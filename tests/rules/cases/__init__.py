@@ -14,7 +14,8 @@ it into the case (each ``old`` text must occur exactly once), or gives its whole
     ``.scenario.yaml``), ``world`` (``kinematic``, or ``speed-limit``: the test world of
     ``test_registry.py`` that reports a command above ``world_options.limit``) and
     ``stall_seconds`` (how long a silent, idle state may wait; shortened so a case of a
-    blocked state ends within seconds).
+    blocked state ends within seconds); ``capability`` (a shipped model by stem) gives the
+    inputs by the capability's names, bound to the skill's parameters.
 ``simulation.yaml``
     ``scenario`` names one of the base skill's scenarios in ``sim/scenarios``; ``scenarios``
     gives scenarios of its own instead.
