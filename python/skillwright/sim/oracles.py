@@ -411,9 +411,9 @@ def _judge(
 
 def _asked_verdicts(context: _Context) -> list[Verdict]:
     """Inputs the scenario binds to a motion (``inAngle: turned``): the simulator's measure of
-    it over execute equals what the input asked for. MR-1 rotate's constraint holds for a
-    skill that reaches (heading + inAngle) mod 2 pi either way round; asked for -4.0 rad, the
-    ev63 skill turned +2.28."""
+    it over execute equals what the input asked for. A constraint over headings modulo 2 pi
+    (``outDegree = (inDegree + degree) mod 360``) holds for a turn either way round, so it
+    cannot tell a turn of -4.0 rad from one of +2.28 rad; the measured turn can."""
     verdicts = []
     for element, _parameter in _elements(context.capability, "input"):
         quantity = context.scenario.ground_truth.get(element.name)
