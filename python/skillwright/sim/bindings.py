@@ -278,13 +278,12 @@ def _first_messages(
     path: Path, topics: dict[str, str], inventory: Inventory
 ) -> dict[str, dict[str, Any]]:
     """The first message on each of ``topics`` (name -> type), decoded to a dict."""
-    from skillwright.runtime.cdr import CdrDecoder
-    from skillwright.runtime.mcapread import read_messages
+    from skillwright.runtime.recorded import MessageDecoder, merged_messages
     from skillwright.runtime.typesys import registry_for
 
-    decoder = CdrDecoder(registry_for(inventory))
+    decoder = MessageDecoder(registry_for(inventory))
     found: dict[str, dict[str, Any]] = {}
-    for _time, topic, payload in read_messages(path, set(topics)):
+    for _time, topic, payload in merged_messages([path], set(topics)):
         if topic in found:
             continue
         found[topic] = decoder.decode(topics[topic], payload)
