@@ -20,9 +20,9 @@ from typing import Any
 from skillwright.interfaces.inventory import Interface, Inventory
 from skillwright.interfaces.roles import TWIST_TYPES, command_topic
 from skillwright.retrieval.semantics import split_view
+from skillwright.runtime.motion import ACTION_TYPES
 
 __all__ = [
-    "ACTION_TYPES",
     "Bindings",
     "RecordedFacts",
     "ScanGeometry",
@@ -31,15 +31,6 @@ __all__ = [
     "recorded_facts",
 ]
 
-# Action types the world serves with its own controllers, and what they do.
-ACTION_TYPES: dict[str, str] = {
-    "nav2_msgs/action/NavigateToPose": "navigate_to_pose",
-    "nav2_msgs/action/NavigateThroughPoses": "navigate_through_poses",
-    "nav2_msgs/action/Spin": "spin",
-    "nav2_msgs/action/BackUp": "backup",
-    "nav2_msgs/action/DriveOnHeading": "drive_on_heading",
-    "moveit_msgs/action/MoveGroup": "move_group",
-}
 SERVICE_TYPES: dict[str, str] = {
     "nav2_msgs/srv/SaveMap": "nav2_save_map",
     "slam_toolbox/srv/SaveMap": "slam_save_map",

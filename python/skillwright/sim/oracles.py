@@ -40,6 +40,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field
 
 from skillwright.capability.model import Capability, Constraint, DataElement
+from skillwright.runtime.motion import wrap_pi
 from skillwright.sim.openmath import (
     UNIT_TOLERANCES,
     EvaluationError,
@@ -50,7 +51,7 @@ from skillwright.sim.openmath import (
     is_output_variable,
 )
 from skillwright.sim.scenario import Scenario, infer_quantity
-from skillwright.sim.truth import GroundTruth, wrap_pi, wrap_two_pi
+from skillwright.sim.truth import GroundTruth, wrap_two_pi
 
 __all__ = ["RunView", "StateSpan", "Verdict", "judge"]
 
