@@ -133,6 +133,25 @@ def test_without_localisation_navigation_goals_are_taken_in_odom(
     }
 
 
+def test_the_behaviour_servers_spin_is_served_by_turning_the_base(
+    mr1_inventory: Inventory,
+) -> None:
+    graph = _world(mr1_inventory)
+    spin = endpoint(graph, "action_client", "/spin", "nav2_msgs/action/Spin")
+    odom = endpoint(graph, "subscription", "/odom", "nav_msgs/msg/Odometry", reliability="reliable")
+
+    graph.child_goal(spin, 1, {"target_yaw": 1.0}, True, 3)
+    seen = deliveries_until(graph, 6.0)
+
+    assert _outcomes(seen, spin) == {1: GoalStatus.SUCCEEDED}
+    turned = [
+        d["data"]["angular_distance_traveled"] for _, d in seen if d.get("kind") == "feedback"
+    ]
+    assert turned == sorted(turned)
+    orientation = _last(seen, odom)["pose"]["pose"]["orientation"]
+    assert 2 * math.atan2(orientation["z"], orientation["w"]) == pytest.approx(1.0, abs=0.05)
+
+
 def _arm_goal(x: float, y: float, z: float) -> dict[str, Any]:
     constraint = {
         "header": {"frame_id": "arm_base_link"},
