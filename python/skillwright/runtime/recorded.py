@@ -137,40 +137,40 @@ class MessageDecoder:
         except Exception as error:  # rosbags' grammar refused a definition
             raise RecordedMessageError(f"{type_name}: cannot be decoded ({error})") from None
         for name in texts:
-            self._converters[name] = self._make_converter(name)
+            self._make_converter(name)
 
     def _make_converter(self, type_name: str) -> Converter:
+        """The converter of ``type_name``'s message objects, made after those of the types it
+        holds (ROS 2 types cannot hold themselves, so this ends)."""
+        known = self._converters.get(type_name)
+        if known is not None:
+            return known
         message = self._registry.message(type_name)
         assert message is not None  # registered from it just before
-        plan: list[tuple[str, Converter | None, bool]] = []
+        plan: list[tuple[str, Converter]] = []
         for field in message.fields:
-            many = field.array != "none"
-            if field.builtin:
-                plan.append((field.name, _tolist if many else None, False))
-            else:
-                plan.append((field.name, self._nested(field.base), many))
+            if not field.builtin:
+                nested = self._make_converter(field.base)
+                plan.append((field.name, _each(nested) if field.array != "none" else nested))
+            elif field.array != "none":
+                plan.append((field.name, _tolist))
 
         def convert(value: Any) -> dict[str, Any]:
-            out: dict[str, Any] = {}
-            for name, nested, many in plan:
-                item = getattr(value, name)
-                if nested is None:
-                    out[name] = item
-                elif many:
-                    out[name] = [nested(element) for element in item]
-                else:
-                    out[name] = nested(item)
+            # rosbags' message objects are dataclasses whose instance dict holds the fields
+            # in definition order, and the message type.
+            out: dict[str, Any] = value.__dict__.copy()
+            del out["__msgtype__"]
+            for name, nested in plan:
+                out[name] = nested(out[name])
             return out
 
+        self._converters[type_name] = convert
         return convert
 
-    def _nested(self, type_name: str) -> Converter:
-        # Looked up at call time: the converters of a registration are made in the order
-        # its types were found, an outer type's before those of the types it holds.
-        def nested(value: Any) -> Any:
-            return self._converters[type_name](value)
 
-        return nested
+def _each(convert: Converter) -> Converter:
+    """Converts every element of an array of messages."""
+    return lambda items: [convert(item) for item in items]
 
 
 def _tolist(value: Any) -> Any:
