@@ -160,9 +160,10 @@ def _head(finding: Finding) -> str:
 def _missing_frame(finding: Finding, head: str, code: str) -> Finding:
     """``finding`` (a wait that gave up on a frame tf does not have) told so; when the frame
     is ``map``, the robot has ``odom`` and the line asks for ``map`` once, with the line
-    asking for ``odom`` instead: the pose a robot without localisation has (the default
-    model's cap2skill get-position in the evaluation at de959d7 asked for map three times
-    after being told the frames)."""
+    asking for ``odom`` instead: the pose a robot without localisation has. REP 105 puts
+    ``map`` above ``odom`` only where a localisation publishes ``map -> odom``, and tf2's
+    ``lookup_transform`` into a frame the tree lacks fails however long it waits, so the fix
+    is the frame, not the wait."""
     message = (
         f"{head}; the frame is not in the robot's tf tree, so no longer wait brings it: ask "
         "for one of the frames /tf has (named above)"
