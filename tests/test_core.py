@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from skillwright import errors
-from skillwright.core import core_version, sha256_file
+from skillwright.core import core_version, read_mcap_messages, sha256_file
 
 
 def test_core_reports_its_version() -> None:
@@ -33,3 +33,16 @@ def test_missing_file_arrives_as_typed_not_found_error(tmp_path: Path) -> None:
 def test_folder_arrives_as_invalid_argument(tmp_path: Path) -> None:
     with pytest.raises(errors.InvalidArgumentError, match="is a folder"):
         sha256_file(tmp_path)
+
+
+def test_mcap_messages_errors_arrive_as_typed_exceptions(tmp_path: Path) -> None:
+    with pytest.raises(errors.InputFileNotFoundError, match="no such file"):
+        read_mcap_messages(tmp_path / "absent.mcap")
+    with pytest.raises(errors.InvalidArgumentError, match="is a folder"):
+        read_mcap_messages(tmp_path)
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(b"\x89MCAP0\r\n" + b"\x04" + (1000).to_bytes(8, "little") + b"\x00" * 10)
+    messages = read_mcap_messages(cut)
+    with pytest.raises(errors.FileFormatError, match=r"cut\.mcap: record is cut short"):
+        next(messages)
+    assert list(messages) == []

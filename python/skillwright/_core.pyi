@@ -12,12 +12,14 @@ __all__ = [
     "McapChannel",
     "McapDamage",
     "McapFile",
+    "McapMessages",
     "McapSchema",
     "VectorIndex",
     "__version__",
     "confine_child",
     "index_isa",
     "read_mcap",
+    "read_mcap_messages",
     "seccomp_programs",
     "sha256_file",
 ]
@@ -208,6 +210,24 @@ def read_mcap(
     ``InputFileNotFoundError``, ``InputFileError``, ``InvalidArgumentError`` (a folder, an
     unknown mode) and ``FileFormatError`` (empty or not an MCAP file; names the offset).
     """
+
+@final
+class McapMessages:
+    """The messages of one MCAP file, front to back: ``(log time in ns, topic, payload)``.
+
+    One chunk is in memory at a time and its messages come in log-time order. A broken
+    record or a chunk that does not decompress raises ``FileFormatError`` (naming the file
+    and the offset) from ``__next__``; the iteration ends there.
+    """
+
+    def __iter__(self) -> McapMessages: ...
+    def __next__(self) -> tuple[int, str, bytes]: ...
+
+def read_mcap_messages(path: str | PathLike[str], topics: set[str] | None = None) -> McapMessages:
+    """Opens the MCAP file at ``path`` for reading its messages (of ``topics`` only, if
+    given); each step reads without holding the GIL. Raises ``InputFileNotFoundError``,
+    ``InputFileError``, ``InvalidArgumentError`` (a folder) and ``FileFormatError`` (not an
+    MCAP file)."""
 
 def seccomp_programs() -> tuple[bytes, bytes]:
     """The sandbox's seccomp allow-list and its fallbacks (``clone3`` answers ``ENOSYS``),

@@ -6,7 +6,8 @@ import math
 
 import pytest
 
-from skillwright.sim.drive import Command, DriveLimits, DriverState, MecanumKinematics
+from skillwright.runtime.motion import Command
+from skillwright.sim.drive import DriveLimits, DriverState, MecanumKinematics
 
 KINEMATICS = MecanumKinematics(wheel_radius=0.05, half_length=0.24, half_width=0.235)
 LIMITS = DriveLimits(wheel_speed_max=30.0, accel_linear=1.0, accel_lateral=1.0, accel_angular=2.0)

@@ -109,8 +109,11 @@ Host-side messages are plain dicts, field name -> value (nested dict, list); ROS
 come from the inventory's definitions, with the offline type store for the rest.
 
 The built-in :mod:`skillwright.runtime.worlds.kinematic` world (an omnidirectional base
-that follows its velocity command, Nav2-style navigation, a MoveIt-style arm) is a
-complete example of this API.
+that follows its velocity command, an arm's tool moved where it is sent) is a complete
+example of this API. Nav2's and MoveIt's action servers are
+:mod:`skillwright.runtime.motion`: a world serves them by implementing its small
+:class:`~skillwright.runtime.motion.MotionWorld` interface, as the kinematic and the MuJoCo
+world both do.
 
 Running a skill
 ---------------

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
+from skillwright.errors import FileFormatError
 from skillwright.rules.run import (
     RUN_ACTION_UNKNOWN,
     RUN_QOS,
@@ -43,8 +44,7 @@ from skillwright.runtime.api import (
     ServiceReply,
     WorldPlugin,
 )
-from skillwright.runtime.cdr import CdrDecoder, CdrError
-from skillwright.runtime.mcapread import MAGIC, McapReadError, merged_messages
+from skillwright.runtime.recorded import MessageDecoder, RecordedMessageError, merged_messages
 from skillwright.runtime.responders import ScriptedAction, ScriptedService
 from skillwright.runtime.scenario import ActionScript, RunScenario, ServiceScript
 
@@ -144,10 +144,7 @@ class Replay:
     def __init__(
         self, files: list[Path], topics: set[str], start_ns: int, end_ns: int, loop: bool
     ) -> None:
-        for path in files:
-            with path.open("rb") as stream:
-                if stream.read(len(MAGIC)) != MAGIC:
-                    raise McapReadError(f"{path}: not an MCAP file (wrong magic bytes)")
+        merged_messages(files, set())  # refuses a file that is not MCAP now, not mid-run
         self._files = files
         self._topics = topics
         self._wanted: frozenset[str] = frozenset()
@@ -188,7 +185,7 @@ class Replay:
                 for log_time, topic, payload in self._messages:
                     offset = self._round * self.span
                     return (log_time - self._start_ns) / 1e9 + offset, topic, payload, self._round
-            except McapReadError as error:
+            except FileFormatError as error:
                 # A damaged recording is replayed as far as it is intact, like discovery
                 # keeps what is intact.
                 self.damage = str(error)
@@ -244,7 +241,7 @@ class GraphHost:
         self._heap: list[_Scheduled] = []
         self._sequence = itertools.count()
         self._outbox: list[Message] = []
-        self._decoder = CdrDecoder(registry)
+        self._decoder = MessageDecoder(registry)
         self.endpoints: dict[int, Endpoint] = {}
         self._topics: dict[str, _Topic] = {}
         self._services: dict[str, str] = {}
@@ -315,7 +312,7 @@ class GraphHost:
                 source.end_time_ns,
                 self._scenario.replay == "loop",
             )
-        except (OSError, McapReadError) as error:
+        except (OSError, FileFormatError) as error:
             self._recorder.record("note", text=f"recording not replayed: {error}")
             return None
 
@@ -572,7 +569,7 @@ class GraphHost:
         info = self._topics[topic]
         try:
             message = self._decoder.decode(info.type_name, data)
-        except CdrError as error:
+        except RecordedMessageError as error:
             self._recorder.record("note", text=f"{topic}: recorded message not replayed: {error}")
             return None
         if round_ and self._replay is not None:

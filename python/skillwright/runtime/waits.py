@@ -16,8 +16,8 @@ scenario runs once more with the wait allowed most of the state's deadline:
 * if it still gives up, waiting longer is not the fix, and the finding says that instead of
   blaming the timeout (the run's note about a motion still under way is dropped), and what
   the first run saw: the robot still moving (then the condition does not follow the
-  motion: cap2skill rotate never read its heading again), or nothing moving it (MR-1 rotate
-  published zero velocity inside its loop).
+  motion: the loop never reads the odometry or transform it compares again), or nothing
+  moving it (the loop publishes a zero ``Twist`` while it waits).
 
 The second run also logs the comparison the wait tests on every pass
 (:mod:`skillwright.validation.watch`), and when it gives up again, what those values show
@@ -26,8 +26,10 @@ the value never changed, or it moved away from the goal. A state that ran into t
 deadline in such a loop (no timeout of its own) runs once more with the watch for the same
 reason.
 
-MR-1 and cap2skill rotate (ev49) allowed a turn 2 s, MR-1 navigate-to-point gave Nav2 5 s;
-the 1.5B model kept those numbers through every repair that said they were too short.
+The number is measured, not advised: how long a turn or a Nav2 goal takes follows from the
+distance and the robot's limits (``max_vel_theta``, the controller's ``desired_linear_vel``),
+which the skill's author does not see, so a finding that only says "too short" leaves the
+number where it was.
 """
 
 from __future__ import annotations
@@ -158,9 +160,10 @@ def _head(finding: Finding) -> str:
 def _missing_frame(finding: Finding, head: str, code: str) -> Finding:
     """``finding`` (a wait that gave up on a frame tf does not have) told so; when the frame
     is ``map``, the robot has ``odom`` and the line asks for ``map`` once, with the line
-    asking for ``odom`` instead: the pose a robot without localisation has (the default
-    model's cap2skill get-position in the evaluation at de959d7 asked for map three times
-    after being told the frames)."""
+    asking for ``odom`` instead: the pose a robot without localisation has. REP 105 puts
+    ``map`` above ``odom`` only where a localisation publishes ``map -> odom``, and tf2's
+    ``lookup_transform`` into a frame the tree lacks fails however long it waits, so the fix
+    is the frame, not the wait."""
     message = (
         f"{head}; the frame is not in the robot's tf tree, so no longer wait brings it: ask "
         "for one of the frames /tf has (named above)"

@@ -9,7 +9,8 @@ The pieces, in the order a validation uses them:
 * :mod:`~skillwright.sim.world` — :class:`~skillwright.sim.world.MujocoWorld`, a world
   plug-in of the simulated runtime (:mod:`skillwright.runtime`): physics, the base driver
   (:mod:`~skillwright.sim.drive`), sensors, the occupancy map (:mod:`~skillwright.sim.grid`),
-  Nav2- and MoveIt-like action servers (:mod:`~skillwright.sim.motion`), map saving
+  Nav2's and MoveIt's action servers (:mod:`skillwright.runtime.motion`, shared with the
+  kinematic world), map saving
   (:mod:`~skillwright.sim.mapfiles`) and ground truth (:mod:`~skillwright.sim.truth`).
 * :mod:`~skillwright.sim.oracles` — verdicts derived from the capability model, with its
   OpenMath constraints evaluated by :mod:`~skillwright.sim.openmath`.

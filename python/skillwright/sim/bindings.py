@@ -20,9 +20,9 @@ from typing import Any
 from skillwright.interfaces.inventory import Interface, Inventory
 from skillwright.interfaces.roles import TWIST_TYPES, command_topic
 from skillwright.retrieval.semantics import split_view
+from skillwright.runtime.motion import ACTION_TYPES
 
 __all__ = [
-    "ACTION_TYPES",
     "Bindings",
     "RecordedFacts",
     "ScanGeometry",
@@ -31,15 +31,6 @@ __all__ = [
     "recorded_facts",
 ]
 
-# Action types the world serves with its own controllers, and what they do.
-ACTION_TYPES: dict[str, str] = {
-    "nav2_msgs/action/NavigateToPose": "navigate_to_pose",
-    "nav2_msgs/action/NavigateThroughPoses": "navigate_through_poses",
-    "nav2_msgs/action/Spin": "spin",
-    "nav2_msgs/action/BackUp": "backup",
-    "nav2_msgs/action/DriveOnHeading": "drive_on_heading",
-    "moveit_msgs/action/MoveGroup": "move_group",
-}
 SERVICE_TYPES: dict[str, str] = {
     "nav2_msgs/srv/SaveMap": "nav2_save_map",
     "slam_toolbox/srv/SaveMap": "slam_save_map",
@@ -278,13 +269,12 @@ def _first_messages(
     path: Path, topics: dict[str, str], inventory: Inventory
 ) -> dict[str, dict[str, Any]]:
     """The first message on each of ``topics`` (name -> type), decoded to a dict."""
-    from skillwright.runtime.cdr import CdrDecoder
-    from skillwright.runtime.mcapread import read_messages
+    from skillwright.runtime.recorded import MessageDecoder, merged_messages
     from skillwright.runtime.typesys import registry_for
 
-    decoder = CdrDecoder(registry_for(inventory))
+    decoder = MessageDecoder(registry_for(inventory))
     found: dict[str, dict[str, Any]] = {}
-    for _time, topic, payload in read_messages(path, set(topics)):
+    for _time, topic, payload in merged_messages([path], set(topics)):
         if topic in found:
             continue
         found[topic] = decoder.decode(topics[topic], payload)

@@ -13,20 +13,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-__all__ = ["Command", "DriveLimits", "DriverState", "MecanumKinematics"]
+from skillwright.runtime.motion import Command
 
-
-@dataclass(frozen=True)
-class Command:
-    """A body-frame velocity: forward, to the left, counter-clockwise yaw rate."""
-
-    vx: float = 0.0
-    vy: float = 0.0
-    wz: float = 0.0
-
-    def is_zero(self, linear: float = 1e-6, angular: float = 1e-6) -> bool:
-        """Whether every component is (practically) zero."""
-        return abs(self.vx) <= linear and abs(self.vy) <= linear and abs(self.wz) <= angular
+__all__ = ["DriveLimits", "DriverState", "MecanumKinematics"]
 
 
 @dataclass(frozen=True)

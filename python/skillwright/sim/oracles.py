@@ -40,6 +40,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field
 
 from skillwright.capability.model import Capability, Constraint, DataElement
+from skillwright.runtime.motion import wrap_pi
 from skillwright.sim.openmath import (
     UNIT_TOLERANCES,
     EvaluationError,
@@ -50,7 +51,7 @@ from skillwright.sim.openmath import (
     is_output_variable,
 )
 from skillwright.sim.scenario import Scenario, infer_quantity
-from skillwright.sim.truth import GroundTruth, wrap_pi, wrap_two_pi
+from skillwright.sim.truth import GroundTruth, wrap_two_pi
 
 __all__ = ["RunView", "StateSpan", "Verdict", "judge"]
 
@@ -411,9 +412,9 @@ def _judge(
 
 def _asked_verdicts(context: _Context) -> list[Verdict]:
     """Inputs the scenario binds to a motion (``inAngle: turned``): the simulator's measure of
-    it over execute equals what the input asked for. MR-1 rotate's constraint holds for a
-    skill that reaches (heading + inAngle) mod 2 pi either way round; asked for -4.0 rad, the
-    ev63 skill turned +2.28."""
+    it over execute equals what the input asked for. A constraint over headings modulo 2 pi
+    (``outDegree = (inDegree + degree) mod 360``) holds for a turn either way round, so it
+    cannot tell a turn of -4.0 rad from one of +2.28 rad; the measured turn can."""
     verdicts = []
     for element, _parameter in _elements(context.capability, "input"):
         quantity = context.scenario.ground_truth.get(element.name)

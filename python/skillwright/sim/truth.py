@@ -16,6 +16,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from skillwright.runtime.motion import wrap_pi
+
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
@@ -26,14 +28,8 @@ __all__ = [
     "GroundTruth",
     "Sample",
     "Sweep",
-    "wrap_pi",
     "wrap_two_pi",
 ]
-
-
-def wrap_pi(angle: float) -> float:
-    """``angle`` in [-pi, pi)."""
-    return (angle + math.pi) % (2 * math.pi) - math.pi
 
 
 def wrap_two_pi(angle: float) -> float:

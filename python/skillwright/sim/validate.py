@@ -319,8 +319,9 @@ def _run_scenario(
 
     cpu_started = time.process_time()
     run = run_in(worlds, setup.source, progress)
-    # A wait that gave up in MuJoCo runs once more, as in the run stage: MR-1 rotate turned
-    # past its heading here, and "its timeout was too short" sent the repair the wrong way.
+    # A wait that gave up in MuJoCo runs once more, as in the run stage: with physics a
+    # base can overshoot the heading or distance its loop waits for, and only a second run
+    # with more time tells that from a timeout that was too short.
     code = setup.source if setup.source is not None else setup.skill.read_text(encoding="utf-8")
     run = probe_waits(
         run,

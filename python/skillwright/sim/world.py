@@ -4,7 +4,7 @@
 attaches it to its graph host and advances it in virtual time, in lockstep with the skill.
 It takes over the robot's sensor topics (found by type in the inventory, see
 :mod:`skillwright.sim.bindings`), drives the base from the velocity command topic, serves
-the motion actions (:mod:`skillwright.sim.motion`) and map saving, and records ground truth
+the motion actions (:mod:`skillwright.runtime.motion`) and map saving, and records ground truth
 (:mod:`skillwright.sim.truth`) for the oracles.
 
 Physics steps at the model's timestep (10 ms; the driver runs every 20 ms). Publications
@@ -36,9 +36,16 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from skillwright.errors import FileFormatError
+from skillwright.runtime.motion import (
+    ArmConfig,
+    ArmServer,
+    BaseMotionServer,
+    Command,
+    NavConfig,
+    fill,
+)
 from skillwright.sim.bindings import Bindings, RecordedFacts, ScanGeometry, split_views
-from skillwright.sim.drive import Command, DriveLimits, DriverState, MecanumKinematics
-from skillwright.sim.motion import ArmConfig, ArmServer, BaseMotionServer, NavConfig, fill
+from skillwright.sim.drive import DriveLimits, DriverState, MecanumKinematics
 from skillwright.sim.truth import CommandRecord, ContactRecord, GroundTruth, Sample, Sweep
 
 if TYPE_CHECKING:
@@ -395,7 +402,7 @@ class MujocoWorld:
         for name, kind in bindings.actions.items():
             type_name = bindings.action_types[name]
             if kind == "move_group":
-                self.arm = ArmServer(self, self._arm_config(), self._arm_frames())
+                self.arm = ArmServer(self, self._arm_config(), self._arm_frames().get)
                 host.serve_action(name, self.arm.handler(type_name))
             else:
                 host.serve_action(name, self.base_server.handler(kind, type_name))
@@ -728,7 +735,7 @@ class MujocoWorld:
             return
         x, y, yaw = self.odom
         transforms = [self._transform(t, self.odom_frame, self.base_frame, x, y, 0.0, yaw)]
-        if self.arm is not None:
+        if self.arm is not None and self.arm.config.tip_link is not None:
             tx, ty, tz = self.arm.tcp
             transforms.append(
                 self._transform(

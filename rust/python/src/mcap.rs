@@ -1,6 +1,6 @@
-//! `read_mcap` and the read-only classes it returns.
+//! `read_mcap` and the read-only classes it returns; `read_mcap_messages` and its iterator.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashSet};
 use std::path::PathBuf;
 
 use pyo3::prelude::*;
@@ -188,11 +188,48 @@ fn read_mcap(py: Python<'_>, path: PathBuf, mode: &str) -> PyResult<PyMcapFile> 
         .map_err(errors::to_py)
 }
 
+/// The messages of one MCAP file as `(log time in ns, topic, payload)`; see `_core.pyi`.
+#[pyclass(module = "skillwright._core", name = "McapMessages")]
+pub struct PyMcapMessages {
+    reader: mcap::MessageReader,
+}
+
+#[pymethods]
+impl PyMcapMessages {
+    fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+        slf
+    }
+
+    fn __next__<'py>(
+        mut slf: PyRefMut<'py, Self>,
+        py: Python<'py>,
+    ) -> PyResult<Option<(u64, String, Bound<'py, PyBytes>)>> {
+        let reader = &mut slf.reader;
+        let next = py.detach(|| reader.next_message()).map_err(errors::to_py)?;
+        Ok(next.map(|m| (m.log_time, m.topic.to_string(), PyBytes::new(py, &m.data))))
+    }
+}
+
+/// Opens an MCAP file for reading its messages; see `skillwright._core.pyi`.
+#[pyfunction]
+#[pyo3(signature = (path, topics = None))]
+fn read_mcap_messages(
+    py: Python<'_>,
+    path: PathBuf,
+    topics: Option<HashSet<String>>,
+) -> PyResult<PyMcapMessages> {
+    py.detach(|| mcap::MessageReader::open(&path, topics))
+        .map(|reader| PyMcapMessages { reader })
+        .map_err(errors::to_py)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyMcapSchema>()?;
     m.add_class::<PyMcapChannel>()?;
     m.add_class::<PyMcapDamage>()?;
     m.add_class::<PyMcapFile>()?;
+    m.add_class::<PyMcapMessages>()?;
     m.add_function(wrap_pyfunction!(read_mcap, m)?)?;
+    m.add_function(wrap_pyfunction!(read_mcap_messages, m)?)?;
     Ok(())
 }

@@ -63,14 +63,26 @@ def test_navigation_drives_to_the_goal_and_succeeds(mr1_inventory: Inventory) ->
     assert math.hypot(position["x"] - 2.0, position["y"] - 1.0) <= 0.06
 
 
-def test_a_goal_outside_the_map_frame_is_rejected(mr1_inventory: Inventory) -> None:
+def _outcomes(seen: list[tuple[float, dict[str, Any]]], handle: int) -> dict[int, int]:
+    return {
+        d["goal"]: d["status"] for _, d in seen if d["id"] == handle and d.get("kind") == "result"
+    }
+
+
+def test_a_goal_in_a_frame_tf_cannot_transform_is_accepted_then_aborted(
+    mr1_inventory: Inventory,
+) -> None:
+    # Nav2's navigators accept every goal and abort one whose pose they cannot transform
+    # into the global frame; a goal in odom is transformed (map -> odom is known).
     graph = _world(mr1_inventory)
     nav = endpoint(graph, "action_client", "/navigate_to_pose", "nav2_msgs/action/NavigateToPose")
 
-    graph.child_goal(nav, 1, {"pose": {"header": {"frame_id": "odom"}}}, False, 3)
+    graph.child_goal(nav, 1, {"pose": {"header": {"frame_id": "camera_link"}}}, False, 3)
+    graph.child_goal(nav, 2, {"pose": {"header": {"frame_id": "odom"}}}, False, 4)
 
-    answers = [d for _, d in deliveries_until(graph, 0.1) if d["id"] == nav]
-    assert answers[0]["accepted"] is False
+    seen = deliveries_until(graph, 1.0)
+    assert [d["accepted"] for _, d in seen if d["id"] == nav and "accepted" in d] == [True, True]
+    assert _outcomes(seen, nav) == {1: GoalStatus.ABORTED, 2: GoalStatus.SUCCEEDED}
 
 
 def _without_localisation(inventory: Inventory) -> Inventory:
@@ -113,10 +125,31 @@ def test_without_localisation_navigation_goals_are_taken_in_odom(
     nav = endpoint(graph, "action_client", "/navigate_to_pose", "nav2_msgs/action/NavigateToPose")
 
     graph.child_goal(nav, 1, {"pose": {"header": {"frame_id": "map"}}}, False, 3)
-    graph.child_goal(nav, 2, {"pose": {"header": {"frame_id": "odom"}}}, False, 3)
+    graph.child_goal(nav, 2, {"pose": {"header": {"frame_id": "odom"}}}, False, 4)
 
-    seen = deliveries_until(graph, 0.1)
-    assert [d["accepted"] for _, d in seen if d["id"] == nav and "accepted" in d] == [False, True]
+    assert _outcomes(deliveries_until(graph, 1.0), nav) == {
+        1: GoalStatus.ABORTED,
+        2: GoalStatus.SUCCEEDED,
+    }
+
+
+def test_the_behaviour_servers_spin_is_served_by_turning_the_base(
+    mr1_inventory: Inventory,
+) -> None:
+    graph = _world(mr1_inventory)
+    spin = endpoint(graph, "action_client", "/spin", "nav2_msgs/action/Spin")
+    odom = endpoint(graph, "subscription", "/odom", "nav_msgs/msg/Odometry", reliability="reliable")
+
+    graph.child_goal(spin, 1, {"target_yaw": 1.0}, True, 3)
+    seen = deliveries_until(graph, 6.0)
+
+    assert _outcomes(seen, spin) == {1: GoalStatus.SUCCEEDED}
+    turned = [
+        d["data"]["angular_distance_traveled"] for _, d in seen if d.get("kind") == "feedback"
+    ]
+    assert turned == sorted(turned)
+    orientation = _last(seen, odom)["pose"]["pose"]["orientation"]
+    assert 2 * math.atan2(orientation["z"], orientation["w"]) == pytest.approx(1.0, abs=0.05)
 
 
 def _arm_goal(x: float, y: float, z: float) -> dict[str, Any]:

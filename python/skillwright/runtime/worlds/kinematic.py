@@ -1,12 +1,11 @@
-"""A kinematic world: a mobile base that follows its velocity command, Nav2-style
-navigation, and an arm whose tool goes where MoveIt is asked to move it.
+"""A kinematic world: a mobile base that follows its velocity command, Nav2's motion
+actions, and an arm whose tool goes where MoveIt is asked to move it.
 
 No physics, no collisions, no sensors beyond odometry, the map pose, transforms and scans:
 the base's velocity approaches the commanded one within acceleration limits and stops when
 commands stop coming (like a base driver's command timeout); its pose integrates that
-velocity. It is
-enough to run motion skills to completion without MuJoCo, and it is the reference
-implementation of the world plug-in API (:mod:`skillwright.runtime`).
+velocity. It is enough to run motion skills to completion without MuJoCo, and it is the
+reference implementation of the world plug-in API (:mod:`skillwright.runtime`).
 
 What it takes over, where the robot has them:
 
@@ -14,32 +13,37 @@ What it takes over, where the robot has them:
   ``tf_topic`` (``map -> odom -> base``; by default the robot's ``tf``) at ``rate_hz``. The
   ``map`` frame is there only if the robot is ``localised``: by default, if a localisation
   or SLAM shows in its graph (a pose topic of the type below, or an OccupancyGrid named
-  ``map``), as the simulation decides it. A robot without one has ``odom -> base`` only and
-  takes navigation goals in ``odom``: when every robot had a map here, a skill that asked the
-  paper's robot (no localisation) for its pose in ``map`` passed its run and then found no
-  such frame in the simulation. The
-  velocity command on ``cmd_topic`` drives the base (by default the robot's Twist topic named
-  like a command, as the simulation binds it: ``/panther/cmd_vel`` on a Husarion Panther,
-  where a fixed ``/cmd_vel`` left the base standing and every motion skill failed its run).
-* ``navigate_action`` (``nav2_msgs/action/NavigateToPose``; by default the robot's action of
-  that type, and likewise the next one): drives straight to the goal
-  at ``nav_speed``, turning on the way, with feedback twice a second.
-* ``move_group_action`` (``moveit_msgs/action/MoveGroup``): moves the link of the goal's
+  ``map``), as the simulation decides it. REP 105 puts ``map`` above ``odom`` only where a
+  localisation publishes ``map -> odom``; a robot without one has ``odom -> base`` only, and
+  a skill that looks its pose up in ``map`` there must fail here as it fails on the robot.
+  The velocity command on ``cmd_topic`` drives the base (by default the robot's Twist topic
+  named like a command, as the simulation binds it: drivers publish it under their own
+  namespace, e.g. ``/panther/cmd_vel``).
+* the motion actions, served by :mod:`skillwright.runtime.motion` (the servers the MuJoCo
+  world uses too): ``navigate_action`` (``nav2_msgs/action/NavigateToPose``; by default the
+  robot's action of that type), the robot's ``NavigateThroughPoses``, ``Spin``, ``BackUp``
+  and ``DriveOnHeading``, driving the base at up to ``nav_speed`` and ``nav_yaw_rate`` on a
+  straight path (the world has no obstacles) to within ``nav_tolerance`` and
+  ``nav_yaw_tolerance``. Goal poses are taken in the global frame (``map``, or ``odom``
+  without a localisation) and in ``odom`` (``map -> odom`` is the identity here); a goal in
+  any other frame is aborted, as Nav2 aborts a goal TF cannot transform.
+  ``move_group_action`` (``moveit_msgs/action/MoveGroup``) moves the link of the goal's
   first position constraint to the constraint's point (in its header frame) at
-  ``arm_speed``, then publishes that frame -> link on ``tf_topic``; targets beyond
-  ``arm_reach`` fail with MoveIt's NO_IK_SOLUTION.
+  ``arm_speed`` times the request's ``max_velocity_scaling_factor`` (``arm_velocity_scaling``
+  when the request leaves it at 0), then publishes that frame -> link on ``tf_topic``;
+  targets beyond ``arm_reach`` fail with MoveIt's NO_IK_SOLUTION. The world knows neither
+  the robot's planning groups nor its links (its SRDF), so it takes any.
 * ``pose_topics`` (``geometry_msgs/msg/PoseWithCovarianceStamped``; by default every one
   the scenario's script does not publish): the base's pose in the map frame, as a
   localisation (AMCL, SLAM Toolbox) gives it, with each odometry message. A recorded one is
-  taken over too: replayed, it stood still while the base turned, and a skill that rightly
-  read its heading from the map pose never saw it change.
+  taken over too: a localisation's pose follows the base, and a replayed one would stand
+  still while the base moves.
 * ``scan_topics`` (``sensor_msgs/msg/LaserScan``; by default every one that neither the
   recording nor the scenario publishes): a 360-degree scan from the base's pose of the
   walls of a ``room`` (width along x, depth along y) centred on the start, at
   ``scan_rate_hz``. Beams beyond ``scan_range``'s far end read ``inf``, nearer than its near
-  end ``-inf`` (REP 117). Without
-  it a robot known only from a report had scans with no ranges at all, and a skill that
-  rightly refuses an empty scan failed its run.
+  end ``-inf`` (REP 117). A robot known only from a report has no recorded scans, and a
+  LaserScan without ranges is one a skill rightly refuses.
 
 Every option can be set from a scenario's ``world_options``.
 """
@@ -48,11 +52,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from skillwright.interfaces.roles import TWIST_TYPES, command_topic
-from skillwright.runtime.api import ActionGoal
+from skillwright.runtime.motion import (
+    ACTION_TYPES,
+    ArmConfig,
+    ArmServer,
+    BaseMotionServer,
+    Command,
+    NavConfig,
+    wrap_pi,
+)
 
 if TYPE_CHECKING:
     from skillwright.runtime.graph import GraphHost
@@ -67,19 +78,6 @@ _MOVE_GROUP = "moveit_msgs/action/MoveGroup"
 _POSE = "geometry_msgs/msg/PoseWithCovarianceStamped"
 _GRID = "nav_msgs/msg/OccupancyGrid"
 _SCAN = "sensor_msgs/msg/LaserScan"
-_MOVEIT_SUCCESS = 1  # moveit_msgs/msg/MoveItErrorCodes.SUCCESS
-_MOVEIT_NO_IK_SOLUTION = -31  # moveit_msgs/msg/MoveItErrorCodes.NO_IK_SOLUTION
-
-
-def _wrap(angle: float) -> float:
-    return math.atan2(math.sin(angle), math.cos(angle))
-
-
-def _yaw(quaternion: dict[str, float]) -> float:
-    x, y, z, w = (float(quaternion.get(k, 0.0)) for k in ("x", "y", "z", "w"))
-    if x == y == z == w == 0.0:
-        return 0.0
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
 def _quaternion(yaw: float) -> dict[str, float]:
@@ -90,24 +88,6 @@ def _approach(current: float, target: float, step: float) -> float:
     if abs(target - current) <= step:
         return target
     return current + math.copysign(step, target - current)
-
-
-@dataclass
-class _Navigation:
-    goal: ActionGoal
-    x: float
-    y: float
-    yaw: float | None
-    started: float
-    last_feedback: float
-
-
-@dataclass
-class _ArmMotion:
-    goal: ActionGoal
-    frame: str
-    link: str
-    target: tuple[float, float, float]
 
 
 class KinematicWorld:
@@ -132,10 +112,12 @@ class KinematicWorld:
         nav_speed: float = 0.5,
         nav_yaw_rate: float = 1.0,
         nav_tolerance: float = 0.05,
+        nav_yaw_tolerance: float = 0.1,
         move_group_action: str | None = None,
         arm_base_frame: str = "arm_base_link",
         arm_home: tuple[float, float, float] | list[float] = (0.4, 0.0, 0.3),
         arm_speed: float = 0.2,
+        arm_velocity_scaling: float = 1.0,
         arm_reach: float | None = 0.85,
         pose_topics: list[str] | None = None,
         scan_topics: list[str] | None = None,
@@ -148,6 +130,8 @@ class KinematicWorld:
             raise ValueError("world options rate_hz and scan_rate_hz must be positive")
         if scan_beams < 1 or len(room) != 2 or min(room) <= 0:
             raise ValueError("world options: scan_beams must be >= 1 and room two sizes > 0")
+        if not 0.0 < arm_velocity_scaling <= 1.0:
+            raise ValueError("world option arm_velocity_scaling must be in (0, 1]")
         self.cmd_topic = cmd_topic
         self.odom_topic = odom_topic
         self.tf_topic = tf_topic
@@ -161,14 +145,25 @@ class KinematicWorld:
         self.angular_acceleration = angular_acceleration
         self.command_timeout = command_timeout
         self.navigate_action = navigate_action
-        self.nav_speed = nav_speed
-        self.nav_yaw_rate = nav_yaw_rate
-        self.nav_tolerance = nav_tolerance
         self.move_group_action = move_group_action
-        self.arm_base_frame = arm_base_frame
-        self.arm_home = tuple(float(v) for v in arm_home)
-        self.arm_speed = arm_speed
-        self.arm_reach = arm_reach
+        self.nav_config = NavConfig(
+            speed_max=nav_speed,
+            yaw_rate_max=nav_yaw_rate,
+            accel=linear_acceleration,
+            yaw_accel=angular_acceleration,
+            xy_tolerance=nav_tolerance,
+            yaw_tolerance=nav_yaw_tolerance,
+        )
+        home = tuple(float(v) for v in arm_home)
+        self.arm_config = ArmConfig(
+            group=None,
+            tip_link=None,
+            base_frame=arm_base_frame,
+            reach=arm_reach,
+            speed_max=arm_speed,
+            home=(home[0], home[1], home[2]),
+            default_velocity_scaling=arm_velocity_scaling,
+        )
         self.pose_topics = pose_topics
         self.scan_topics = scan_topics
         self.room = (float(room[0]), float(room[1]))
@@ -185,12 +180,9 @@ class KinematicWorld:
         self._time = host.now
         self._x, self._y, self._theta = self.start
         self._vx = self._vy = self._wz = 0.0
-        self._command = (0.0, 0.0, 0.0)
+        self._command = Command()
         self._command_time: float | None = None
         self._next_publish = host.now
-        self._navigation: _Navigation | None = None
-        self._arm: dict[tuple[str, str], tuple[float, float, float]] = {}
-        self._arm_motion: _ArmMotion | None = None
         self._cmd = self.cmd_topic or command_topic(
             name for type_name in TWIST_TYPES for name in host.topics(type_name)
         )
@@ -211,25 +203,37 @@ class KinematicWorld:
         self._next_scan = host.now
         if self._cmd is not None and host.type_of(self._cmd) in TWIST_TYPES:
             host.on_publish(self._cmd, self._on_command)
-        navigate = self.navigate_action or _action_of(host, _NAVIGATE)
-        if navigate is not None and host.type_of(navigate) == _NAVIGATE:
-            host.serve_action(navigate, _Handler(self._navigate, self._cancel_navigation))
-        move_group = self.move_group_action or _action_of(host, _MOVE_GROUP)
-        if move_group is not None and host.type_of(move_group) == _MOVE_GROUP:
-            host.serve_action(move_group, _Handler(self._move_arm, self._cancel_arm))
+        self.base_server = BaseMotionServer(self, self.nav_config)
+        self.arm: ArmServer | None = None
+        chosen = {_NAVIGATE: self.navigate_action, _MOVE_GROUP: self.move_group_action}
+        for type_name, kind in ACTION_TYPES.items():
+            name = chosen.get(type_name) or _action_of(host, type_name)
+            if name is None or host.type_of(name) != type_name:
+                continue
+            if kind == "move_group":
+                self.arm = ArmServer(self, self.arm_config, lambda _frame: (0.0, 0.0, 0.0))
+                host.serve_action(name, self.arm.handler(type_name))
+            else:
+                host.serve_action(name, self.base_server.handler(kind, type_name))
 
     def next_event(self) -> float | None:
         events = [self._next_scan] if self._scans else []
         if self._odoms or self._tf or self._poses:
             events.append(self._next_publish)
+        events += [tick for tick in self._ticks() if tick is not None]
         return min(events, default=None)
 
     def advance(self, until: float) -> None:
-        while self._time < until - 1e-12:
-            step = min(_STEP, until - self._time)
-            self._step(step)
-            self._time += step
-        self._time = max(self._time, until)
+        while True:
+            due = min((t for t in self._ticks() if t is not None), default=None)
+            if due is None or due > until + 1e-9:
+                break
+            self._integrate(due)
+            for server in (self.base_server, self.arm):
+                tick = None if server is None else server.next_tick
+                if server is not None and tick is not None and tick <= due + 1e-9:
+                    server.tick()
+        self._integrate(until)
         publishes = self._odoms or self._tf or self._poses
         if until >= self._next_publish - 1e-9 and publishes:
             self._publish()
@@ -243,166 +247,80 @@ class KinematicWorld:
     def close(self) -> None:
         self._host = None
 
+    # --- what the motion servers need (MotionWorld) ---------------------------------
+
+    @property
+    def now(self) -> float:
+        """Virtual time: the host's."""
+        return self._require_host().now
+
+    def base_pose(self) -> tuple[float, float, float]:
+        """The base's pose; the global frame and ``odom`` coincide here."""
+        return self._x, self._y, self._theta
+
+    def drive(self, command: Command) -> None:
+        """A command of the world's own controllers, taken like one on ``cmd_topic``."""
+        self._command = command
+        self._command_time = self.now
+
+    def plan(
+        self, start: tuple[float, float], goal: tuple[float, float]
+    ) -> list[tuple[float, float]] | None:
+        """The straight line: nothing stands in the way in this world."""
+        return [start, goal]
+
+    def to_map(
+        self, frame: str, x: float, y: float, yaw: float
+    ) -> tuple[float, float, float] | None:
+        """A pose in the global frame or in ``odom`` (the same place here), else ``None``."""
+        known = {self._global_frame, self.odom_frame}
+        return (x, y, yaw) if frame.lstrip("/") in known else None
+
+    def message(self, type_name: str) -> dict[str, Any]:
+        """A message of that type at its defaults (from the host)."""
+        return self._require_host().message(type_name)
+
+    def pose_stamped(self, x: float, y: float, yaw: float) -> dict[str, Any]:
+        """A ``geometry_msgs/PoseStamped`` in the global frame, stamped now."""
+        return {
+            "header": {"stamp": self._require_host().stamp(), "frame_id": self._global_frame},
+            "pose": {"position": {"x": x, "y": y, "z": 0.0}, "orientation": _quaternion(yaw)},
+        }
+
+    def record_goal(self, entry: dict[str, Any]) -> None:
+        """Log a motion goal's progress in the run's trace."""
+        self._require_host().record("goal", {k: v for k, v in entry.items() if k != "goal"})
+
     # --- motion ---------------------------------------------------------------------
+
+    def _ticks(self) -> list[float | None]:
+        return [s.next_tick for s in (self.base_server, self.arm) if s is not None]
 
     def _on_command(self, time: float, message: dict[str, Any]) -> None:
         twist = message.get("twist", message)
         linear, angular = twist["linear"], twist["angular"]
-        self._command = (float(linear["x"]), float(linear["y"]), float(angular["z"]))
+        self._command = Command(float(linear["x"]), float(linear["y"]), float(angular["z"]))
         self._command_time = time
 
-    def _target_velocity(self) -> tuple[float, float, float]:
-        if self._navigation is not None:
-            return self._navigation_velocity(self._navigation)
-        if self._command_time is None or self._time - self._command_time > self.command_timeout:
-            return (0.0, 0.0, 0.0)
-        return self._command
+    def _integrate(self, until: float) -> None:
+        while self._time < until - 1e-12:
+            step = min(_STEP, until - self._time)
+            self._step(step)
+            self._time += step
+        self._time = max(self._time, until)
 
     def _step(self, dt: float) -> None:
-        vx, vy, wz = self._target_velocity()
+        command = self._command
+        if self._command_time is None or self._time - self._command_time > self.command_timeout:
+            command = Command()
         linear = self.linear_acceleration * dt
-        self._vx = _approach(self._vx, vx, linear)
-        self._vy = _approach(self._vy, vy, linear)
-        self._wz = _approach(self._wz, wz, self.angular_acceleration * dt)
+        self._vx = _approach(self._vx, command.vx, linear)
+        self._vy = _approach(self._vy, command.vy, linear)
+        self._wz = _approach(self._wz, command.wz, self.angular_acceleration * dt)
         cos, sin = math.cos(self._theta), math.sin(self._theta)
         self._x += (self._vx * cos - self._vy * sin) * dt
         self._y += (self._vx * sin + self._vy * cos) * dt
-        self._theta = _wrap(self._theta + self._wz * dt)
-        if self._navigation is not None:
-            self._navigation_progress(self._navigation)
-        if self._arm_motion is not None:
-            self._arm_progress(self._arm_motion, dt)
-
-    # --- navigation -----------------------------------------------------------------
-
-    def _navigate(self, goal: ActionGoal) -> None:
-        host = self._require_host()
-        pose = goal.request.get("pose", {})
-        frame = pose.get("header", {}).get("frame_id", "")
-        if frame not in {self._global_frame, "/" + self._global_frame}:
-            goal.reject()
-            host.record(
-                "navigation", {"rejected": f"goal frame {frame!r} is not {self._global_frame!r}"}
-            )
-            return
-        position = pose["pose"]["position"]
-        orientation = pose["pose"]["orientation"]
-        has_yaw = any(float(orientation.get(k, 0.0)) for k in ("x", "y", "z", "w"))
-        if self._navigation is not None and self._navigation.goal.active:
-            self._navigation.goal.abort(host.message("nav2_msgs/action/NavigateToPose_Result"))
-        goal.accept()
-        self._navigation = _Navigation(
-            goal=goal,
-            x=float(position["x"]),
-            y=float(position["y"]),
-            yaw=_yaw(orientation) if has_yaw else None,
-            started=host.now,
-            last_feedback=host.now,
-        )
-
-    def _navigation_velocity(self, navigation: _Navigation) -> tuple[float, float, float]:
-        dx, dy = navigation.x - self._x, navigation.y - self._y
-        distance = math.hypot(dx, dy)
-        if distance > self.nav_tolerance:
-            heading = math.atan2(dy, dx)
-            error = _wrap(heading - self._theta)
-            speed = min(self.nav_speed, distance) * max(0.0, math.cos(error))
-            return (speed, 0.0, max(-self.nav_yaw_rate, min(self.nav_yaw_rate, 2.0 * error)))
-        if navigation.yaw is not None:
-            error = _wrap(navigation.yaw - self._theta)
-            return (0.0, 0.0, max(-self.nav_yaw_rate, min(self.nav_yaw_rate, 2.0 * error)))
-        return (0.0, 0.0, 0.0)
-
-    def _navigation_progress(self, navigation: _Navigation) -> None:
-        host = self._require_host()
-        distance = math.hypot(navigation.x - self._x, navigation.y - self._y)
-        heading_done = navigation.yaw is None or abs(_wrap(navigation.yaw - self._theta)) < 0.05
-        if (
-            distance <= self.nav_tolerance
-            and heading_done
-            and abs(self._vx) < 0.02
-            and abs(self._wz) < 0.05
-        ):
-            self._navigation = None
-            navigation.goal.succeed(host.message("nav2_msgs/action/NavigateToPose_Result"))
-            return
-        if self._time - navigation.last_feedback >= 0.5:
-            navigation.last_feedback = self._time
-            feedback = host.message("nav2_msgs/action/NavigateToPose_Feedback")
-            feedback["current_pose"]["header"] = {
-                "stamp": host.stamp(self._time),
-                "frame_id": self._global_frame,
-            }
-            feedback["current_pose"]["pose"] = self._pose()
-            feedback["distance_remaining"] = distance
-            elapsed = self._time - navigation.started
-            feedback["navigation_time"] = {"sec": int(elapsed), "nanosec": int((elapsed % 1) * 1e9)}
-            remaining = distance / self.nav_speed if self.nav_speed > 0 else 0.0
-            feedback["estimated_time_remaining"] = {
-                "sec": int(remaining),
-                "nanosec": int((remaining % 1) * 1e9),
-            }
-            navigation.goal.feedback(feedback)
-
-    def _cancel_navigation(self, goal: ActionGoal) -> bool:
-        if self._navigation is not None and self._navigation.goal is goal:
-            self._navigation = None
-        self._require_host().call_later(0.0, lambda: goal.canceled() if goal.active else None)
-        return True
-
-    # --- arm ------------------------------------------------------------------------
-
-    def _move_arm(self, goal: ActionGoal) -> None:
-        host = self._require_host()
-        result = host.message("moveit_msgs/action/MoveGroup_Result")
-        constraints = goal.request.get("request", {}).get("goal_constraints", [])
-        positions = constraints[0].get("position_constraints", []) if constraints else []
-        region = positions[0].get("constraint_region", {}) if positions else {}
-        poses = region.get("primitive_poses", [])
-        if not poses:
-            goal.accept()
-            result["error_code"]["val"] = -2  # MoveItErrorCodes.INVALID_MOTION_PLAN
-            goal.abort(result)
-            host.record(
-                "arm", {"aborted": "the goal has no position constraint with a primitive pose"}
-            )
-            return
-        point = poses[0]["position"]
-        target = (float(point["x"]), float(point["y"]), float(point["z"]))
-        frame = positions[0]["header"]["frame_id"] or self.arm_base_frame
-        link = positions[0]["link_name"]
-        goal.accept()
-        if self.arm_reach is not None and math.dist(target, (0.0, 0.0, 0.0)) > self.arm_reach:
-            result["error_code"]["val"] = _MOVEIT_NO_IK_SOLUTION
-            goal.abort(result)
-            return
-        self._arm.setdefault((frame, link), self.arm_home)  # type: ignore[arg-type]
-        self._arm_motion = _ArmMotion(goal=goal, frame=frame, link=link, target=target)
-        feedback = host.message("moveit_msgs/action/MoveGroup_Feedback")
-        feedback["state"] = "MONITOR"
-        goal.feedback(feedback)
-
-    def _arm_progress(self, motion: _ArmMotion, dt: float) -> None:
-        key = (motion.frame, motion.link)
-        current = self._arm[key]
-        distance = math.dist(current, motion.target)
-        travel = self.arm_speed * dt
-        if distance <= travel:
-            self._arm[key] = motion.target
-            self._arm_motion = None
-            result = self._require_host().message("moveit_msgs/action/MoveGroup_Result")
-            result["error_code"]["val"] = _MOVEIT_SUCCESS
-            motion.goal.succeed(result)
-            return
-        self._arm[key] = tuple(
-            c + (t - c) * travel / distance for c, t in zip(current, motion.target, strict=True)
-        )  # type: ignore[assignment]
-
-    def _cancel_arm(self, goal: ActionGoal) -> bool:
-        if self._arm_motion is not None and self._arm_motion.goal is goal:
-            self._arm_motion = None
-        self._require_host().call_later(0.0, lambda: goal.canceled() if goal.active else None)
-        return True
+        self._theta = wrap_pi(self._theta + self._wz * dt)
 
     # --- publishing -----------------------------------------------------------------
 
@@ -438,38 +356,31 @@ class KinematicWorld:
             pose["pose"]["pose"] = self._pose()
             host.publish(topic, pose)
         if self._tf is not None:
-            identity = {"translation": {"x": 0.0, "y": 0.0, "z": 0.0}, "rotation": _quaternion(0.0)}
-            transforms = []
-            if self._localised:
-                transforms.append(
-                    {
-                        "header": {"stamp": stamp, "frame_id": self.map_frame},
-                        "child_frame_id": self.odom_frame,
-                        "transform": identity,
-                    }
-                )
-            transforms += [
-                {
-                    "header": {"stamp": stamp, "frame_id": self.odom_frame},
-                    "child_frame_id": self.base_frame,
-                    "transform": {
-                        "translation": {"x": self._x, "y": self._y, "z": 0.0},
-                        "rotation": _quaternion(self._theta),
-                    },
+            host.publish(self._tf, {"transforms": self._transforms(stamp)})
+
+    def _transforms(self, stamp: dict[str, int]) -> list[dict[str, Any]]:
+        def transform(parent: str, child: str, x: float, y: float, z: float, yaw: float) -> Any:
+            return {
+                "header": {"stamp": stamp, "frame_id": parent},
+                "child_frame_id": child,
+                "transform": {
+                    "translation": {"x": x, "y": y, "z": z},
+                    "rotation": _quaternion(yaw),
                 },
-            ]
-            for (frame, link), (x, y, z) in sorted(self._arm.items()):
-                transforms.append(
-                    {
-                        "header": {"stamp": stamp, "frame_id": frame},
-                        "child_frame_id": link,
-                        "transform": {
-                            "translation": {"x": x, "y": y, "z": z},
-                            "rotation": _quaternion(0.0),
-                        },
-                    }
-                )
-            host.publish(self._tf, {"transforms": transforms})
+            }
+
+        transforms = []
+        if self._localised:
+            transforms.append(transform(self.map_frame, self.odom_frame, 0.0, 0.0, 0.0, 0.0))
+        transforms.append(
+            transform(self.odom_frame, self.base_frame, self._x, self._y, 0.0, self._theta)
+        )
+        # The tool, once a goal named it, in the frame that goal used (every frame's
+        # offset from the arm's base is zero in this world).
+        if self.arm is not None and self.arm.link is not None:
+            x, y, z = self.arm.tcp
+            transforms.append(transform(self.arm.frame, self.arm.link, x, y, z, 0.0))
+        return transforms
 
     # --- laser scans ---------------------------------------------------------------
 
@@ -522,14 +433,6 @@ def _inside_or_inf(distance: float, near: float, far: float) -> float:
     if distance < near:
         return -math.inf
     return distance if distance <= far else math.inf
-
-
-class _Handler:
-    """Adapts two functions to the ActionHandler protocol."""
-
-    def __init__(self, on_goal: Any, on_cancel: Any) -> None:
-        self.on_goal = on_goal
-        self.on_cancel = on_cancel
 
 
 def _action_of(host: GraphHost, type_name: str) -> str | None:

@@ -1,4 +1,5 @@
-//! Discovery of what an MCAP recording holds: schemas, channels and message counts.
+//! Discovery of what an MCAP recording holds: schemas, channels and message counts; and
+//! the messages themselves, for replay ([`MessageReader`]).
 //!
 //! Two ways to read a file, chosen per file by [`ReadMode`]:
 //!
@@ -28,6 +29,7 @@
 //! whose message indexes suffice, and that never carries a message, is not seen (unless
 //! the summary section after the data repeats it). `ReadMode::Full` sees it.
 
+mod messages;
 mod reader;
 pub mod records;
 
@@ -36,6 +38,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{CoreError, CoreResult};
 
+pub use messages::{MessageReader, RecordedMessage};
 pub use records::Schema;
 
 /// How [`read_mcap`] reads a file.

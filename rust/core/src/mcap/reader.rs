@@ -68,15 +68,15 @@ pub(super) fn read(path: &Path, mode: ReadMode) -> CoreResult<McapSummary> {
 }
 
 /// Buffered positioned reading with a known file size.
-struct Input {
+pub(super) struct Input {
     path: std::path::PathBuf,
     reader: BufReader<File>,
     position: u64,
-    size: u64,
+    pub(super) size: u64,
 }
 
 impl Input {
-    fn open(path: &Path) -> CoreResult<Self> {
+    pub(super) fn open(path: &Path) -> CoreResult<Self> {
         let file = File::open(path).map_err(|e| CoreError::io(path, e))?;
         let meta = file.metadata().map_err(|e| CoreError::io(path, e))?;
         if meta.is_dir() {
@@ -97,7 +97,7 @@ impl Input {
         CoreError::io(&self.path, error)
     }
 
-    fn format_error(&self, offset: u64, message: &str) -> CoreError {
+    pub(super) fn format_error(&self, offset: u64, message: &str) -> CoreError {
         CoreError::Format {
             path: self.path.clone(),
             offset,
@@ -127,7 +127,7 @@ impl Input {
     }
 
     /// Reads `len` bytes at `offset`; the caller has checked they lie inside the file.
-    fn read_at(&mut self, offset: u64, len: u64) -> CoreResult<Vec<u8>> {
+    pub(super) fn read_at(&mut self, offset: u64, len: u64) -> CoreResult<Vec<u8>> {
         self.seek(offset)?;
         let mut out = vec![0u8; usize_from(len)];
         self.reader
@@ -147,7 +147,7 @@ impl Input {
 
     /// Reads the 9-byte record prefix at `offset`: opcode and body length. `None` when
     /// the file ends first.
-    fn record_prefix(&mut self, offset: u64) -> CoreResult<Option<(u8, u64)>> {
+    pub(super) fn record_prefix(&mut self, offset: u64) -> CoreResult<Option<(u8, u64)>> {
         if self.size.saturating_sub(offset) < RECORD_PREFIX_LEN {
             return Ok(None);
         }
@@ -457,7 +457,7 @@ fn read_summary(input: &mut Input) -> CoreResult<SummaryOutcome> {
 
 /// Splits one record off the front of an in-memory buffer: opcode and body. `None`
 /// when the buffer ends inside it.
-fn split_record(bytes: &[u8]) -> Option<(u8, &[u8])> {
+pub(super) fn split_record(bytes: &[u8]) -> Option<(u8, &[u8])> {
     let prefix = bytes.get(..RECORD_PREFIX_LEN as usize)?;
     let mut len = [0u8; 8];
     len.copy_from_slice(&prefix[1..9]);
@@ -815,7 +815,10 @@ impl RecordCounts {
 }
 
 /// Decompresses a chunk's records and checks their CRC when the writer stored one.
-fn inflate<'a>(header: &ChunkHeader, compressed: &'a [u8]) -> Result<Cow<'a, [u8]>, String> {
+pub(super) fn inflate<'a>(
+    header: &ChunkHeader,
+    compressed: &'a [u8],
+) -> Result<Cow<'a, [u8]>, String> {
     let expected = header.uncompressed_size;
     if expected > MAX_UNCOMPRESSED_CHUNK {
         return Err(format!(

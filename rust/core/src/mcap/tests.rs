@@ -473,3 +473,114 @@ fn chunk_declaring_a_huge_uncompressed_size_is_skipped_as_damaged() {
     assert_eq!(summary.damaged[0].offset, at as u64);
     assert!(summary.message_count < 20);
 }
+
+fn all_messages(path: &Path, wanted: Option<&[&str]>) -> CoreResult<Vec<RecordedMessage>> {
+    let topics = wanted.map(|w| w.iter().map(|t| (*t).to_string()).collect());
+    MessageReader::open(path, topics)?.collect()
+}
+
+#[test]
+fn messages_of_every_layout_come_with_their_topics_times_and_payloads() {
+    let layouts = [
+        chunked(None),
+        chunked(Some(mcap::Compression::Zstd)),
+        chunked(Some(mcap::Compression::Lz4)),
+        mcap::WriteOptions::new().use_chunks(false),
+    ];
+    for options in layouts {
+        let fixture = store(&write_bag(options, 50));
+        let messages = all_messages(&fixture.path, None).unwrap();
+        assert_eq!(messages.len(), 100);
+        let chatter: Vec<_> = messages
+            .iter()
+            .filter(|m| &*m.topic == "/chatter")
+            .collect();
+        assert_eq!(chatter.len(), 50);
+        for (i, message) in chatter.iter().enumerate() {
+            assert_eq!(message.log_time, 1_000 + i as u64 * 10);
+            assert_eq!(message.data, vec![i as u8; 64]);
+        }
+    }
+}
+
+#[test]
+fn messages_within_a_chunk_come_in_log_time_order() {
+    let fixture = store(&write_bag(mcap::WriteOptions::new().chunk_size(None), 40));
+    let times: Vec<u64> = all_messages(&fixture.path, None)
+        .unwrap()
+        .iter()
+        .map(|m| m.log_time)
+        .collect();
+    let mut sorted = times.clone();
+    sorted.sort_unstable();
+    assert_eq!(times, sorted);
+}
+
+#[test]
+fn a_topic_filter_keeps_only_its_topics() {
+    let fixture = store(&write_bag(chunked(Some(mcap::Compression::Zstd)), 30));
+    let messages = all_messages(&fixture.path, Some(&["/rosout", "/absent"])).unwrap();
+    assert_eq!(messages.len(), 30);
+    assert!(messages.iter().all(|m| &*m.topic == "/rosout"));
+}
+
+#[test]
+fn a_cut_recording_gives_its_messages_then_an_error_naming_the_break() {
+    let bytes = write_bag(chunked(Some(mcap::Compression::Lz4)), 200);
+    let fixture = store(&bytes[..bytes.len() / 2]);
+    let mut reader = MessageReader::open(&fixture.path, None).unwrap();
+    let mut read = 0;
+    let error = loop {
+        match reader.next() {
+            Some(Ok(_)) => read += 1,
+            Some(Err(error)) => break error,
+            None => panic!("a cut file ended without an error"),
+        }
+    };
+    assert!(read > 100, "{read}");
+    assert!(error.to_string().contains("cut short"), "{error}");
+    assert!(reader.next().is_none());
+}
+
+#[test]
+fn messages_of_a_file_that_is_not_mcap_are_a_format_error() {
+    let fixture = store(b"not an mcap file at all");
+    let error = MessageReader::open(&fixture.path, None).err().unwrap();
+    assert!(
+        matches!(error, CoreError::Format { offset: 0, .. }),
+        "{error}"
+    );
+    assert!(matches!(
+        MessageReader::open(Path::new("/no/such.mcap"), None),
+        Err(CoreError::NotFound { .. })
+    ));
+}
+
+#[test]
+fn messages_of_cut_or_flipped_files_never_panic() {
+    let bytes = write_bag(chunked(Some(mcap::Compression::Zstd)), 40);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("damaged.mcap");
+    for cut in (0..bytes.len()).step_by(5) {
+        std::fs::write(&path, &bytes[..cut]).unwrap();
+        if let Ok(reader) = MessageReader::open(&path, None) {
+            for message in reader {
+                if let Err(error) = message {
+                    assert!(matches!(error, CoreError::Format { .. }), "{error}");
+                }
+            }
+        }
+    }
+    for at in (8..bytes.len()).step_by(11) {
+        let mut flipped = bytes.clone();
+        flipped[at] ^= 0x5a;
+        std::fs::write(&path, &flipped).unwrap();
+        if let Ok(reader) = MessageReader::open(&path, None) {
+            for message in reader {
+                if let Err(error) = message {
+                    assert!(matches!(error, CoreError::Format { .. }), "{error}");
+                }
+            }
+        }
+    }
+}

@@ -1,19 +1,34 @@
-"""Simple controllers that serve the robot's motion actions inside the simulated world.
+"""Nav2's and MoveIt's motion action servers, as the simulated worlds serve them.
 
-They stand in for Nav2 (navigate to a pose or through poses, spin, back up, drive on a
-heading) and for MoveIt's move-group action, closely enough that a skill which uses those
-actions can be checked: goals are accepted or refused for the reasons the real servers
-refuse them, the base or the arm moves at the speeds the robot's configuration sets,
-feedback arrives while it moves, cancelling stops it, and the result says how it ended.
+One implementation of the servers' protocol behaviour for every world: which goals are
+accepted and which are refused and why, feedback while the robot moves, cancelling, the
+result and its error code, and what each goal did (for the trace and the ground truth). How
+the base or the arm actually moves is the world's part, behind :class:`MotionWorld`: the
+kinematic world (:mod:`skillwright.runtime.worlds.kinematic`) integrates the command, the
+MuJoCo world (:mod:`skillwright.sim.world`) actuates its wheels. Nothing here imports MuJoCo.
 
-* Navigation plans with A* over the world's obstacles grown by the robot's half width, then
-  follows the path: a holonomic pursuit of a point ahead on the path, facing the direction
-  of travel, slowing down so it can stop at the goal, then turning to the goal's heading.
-  A goal inside an obstacle or out of reach is aborted; so is a run that makes no progress
-  (Nav2's progress checker: 0.5 m within 10 s).
-* The arm is its tool centre point, moved on a straight line at the arm's speed scaled by the
-  request's velocity scaling; a target beyond the arm's reach, an unknown planning group,
-  link or frame is refused with MoveIt's error code.
+* :class:`BaseMotionServer` serves ``nav2_msgs/action/NavigateToPose``,
+  ``NavigateThroughPoses`` and the behaviour server's ``Spin``, ``BackUp`` and
+  ``DriveOnHeading`` (:data:`ACTION_TYPES`), one goal at a time, as Nav2's single controller
+  does: a new goal on any of them pre-empts the running one, which is aborted. Goals are
+  accepted and then aborted, never rejected, when they cannot be done: Nav2's action servers
+  (``nav2_util::SimpleActionServer``) accept every goal while active, and the navigators and
+  behaviours abort what they cannot do, e.g. a goal pose that TF cannot transform into the
+  global frame or a path the planner cannot find. Navigation follows the world's plan (a
+  holonomic pursuit of the next waypoint, facing the direction of travel, slowing to stop at
+  the goal, then turning to the goal's heading) and aborts a run that makes no progress, as
+  Nav2's progress checker does (0.5 m within 10 s). ``time_allowance`` is honoured as the
+  behaviours honour it. Results carry ``total_elapsed_time`` and Jazzy's ``error_code``
+  where the robot's message definition has them (:func:`fill`).
+* :class:`ArmServer` serves ``moveit_msgs/action/MoveGroup`` for a tool centre point moved
+  on a straight line: a request for a planning group, link or frame the world does not know,
+  without a position constraint, or beyond the arm's reach is aborted with the
+  ``moveit_msgs/msg/MoveItErrorCodes`` value MoveIt gives it; ``plan_only`` succeeds at once;
+  ``max_velocity_scaling_factor`` scales the arm's speed, 0 meaning MoveIt's
+  ``default_velocity_scaling_factor``; a new goal pre-empts the running one (PREEMPTED).
+
+Both run at the controllers' period in virtual time: the world calls :meth:`tick` when
+``next_tick`` is due.
 """
 
 from __future__ import annotations
@@ -21,22 +36,35 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Protocol
-
-from skillwright.sim.drive import Command
-from skillwright.sim.truth import wrap_pi
+from typing import TYPE_CHECKING, Any, Final, Protocol
 
 if TYPE_CHECKING:
     from skillwright.runtime.api import ActionGoal
 
 __all__ = [
+    "ACTION_TYPES",
     "ArmConfig",
     "ArmServer",
     "BaseMotionServer",
+    "Command",
     "MotionWorld",
     "NavConfig",
+    "duration",
     "fill",
+    "from_duration",
+    "wrap_pi",
+    "yaw_of",
 ]
+
+ACTION_TYPES: Final[dict[str, str]] = {
+    "nav2_msgs/action/NavigateToPose": "navigate_to_pose",
+    "nav2_msgs/action/NavigateThroughPoses": "navigate_through_poses",
+    "nav2_msgs/action/Spin": "spin",
+    "nav2_msgs/action/BackUp": "backup",
+    "nav2_msgs/action/DriveOnHeading": "drive_on_heading",
+    "moveit_msgs/action/MoveGroup": "move_group",
+}
+"""The action types the servers serve, and the kind each is served as."""
 
 Message = dict[str, Any]
 
@@ -53,6 +81,24 @@ MOVEIT_NO_IK_SOLUTION = -31
 CONTROL_PERIOD = 0.05
 """The controllers run at 20 Hz, as Nav2's controller server does by default."""
 FEEDBACK_PERIOD = 0.1
+
+
+@dataclass(frozen=True)
+class Command:
+    """A body-frame velocity: forward, to the left, counter-clockwise yaw rate."""
+
+    vx: float = 0.0
+    vy: float = 0.0
+    wz: float = 0.0
+
+    def is_zero(self, linear: float = 1e-6, angular: float = 1e-6) -> bool:
+        """Whether every component is (practically) zero."""
+        return abs(self.vx) <= linear and abs(self.vy) <= linear and abs(self.wz) <= angular
+
+
+def wrap_pi(angle: float) -> float:
+    """``angle`` in [-pi, pi)."""
+    return (angle + math.pi) % (2 * math.pi) - math.pi
 
 
 def fill(template: Mapping[str, Any], values: Mapping[str, Any]) -> Message:
@@ -101,21 +147,38 @@ def _point(value: Any) -> tuple[float, float, float]:
 
 
 class MotionWorld(Protocol):
-    """What the controllers need from the world."""
+    """What the servers need from the world: the part that differs between worlds."""
 
     @property
-    def now(self) -> float: ...
-    def base_pose(self) -> tuple[float, float, float]: ...
-    def drive(self, command: Command) -> None: ...
+    def now(self) -> float:
+        """Virtual time (seconds)."""
+
+    def base_pose(self) -> tuple[float, float, float]:
+        """The base's pose (x, y, yaw) in the global frame, where Nav2 plans."""
+
+    def drive(self, command: Command) -> None:
+        """Command the base, as Nav2's controller publishes its velocity command."""
+
     def plan(
         self, start: tuple[float, float], goal: tuple[float, float]
-    ) -> list[tuple[float, float]] | None: ...
+    ) -> list[tuple[float, float]] | None:
+        """A collision-free path from ``start`` to ``goal`` (both ends included), or
+        ``None`` when the planner finds none."""
+
     def to_map(
         self, frame: str, x: float, y: float, yaw: float
-    ) -> tuple[float, float, float] | None: ...
-    def message(self, type_name: str) -> Message: ...
-    def pose_stamped(self, x: float, y: float, yaw: float) -> Message: ...
-    def record_goal(self, entry: dict[str, Any]) -> None: ...
+    ) -> tuple[float, float, float] | None:
+        """A goal pose given in ``frame``, in the global frame; ``None`` when TF has no
+        transform from ``frame`` to it."""
+
+    def message(self, type_name: str) -> Message:
+        """A message of ``type_name`` at its defaults (the robot's definition)."""
+
+    def pose_stamped(self, x: float, y: float, yaw: float) -> Message:
+        """A ``geometry_msgs/PoseStamped`` of a pose in the global frame, stamped now."""
+
+    def record_goal(self, entry: dict[str, Any]) -> None:
+        """Log what a goal did: accepted, executing, how and why it ended."""
 
 
 @dataclass(frozen=True)
@@ -410,26 +473,57 @@ class BaseMotionServer:
 
 
 @dataclass(frozen=True)
-class ArmConfig:
-    """The arm as MoveIt knows it."""
+class _Target:
+    """Where a move-group goal sends the tool: the point in the arm's base frame, and the
+    frame and link the request named."""
 
-    group: str
-    tip_link: str
+    point: tuple[float, float, float]
+    frame: str
+    link: str
+
+
+@dataclass(frozen=True)
+class ArmConfig:
+    """The arm as MoveIt knows it (its SRDF and joint limits)."""
+
+    group: str | None
+    """The planning group; ``None`` when the world does not know the robot's groups (then
+    every ``group_name`` is taken)."""
+    tip_link: str | None
+    """The group's tip link; ``None``: every ``link_name`` is taken as the tip."""
     base_frame: str
-    reach: float
+    """The frame of a position constraint with an empty ``header.frame_id``."""
+    reach: float | None
+    """How far from the arm's base a target may lie (``None``: anywhere)."""
     speed_max: float
+    """Tool speed (m/s) at a velocity scaling of 1."""
     home: tuple[float, float, float]
+    """Where the tool starts, in the arm's base frame."""
+    default_velocity_scaling: float = 0.1
+    """MoveIt's ``default_velocity_scaling_factor``, used when a request leaves
+    ``max_velocity_scaling_factor`` at 0 (0.1 in MoveIt's own defaults)."""
 
 
 class ArmServer:
     """A move-group server for the arm's tool centre point."""
 
-    def __init__(self, world: MotionWorld, config: ArmConfig, frames: Mapping[str, Any]) -> None:
+    def __init__(
+        self,
+        world: MotionWorld,
+        config: ArmConfig,
+        frame_offset: Callable[[str], tuple[float, float, float] | None],
+    ) -> None:
         self.world = world
         self.config = config
-        self.frames = frames
-        """Frame name -> offset (x, y, z) of that frame from the arm's base frame."""
+        self.frame_offset = frame_offset
+        """Frame name -> what to add to a point in that frame to express it in the arm's
+        base frame (``None``: TF does not know the frame)."""
         self.tcp = config.home
+        """Where the tool is, in the arm's base frame."""
+        self.frame = config.base_frame
+        self.link = config.tip_link
+        """Frame and link of the last goal accepted (the link is ``None`` before one when
+        the world does not know the tip)."""
         self.goal: ActionGoal | None = None
         self.target = config.home
         self.speed = 0.0
@@ -476,22 +570,23 @@ class ArmServer:
         request = goal.request.get("request") or {}
         scaling = float(request.get("max_velocity_scaling_factor", 0.0) or 0.0)
         # MoveIt reads 0 (unset) as its default scaling of 0.1.
-        scaling = 0.1 if scaling <= 0.0 else min(scaling, 1.0)
+        scaling = self.config.default_velocity_scaling if scaling <= 0.0 else min(scaling, 1.0)
         self.goal = goal
-        self.target = target
+        self.target = target.point
+        self.frame, self.link = target.frame, target.link
         self.speed = self.config.speed_max * scaling
         self.started = now
         self._entry = entry
         self.next_tick = now + 0.02
         goal.feedback(fill(self.world.message(f"{self.type_name}_Feedback"), {"state": "MONITOR"}))
-        self.world.record_goal({**entry, "outcome": "executing", "target": list(target)})
+        self.world.record_goal({**entry, "outcome": "executing", "target": list(target.point)})
 
-    def _target(self, message: Message) -> tuple[int, str, tuple[float, float, float] | None]:
+    def _target(self, message: Message) -> tuple[int, str, _Target | None]:
         request = message.get("request") or {}
         if not isinstance(request, Mapping):
             return MOVEIT_INVALID_GOAL_CONSTRAINTS, "the request is not a MotionPlanRequest", None
         group = str(request.get("group_name", ""))
-        if group != self.config.group:
+        if self.config.group is not None and group != self.config.group:
             return MOVEIT_INVALID_GROUP_NAME, f"unknown planning group {group!r}", None
         constraints = request.get("goal_constraints") or []
         positions: list[Any] = []
@@ -506,10 +601,10 @@ class ArmServer:
             )
         constraint = positions[0]
         link = str(constraint.get("link_name", ""))
-        if link != self.config.tip_link:
+        if self.config.tip_link is not None and link != self.config.tip_link:
             return MOVEIT_INVALID_LINK_NAME, f"unknown link {link!r}", None
         frame = str((constraint.get("header") or {}).get("frame_id", "")) or self.config.base_frame
-        offset = self.frames.get(frame)
+        offset = self.frame_offset(frame)
         if offset is None:
             return MOVEIT_FRAME_TRANSFORM_FAILURE, f"unknown frame {frame!r}", None
         region = constraint.get("constraint_region") or {}
@@ -519,9 +614,10 @@ class ArmServer:
         px, py, pz = _point(poses[0].get("position") if isinstance(poses[0], Mapping) else None)
         ox, oy, oz = _point(constraint.get("target_point_offset"))
         target = (px + ox + offset[0], py + oy + offset[1], pz + oz + offset[2])
-        if math.sqrt(sum(v * v for v in target)) > self.config.reach:
+        reach = self.config.reach
+        if reach is not None and math.sqrt(sum(v * v for v in target)) > reach:
             return MOVEIT_NO_IK_SOLUTION, "the target is beyond the arm's reach", None
-        return MOVEIT_SUCCESS, "", target
+        return MOVEIT_SUCCESS, "", _Target(target, frame, link)
 
     def on_cancel(self, goal: ActionGoal) -> bool:
         """Stop the arm where it is."""
