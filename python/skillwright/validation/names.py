@@ -10,9 +10,10 @@ The kinds, each found without running the code:
 - a method of the class called with arguments its definition does not take;
 - an attribute only ever set to ``None`` but read as an object (``self.start.x``).
 
-The rclpy names below are the public API of rclpy's ``Node``, ``Publisher``,
-``Subscription``, ``Client``, ``Timer``, ``Rate``, ``ActionClient`` and the logger, as far as
-skills use them.
+The rclpy, tf2 and pySkillUp names the checks accept are those of the sandbox's stand-ins
+(:mod:`skillwright.runtime.standin_api` reads them from their source), so that a call the
+checks pass is one the sandboxed run can make, and the two cannot disagree; the stand-ins
+follow rclpy (Humble/Jazzy), tf2_ros and pySkillUp where skills use them.
 """
 
 from __future__ import annotations
@@ -49,7 +50,7 @@ from skillwright.rules.api import (
 )
 from skillwright.rules.finding import Finding
 from skillwright.rules.registry import Rule
-from skillwright.spec.model import PACKML_STATES
+from skillwright.runtime import standin_api
 from skillwright.validation.syntax import (
     self_method,
     statement_holding,
@@ -66,148 +67,27 @@ __all__ = [
     "without_guard",
 ]
 
-PYSKILLUP_NAMES = frozenset({"skill", "skill_parameter", "skill_output", *PACKML_STATES})
+PYSKILLUP_NAMES = frozenset(standin_api.exported("pyskillup.decorators.decorators"))
 """What ``from pyskillup.decorators.decorators import *`` provides."""
 
-_LOGGER = frozenset(
-    {"debug", "info", "warning", "warn", "error", "fatal", "get_child", "set_level"}
-)
-
 RCLPY_API: dict[str, frozenset[str]] = {
-    "node": frozenset(
-        {
-            "get_logger",
-            "get_clock",
-            "get_name",
-            "get_namespace",
-            "get_fully_qualified_name",
-            "create_publisher",
-            "create_subscription",
-            "create_client",
-            "create_service",
-            "create_timer",
-            "create_rate",
-            "create_guard_condition",
-            "destroy_publisher",
-            "destroy_subscription",
-            "destroy_client",
-            "destroy_service",
-            "destroy_timer",
-            "destroy_rate",
-            "destroy_node",
-            "declare_parameter",
-            "declare_parameters",
-            "get_parameter",
-            "get_parameters",
-            "get_parameter_or",
-            "has_parameter",
-            "set_parameters",
-            "undeclare_parameter",
-            "add_on_set_parameters_callback",
-            "get_topic_names_and_types",
-            "get_service_names_and_types",
-            "get_node_names",
-            "count_publishers",
-            "count_subscribers",
-            "get_publishers_info_by_topic",
-            "get_subscriptions_info_by_topic",
-            "executor",
-            "context",
-            "handle",
-            "publishers",
-            "subscriptions",
-            "clients",
-            "timers",
-        }
-    ),
-    "publisher": frozenset(
-        {
-            "publish",
-            "destroy",
-            "get_subscription_count",
-            "topic_name",
-            "topic",
-            "qos_profile",
-            "handle",
-            "assert_liveliness",
-            "wait_for_all_acked",
-        }
-    ),
-    "subscription": frozenset(
-        {"destroy", "topic_name", "topic", "qos_profile", "handle", "msg_type", "callback"}
-    ),
-    "client": frozenset(
-        {
-            "call",
-            "call_async",
-            "wait_for_service",
-            "service_is_ready",
-            "remove_pending_request",
-            "destroy",
-            "srv_name",
-            "srv_type",
-            "handle",
-        }
-    ),
-    "action_client": frozenset(
-        {
-            "send_goal",
-            "send_goal_async",
-            "wait_for_server",
-            "server_is_ready",
-            "destroy",
-            "action_type",
-        }
-    ),
-    "timer": frozenset(
-        {
-            "cancel",
-            "reset",
-            "is_canceled",
-            "is_ready",
-            "destroy",
-            "timer_period_ns",
-            "time_since_last_call",
-            "time_until_next_call",
-            "handle",
-            "callback",
-        }
-    ),
-    "rate": frozenset({"sleep", "destroy"}),
-    "tf_listener": frozenset({"buffer", "unregister", "node"}),
-    "tf_buffer": frozenset(
-        {
-            "lookup_transform",
-            "lookup_transform_async",
-            "lookup_transform_full",
-            "lookup_transform_full_async",
-            "lookup_transform_core",
-            "lookup_transform_full_core",
-            "can_transform",
-            "can_transform_full",
-            "can_transform_core",
-            "can_transform_full_core",
-            "wait_for_transform_async",
-            "wait_for_transform_full_async",
-            "transform",
-            "transform_full",
-            "registration",
-            "set_transform",
-            "set_transform_static",
-            "clear",
-            "all_frames_as_string",
-            "all_frames_as_yaml",
-            "get_latest_common_time",
-            "clock",
-            "srv",
-            "jump_handle",
-            "time_jump_callback",
-        }
-    ),
-    "time": frozenset({"nanoseconds", "seconds_nanoseconds", "to_msg", "from_msg", "clock_type"}),
-    "logger": _LOGGER,
+    kind: standin_api.members(kind)
+    for kind in (
+        "node",
+        "publisher",
+        "subscription",
+        "client",
+        "action_client",
+        "timer",
+        "rate",
+        "tf_listener",
+        "tf_buffer",
+        "time",
+        "logger",
+    )
 }
-"""Attributes of rclpy's objects a skill may use, by the kind of object."""
+"""Attributes of rclpy's and tf2's objects a skill may use, by the kind of object: those of
+the sandbox's stand-ins (:mod:`skillwright.runtime.standin_api`)."""
 
 _MAKERS = {
     "create_publisher": "publisher",
@@ -233,7 +113,7 @@ _KIND_WORDS = {
     "logger": "the logger",
     "time": "an rclpy Time",
 }
-_BASE_ATTRIBUTES = frozenset({"node"})
+_BASE_ATTRIBUTES = standin_api.members("skill_base")
 """What pySkillUp's ``ROS2Skill`` gives a skill."""
 
 
@@ -956,15 +836,20 @@ def _latest_message_fix(
     return "\n".join(filter(None, [ready, text]))
 
 
-_GOAL_HANDLE = frozenset({"get_result_async", "cancel_goal_async", "accepted", "status"})
+_GOAL_HANDLE = standin_api.members("goal_handle") - standin_api.members("action_client")
 """What rclpy's ClientGoalHandle has that a model asks of the ActionClient."""
+
+
+_LOGGER_CALLS = RCLPY_API["logger"] - {"name"}
+"""The logger's methods: its one data attribute, ``name``, means something else on a handle
+(a topic's or a service's name), so a made-up ``X.name`` is not sent to the logger."""
 
 
 def _owner_of(attribute: str, kind: str) -> str | None:
     """Where ``attribute`` lives when it is the node's or the logger's, not ``kind``'s."""
     if kind != "node" and attribute in RCLPY_API["node"]:
         return "the node: self.node"
-    if kind != "logger" and attribute in RCLPY_API["logger"]:
+    if kind != "logger" and attribute in _LOGGER_CALLS:
         return "the logger: self.node.get_logger()"
     return None
 
@@ -1659,7 +1544,7 @@ def check_names(
     return findings
 
 
-_FUTURE_API = frozenset({"done", "result", "add_done_callback", "cancelled", "exception"})
+_FUTURE_API = standin_api.members("future")
 """What an rclpy Future has and the response or result it gives does not."""
 
 
@@ -1717,26 +1602,17 @@ def _waited_futures(cls: ast.ClassDef) -> list[Finding]:
     return findings
 
 
-def _rclpy_signature(*required: str, **optional: object) -> inspect.Signature:
-    kind = inspect.Parameter.POSITIONAL_OR_KEYWORD
-    return inspect.Signature(
-        [inspect.Parameter(n, kind) for n in required]
-        + [inspect.Parameter(n, kind, default=d) for n, d in optional.items()]
-    )
-
-
 _RCLPY_SIGNATURES = {
-    ("client", "call_async"): _rclpy_signature("request"),
-    ("client", "call"): _rclpy_signature("request", timeout_sec=None),
-    ("client", "wait_for_service"): _rclpy_signature(timeout_sec=None),
-    ("action_client", "send_goal_async"): _rclpy_signature(
-        "goal", feedback_callback=None, goal_uuid=None
-    ),
-    ("action_client", "send_goal"): _rclpy_signature(
-        "goal", feedback_callback=None, goal_uuid=None
-    ),
-    ("action_client", "wait_for_server"): _rclpy_signature(timeout_sec=None),
-    ("publisher", "publish"): _rclpy_signature("msg"),
+    (kind, method): standin_api.signature(kind, method)
+    for kind, method in (
+        ("client", "call_async"),
+        ("client", "call"),
+        ("client", "wait_for_service"),
+        ("action_client", "send_goal_async"),
+        ("action_client", "send_goal"),
+        ("action_client", "wait_for_server"),
+        ("publisher", "publish"),
+    )
 }
 """What rclpy's methods take (Humble and Jazzy), for the calls a model gets wrong."""
 
