@@ -22,7 +22,12 @@ import ast
 from skillwright.rules.behaviour import TRANSFORM_REVERSED
 from skillwright.rules.finding import Finding
 from skillwright.validation.names import self_attribute, simple_statements
-from skillwright.validation.syntax import error_at, self_method, with_node_replaced
+from skillwright.validation.syntax import (
+    error_at,
+    helper_argument,
+    self_method,
+    with_node_replaced,
+)
 
 __all__ = ["check_frames"]
 
@@ -59,7 +64,7 @@ def check_frames(cls: ast.ClassDef) -> list[Finding]:
             if call is None or statement is None or id(call) in flagged:
                 continue
             flagged.add(id(call))
-            target, source = (ast.literal_eval(a) for a in call.args[:2])
+            target, source = (ast.literal_eval(a) for a in _frames(call) if a is not None)
             findings.append(
                 error_at(
                     TRANSFORM_REVERSED,
@@ -77,9 +82,9 @@ def check_frames(cls: ast.ClassDef) -> list[Finding]:
 
 def _reversed(call: ast.Call) -> bool:
     """Whether ``call`` is ``self._transform(<base frame>, <world frame>, ...)``."""
-    if self_method(call) != _TRANSFORM or len(call.args) < 2:
+    if self_method(call) != _TRANSFORM:
         return False
-    target, source = call.args[:2]
+    target, source = _frames(call)
     return (
         isinstance(target, ast.Constant)
         and target.value in _BASE_FRAMES
@@ -107,8 +112,20 @@ def _pose_read(value: ast.expr, reversed_locals: dict[str, ast.Call]) -> ast.Cal
     return None
 
 
+def _frames(call: ast.Call) -> tuple[ast.expr | None, ast.expr | None]:
+    """What ``call`` of ``_transform`` passes for its target and its source frame."""
+    return helper_argument(call, "target_frame"), helper_argument(call, "source_frame")
+
+
 def _swapped(call: ast.expr) -> ast.expr:
-    """``call`` (a copy) with its first two arguments swapped."""
-    if isinstance(call, ast.Call):
-        call.args[0], call.args[1] = call.args[1], call.args[0]
+    """``call`` (a copy) with the two frames it passes swapped."""
+    if not isinstance(call, ast.Call):
+        return call
+    target, source = _frames(call)
+    if target is None or source is None:
+        return call
+    call.args = [source if a is target else target if a is source else a for a in call.args]
+    for keyword in call.keywords:
+        if keyword.value is target or keyword.value is source:
+            keyword.value = source if keyword.value is target else target
     return call

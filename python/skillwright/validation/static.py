@@ -98,6 +98,7 @@ from skillwright.validation.settle import check_settling
 from skillwright.validation.sources import measuring_sources, raw_scans
 from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
+from skillwright.validation.syntax import helper_argument
 from skillwright.validation.units import check_angle_units
 from skillwright.validation.unsent import check_unsent
 from skillwright.validation.views import check_views
@@ -1234,7 +1235,7 @@ def _check_heading_arguments(
     navigate-to-point handed it the transform's orientation): it takes the angle in radians,
     and the fix hands it ``self._yaw()`` of the quaternion."""
     for call, bound, statement in _helper_calls(cls, "_pose_goal", bindings):
-        heading = call.args[3] if len(call.args) == 4 else _keyword(call, "yaw")
+        heading = helper_argument(call, "yaw")
         if heading is None:
             continue
         text = ast.unparse(heading)
