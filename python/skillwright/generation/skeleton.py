@@ -113,8 +113,8 @@ def full_turn(capability: Capability, iri: str | None, unit: str | None) -> str 
     [0, one turn): ``angle >= 0`` and ``angle < 2 * pi`` (or ``< 360`` in degrees).
 
     An angle a turn further is the same heading, so the skill reports it in the range the
-    capability states: MR-1 get-position's model wrapped its heading to (-pi, pi], and the
-    simulation found it negative.
+    capability states: a yaw from ``math.atan2`` lies in [-pi, pi], and a heading reported
+    so is negative half of the time, outside the capability's range.
     """
     if iri is None or (unit or "").strip().lower() not in _ANGLE_UNITS:
         return None
@@ -328,9 +328,9 @@ def _release_lines(interface: InterfaceRef, indent: str) -> list[str]:
         release = f"{handle}.unregister()"
     else:
         release = f"self.node.destroy_subscription({handle})"
-    # A base keeps driving on its last velocity command: the skill leaves it at rest before
-    # it lets go of the publisher (cap2skill set-velocity completes while moving, and its
-    # resetting only destroyed the publisher).
+    # A base keeps driving on its last velocity command (a skill may complete while it
+    # moves): the skill leaves it at rest before it lets go of the publisher, after which
+    # nothing could stop it.
     stop = [f"{indent}    {handle}.publish({type_class(interface)}())"]
     return [
         f"{indent}if {handle} is not None:",

@@ -2,11 +2,10 @@
 
 The skeleton's ``self._transform(target_frame, source_frame, timeout)`` gives the transform
 that takes ``source_frame`` into ``target_frame``: ``self._transform("map", "base_link", 2.0)``
-is where the robot stands in the map. The default model's cap2skill get-position in the
-evaluation at 48572ae wrote ``self.out_position_x = self._transform("base_link",
-"map").transform.translation.x``: the map's origin seen from the robot, which is the robot's
-position only while it stands at the origin facing along x, and its negative when it stands
-elsewhere facing that way.
+is where the robot stands in the map (tf2's ``lookup_transform(target, source, ...)``).
+``self.out_position_x = self._transform("base_link", "map").transform.translation.x`` is the
+map's origin seen from the robot, which is the robot's position only while it stands at the
+origin facing along x, and its negative when it stands elsewhere facing that way.
 
 An error stands at each statement that stores in an output (``self.out_...``) the translation
 or rotation of a transform asked with the robot's base frame as the target and a world frame

@@ -2,9 +2,8 @@
 
 A state's text may say how long the robot's interfaces have to show up: "abort if any is
 missing after 5 s". A skill that waits 2 s for them gives up on a robot that is fine but
-slower to answer; SLAM Toolbox, for one, publishes its map every 5 s by default. The default
-model's MR-1 mapping waited 2 s for it in all six of its skills kept from the evaluations at
-hand, in a starting state whose text gives 5 s, and one failed in the simulation on it.
+slower to answer; SLAM Toolbox, for one, publishes its map every 5 s by default
+(``map_update_interval``), so a 2 s wait for its first map can end before the map comes.
 
 Counted are the waits for something to appear in the state's own method: the skeleton's
 ``_wait_until`` whose condition reads a latest message, ``_transform``, and rclpy's

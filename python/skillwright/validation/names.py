@@ -180,8 +180,8 @@ def _undefined_message(name: str, tree: ast.Module) -> str:
                     f"{owner} stored on the skill{kept}, or get the value again here"
                 )
     if name[:1].islower():
-        # A variable, not a class: the demo's navigate-to-point read result after the checks
-        # took out its assignment from a method that returns nothing.
+        # A variable, not a class: a local read before any statement of the method assigns it
+        # (a fix may have taken out an assignment from a method that returns nothing).
         return (
             f"{name} is not defined: no statement of this method assigns it before it is "
             f"read; assign {name} first, or use what the skeleton defines"
@@ -311,9 +311,9 @@ def _ros2_call(call: ast.expr) -> str | None:
 
 def _from_ros1(tree: ast.Module, use: ast.Name) -> tuple[str, str | None] | None:
     """The message (and, when every use of rospy in the statement has a plain ROS 2
-    counterpart, the statement so translated) for ``rospy`` used in a ROS 2 skill: the
-    MR-1 move-to-point of the evaluation at d678df9 looked up a transform at
-    ``rospy.Duration(0.0)``."""
+    counterpart, the statement so translated) for ``rospy`` used in a ROS 2 skill
+    (``rospy.Duration(0.0)`` for a lookup's timeout): rospy is ROS 1's client library, which
+    a ROS 2 robot does not have."""
     statement = statement_holding(tree, use)
     if statement is None:
         return None
@@ -580,10 +580,9 @@ _LABEL_ENDS = (", ", "; ", " (", "\n")
 
 def _unlogged(cls: ast.ClassDef, node: ast.Attribute) -> str | None:
     """The log line holding ``node`` in an f-string's field without that field and its label
-    (the default model's MR-1 get-position in the evaluation at cf9631a logged
-    ``f"heading: {self.out_heading:.2f}, timestamp: {self._transform_time:.2f}"``, an
-    attribute nothing sets, and its repair wrote the line again): a log line reports, and one
-    value less is better than a state that raises AttributeError. The text after the field up
+    (``f"heading: {self.out_heading:.2f}, timestamp: {self._transform_time:.2f}"``, with an
+    attribute nothing sets): a log line reports, and one value less is better than a state
+    that raises AttributeError. The text after the field up
     to the next separator (its unit) goes with it."""
     statement = simple_statements(cls).get(id(node))
     if not (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)):
@@ -621,9 +620,9 @@ def _unlogged(cls: ast.ClassDef, node: ast.Attribute) -> str | None:
 
 def _underscored(cls: ast.ClassDef, node: ast.Attribute, defined: set[str]) -> str | None:
     """The simple statement holding ``node`` (``self._map_saver_client``) with the attribute
-    the class does set when the two differ only in leading underscores (ev70's MR-1 mapping
-    called ``self._map_saver_save_map_client`` for the skeleton's
-    ``self.map_saver_save_map_client``)."""
+    the class does set when the two differ only in leading underscores
+    (``self._map_saver_save_map_client`` for the skeleton's ``self.map_saver_save_map_client``):
+    Python's attribute names are exact, and the misspelt one raises AttributeError."""
     bare = node.attr.lstrip("_")
     meant = [d for d in defined if d != node.attr and d.lstrip("_") == bare]
     statement = simple_statements(cls).get(id(node))
@@ -1261,9 +1260,9 @@ def _stand_in(
 
 
 def _modules_as_numbers(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
-    """A module compared or computed with (``while time.monotonic() - start < time:``, ev71's
-    cap2skill collision avoidance after a local ``time`` was renamed in one statement and
-    not the next): it raises TypeError when it runs. When the method has one local that
+    """A module compared or computed with (``while time.monotonic() - start < time:``, after a
+    local ``time`` was renamed in one statement and not the next): it raises TypeError when
+    it runs. When the method has one local that
     stands for it, or the capability an input of its name, the statement uses that."""
     modules = _imported_modules(tree)
     defined, _ = _class_facts(cls)
@@ -1512,8 +1511,8 @@ def _with_timeout(
     call: ast.Call, signature: inspect.Signature, statement_of: dict[int, ast.stmt]
 ) -> str | None:
     """The statement holding ``call`` with :data:`HELPER_TIMEOUT` added as its last argument,
-    when the timeout is all the call leaves out (the default model's cap2skill get-position
-    in the evaluation at 48572ae: ``self._transform("base_link", "map")``)."""
+    when the timeout is all the call leaves out (``self._transform("map", "base_link")``):
+    the skeleton's waits take their timeout without a default, so that none waits forever."""
     statement = statement_of.get(id(call))
     parameters = list(signature.parameters)
     if statement is None or "timeout" not in parameters or call.keywords:
@@ -1550,10 +1549,9 @@ _FUTURE_API = standin_api.members("future")
 
 def _waited_futures(cls: ast.ClassDef) -> list[Finding]:
     """A future's methods asked of what the skeleton's ``self._result_of(future, ...)``
-    returned: the response (or result) itself, which has none of them. The MR-1 mapping of
-    the evaluation, once its ``call_async(request, 5.0)`` was fixed into a
-    ``self._result_of``, still tested ``if not self.out_map.done(): raise ...`` and raised
-    in its run. A guard that only raises goes; ``X.result()`` becomes ``X``."""
+    returned: the response (or result) itself, a message, which has none of them
+    (``if not response.done(): raise ...`` raises AttributeError when it runs). A guard that
+    only raises goes; ``X.result()`` becomes ``X``."""
     calls = {id(n.func): n for n in ast.walk(cls) if isinstance(n, ast.Call) and not n.args}
     guards = _guards(cls)
     statement_of = simple_statements(cls)
@@ -1619,9 +1617,9 @@ _RCLPY_SIGNATURES = {
 
 def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
     """Calls of rclpy handles' methods with arguments the methods do not take, above all a
-    timeout handed to a call that gives a future at once (the MR-1 mapping of the
-    evaluation: ``client.call_async(request, 5.0)``, a TypeError in its run), and a number
-    where send_goal_async takes its feedback callback. A service call's timeout moves to the
+    timeout handed to a call that gives a future at once (``client.call_async(request, 5.0)``:
+    rclpy's call_async takes the request only, and raises TypeError), and a number where
+    send_goal_async takes its feedback callback. A service call's timeout moves to the
     skeleton's ``self._result_of``, which waits for the response."""
     defined, kinds = _class_facts(cls)
     statement_of = simple_statements(cls)
@@ -1683,8 +1681,8 @@ def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
 
 def _overwritten_methods(cls: ast.ClassDef) -> list[Finding]:
     """A method of the class replaced by a value (``self._closest_reading =
-    self._closest_reading(self.scan_msg)``, the MR-1 collision avoidance of the evaluation at
-    3ec2321): every later call of it raises TypeError ('tuple' object is not callable). The
+    self._closest_reading(self.scan_msg)``): every later call of it raises TypeError
+    ('tuple' object is not callable). The
     fix keeps the value in a local of the method's name."""
     methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef | ast.AsyncFunctionDef)}
     findings = []
