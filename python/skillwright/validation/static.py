@@ -1186,14 +1186,18 @@ def _check_yaw_arguments(
     takes the quaternion, which a message has no x, y, z, w of its own for (AttributeError),
     and the fix hands it the message's orientation."""
     for call, bound, statement in _helper_calls(cls, "_yaw", bindings):
-        if len(call.args) != 1:
+        given = helper_argument(call, "q")
+        if given is None or len(call.args) + len(call.keywords) != 1:
             continue
-        argument = ast.unparse(call.args[0])
+        argument = ast.unparse(given)
         key = bound.get(argument)
         path = _ORIENTATIONS.get(key or "")
         if path is None:
             continue
-        fix = _replaced_once(statement, f"self._yaw({argument})", f"self._yaw({argument}.{path})")
+        named = "q=" if call.keywords else ""
+        fix = _replaced_once(
+            statement, f"self._yaw({named}{argument})", f"self._yaw({named}{argument}.{path})"
+        )
         ctx.add(
             YAW_OF_MESSAGE,
             call,
