@@ -47,6 +47,8 @@ def test_probe_sees_rclpy_semantics_in_virtual_time(mr1_inventory: Inventory) ->
         "odom publishers [('_NODE_NAME_UNKNOWN_', 'nav_msgs/msg/Odometry', 'RELIABLE')]",
         "cmd_vel publishers [('probe', 'PUBLISHER', 10), ('_NODE_NAME_UNKNOWN_', 'PUBLISHER', 0)]",
         "scan subscriptions ['_NODE_NAME_UNKNOWN_', 'probe']",
+        "parameters ['speed', 'turn']",
+        "parameters ['speed'] [('probe', '/')]",
         # tf2's words for a frame that does not exist, and the frames the robot has
         "tf ['arm_base_link', 'base_link']",
     ]

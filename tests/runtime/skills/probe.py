@@ -118,6 +118,12 @@ class Probe(ROS2Skill):
         )
         readers = self.node.get_subscriptions_info_by_topic("/scan")
         log(f"scan subscriptions {sorted(p.node_name for p in readers)}")
+        self.node.declare_parameters("limits", [("speed", 0.5), ("turn", 1.0)])
+        log(f"parameters {sorted(self.node.get_parameters_by_prefix('limits'))}")
+        self.node.undeclare_parameter("limits.turn")
+        log(
+            f"parameters {sorted(self.node.get_parameters_by_prefix('limits'))} {self.node.get_node_names_and_namespaces()}"
+        )
         buffer = Buffer()
         listener = TransformListener(buffer, self.node)
         time.sleep(0.5)

@@ -12,6 +12,7 @@ import re
 
 from _skillwright_child.core import core, quiet
 
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 from rclpy.clock import Clock, ROSClock
 from rclpy.exceptions import (
     InvalidServiceNameException,
@@ -327,6 +328,7 @@ class Node:
         self._allow_undeclared = allow_undeclared_parameters
         self._handles: list[Any] = []
         self._timers: list[Timer] = []
+        self._default_callback_group = MutuallyExclusiveCallbackGroup()
         self._destroyed = False
         core().notify("node", name=node_name, namespace=self._namespace, line=core().skill_line())
 
@@ -350,6 +352,11 @@ class Node:
     @property
     def executor(self) -> object:
         return None
+
+    @property
+    def default_callback_group(self) -> MutuallyExclusiveCallbackGroup:
+        """The group of every callback not given one (rclpy's default: mutually exclusive)."""
+        return self._default_callback_group
 
     @property
     def publishers(self) -> list[Publisher]:
@@ -518,6 +525,9 @@ class Node:
     def get_node_names(self) -> list[str]:
         return [self._name]
 
+    def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        return [(self._name, self._namespace)]
+
     def get_publishers_info_by_topic(
         self, topic_name: str, no_mangle: bool = False
     ) -> list[TopicEndpointInfo]:
@@ -626,6 +636,15 @@ class Node:
 
     def get_parameters(self, names: list[str]) -> list[Parameter]:
         return [self.get_parameter(name) for name in names]
+
+    def get_parameters_by_prefix(self, prefix: str) -> dict[str, Parameter]:
+        """The parameters under ``prefix.``, by their names without it (all without one)."""
+        start = f"{prefix}." if prefix else ""
+        return {
+            name[len(start) :]: parameter
+            for name, parameter in self._parameters.items()
+            if name.startswith(start)
+        }
 
     def set_parameters(self, parameter_list: list[Parameter]) -> list[object]:
         from types import SimpleNamespace
