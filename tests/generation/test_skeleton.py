@@ -5,6 +5,7 @@ from __future__ import annotations
 import ast
 import math
 import textwrap
+from functools import cache
 from pathlib import Path
 
 import pytest
@@ -678,3 +679,87 @@ def test_a_bound_in_degrees_or_without_its_lower_half_makes_no_turn() -> None:
         update={"constraints": [c for c in capability.constraints if c.relation != ">="]}
     )
     assert full_turn(only_upper, heading.iri, "rad") is None
+
+
+GOLDEN = Path(__file__).parent / "data" / "skeletons"
+"""The skeletons as the model's prompts and the evaluation have seen them (``<pair>.<variant>.txt``)."""
+
+_PAIR_INTERFACES = {
+    "collision-avoidance": ("/cmd_vel", "/scan"),
+    "get-distance-to-nearest-object": ("/scan",),
+    "get-position": ("/tf", "/odom"),
+    "mapping": ("/cmd_vel", "/map", "/map_saver/save_map", "/navigate_to_pose", "/scan"),
+    "move-forward": ("/cmd_vel", "/odom"),
+    "move-to-point": ("/move_action",),
+    "navigate-to-point": ("/cmd_vel", "/navigate_to_pose"),
+    "rotate": ("/cmd_vel", "/odom"),
+    "set-velocity": ("/cmd_vel", "/odom"),
+}
+"""The MR-1 interfaces each shipped pair's shipped skill uses."""
+_EVERY_HELPER = (
+    "/cmd_vel",
+    "/odom",
+    "/scan",
+    "/tf",
+    "/map",
+    "/map_saver/save_map",
+    "/navigate_to_pose",
+    "/move_action",
+    "/execute_trajectory",
+    "/backup",
+)
+"""Interfaces that between them make the skeleton offer every helper it has."""
+
+
+def _mr1_refs(names: tuple[str, ...]) -> list[InterfaceRef]:
+    """References to MR-1 interfaces as the pipeline makes them (role and QoS from the graph)."""
+    inventory = load_inventory(SHIPPED_CAPABILITIES / "recordings" / "mr1")
+    refs = []
+    for name in names:
+        interface = next(i for i in inventory.interfaces if i.name == name)
+        role = topic_role(name, interface.type_name) if interface.kind == "topic" else "call"
+        refs.append(
+            InterfaceRef(
+                name=name,
+                kind=interface.kind,
+                type_name=interface.type_name,
+                role=role,
+                qos=subscription_qos(role, interface.qos),
+            )
+        )
+    return refs
+
+
+@cache
+def golden_skeletons() -> dict[str, str]:
+    """Every rendering the golden files hold, by file name: each shipped pair's skeleton with
+    its own interfaces (all helpers, none, and the generic wait helpers only), two with the
+    interfaces that bring every helper, one with none, and the task card's helper summaries."""
+    out = {}
+    every = _mr1_refs(_EVERY_HELPER)
+    for stem, names in _PAIR_INTERFACES.items():
+        capability, spec = shipped(stem)
+        own = _mr1_refs(names)
+        variants = {
+            "own": build_skeleton(capability, spec, own),
+            "own-no-helpers": build_skeleton(capability, spec, own, helpers=()),
+            "own-waits": build_skeleton(capability, spec, own, helpers=["_result_of"]),
+        }
+        if stem in ("mapping", "move-forward"):
+            variants["every-helper"] = build_skeleton(
+                capability, spec, every, source_note="From MR-1."
+            )
+        if stem == "get-position":
+            variants["no-interfaces"] = build_skeleton(
+                capability, spec, [], helpers=["_wait_until"]
+            )
+        for variant, skeleton in variants.items():
+            out[f"{stem}.{variant}.txt"] = skeleton.code
+    summaries = helper_summaries(_mr1_refs(_EVERY_HELPER))
+    out["helper-summaries.txt"] = "".join(f"{k}: {v}\n" for k, v in summaries.items())
+    return out
+
+
+@pytest.mark.parametrize("name", sorted(golden_skeletons()))
+def test_the_skeleton_text_is_what_the_prompts_and_the_evaluation_have_seen(name: str) -> None:
+    assert golden_skeletons()[name] == (GOLDEN / name).read_text(encoding="utf-8")

@@ -43,6 +43,12 @@ def test_probe_sees_rclpy_semantics_in_virtual_time(mr1_inventory: Inventory) ->
         "covariance 36 True",
         "logger TypeError",
         "publish Expected <class 'geometry_msgs.msg.Twist'>, got <class 'geometry_msgs.msg.Vector3'>",
+        # the robot's endpoints (discovery names no node) and the skill's own, with its QoS
+        "odom publishers [('_NODE_NAME_UNKNOWN_', 'nav_msgs/msg/Odometry', 'RELIABLE')]",
+        "cmd_vel publishers [('probe', 'PUBLISHER', 10), ('_NODE_NAME_UNKNOWN_', 'PUBLISHER', 0)]",
+        "scan subscriptions ['_NODE_NAME_UNKNOWN_', 'probe']",
+        "parameters ['speed', 'turn']",
+        "parameters ['speed'] [('probe', '/')]",
         # tf2's words for a frame that does not exist, and the frames the robot has
         "tf ['arm_base_link', 'base_link']",
     ]

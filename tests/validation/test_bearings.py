@@ -9,11 +9,11 @@ from types import SimpleNamespace
 
 import pytest
 
-from skillwright.generation.skeleton import _CLOSEST_READING
+from skillwright.generation.helpers import helper_lines
 from skillwright.rules.finding import Finding
 from skillwright.validation.bearings import check_bearings
 
-HEADER = "import math\n\n\nclass Skill:\n" + "\n".join(_CLOSEST_READING) + "\n\n"
+HEADER = "import math\n\n\nclass Skill:\n" + "\n".join(helper_lines("_closest_reading")) + "\n\n"
 
 
 def _source(execute: str) -> str:

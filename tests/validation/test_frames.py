@@ -48,6 +48,19 @@ def test_a_local_given_the_reversed_lookup_is_flagged_once_where_tf_is_asked() -
     assert finding.replacement == "pose = self._transform('odom', 'base_footprint', 2.0)"
 
 
+def test_frames_given_by_keyword_are_read_and_swapped_by_the_helpers_parameter_names() -> None:
+    _, [finding] = _frames(
+        """\
+        def execute(self):
+            pose = self._transform(source_frame="map", target_frame="base_link", timeout=2.0)
+            self.out_position_x = pose.transform.translation.x
+        """
+    )
+    assert finding.replacement == (
+        "pose = self._transform(source_frame='base_link', target_frame='map', timeout=2.0)"
+    )
+
+
 @pytest.mark.parametrize(
     "execute",
     [

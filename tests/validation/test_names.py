@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from skillwright.capability import Capability
+from skillwright.rules.api import UNKNOWN_API_ATTRIBUTE
 from skillwright.rules.finding import Finding
 from skillwright.spec import SkillSpec
 from skillwright.validation.model import CheckReport
@@ -72,8 +73,8 @@ def _names(source: str, inputs: tuple[Capability, SkillSpec]) -> list[Finding]:
         ),
         (
             'self.node.get_logger().info(f"{self.in_distance}',
-            'self.node.get_logger().log(f"{self.in_distance}',
-            "is the logger, which has no 'log' in rclpy",
+            'self.node.get_logger().write(f"{self.in_distance}',
+            "is the logger, which has no 'write' in rclpy",
         ),
         (
             'self.node.get_logger().info(f"{self.in_distance}',
@@ -110,6 +111,25 @@ def test_names_nothing_defines_are_errors_located_at_their_use(
     assert finding.severity == "error"
     changed = next(line.strip() for line in new.splitlines() if line.strip() not in old)
     assert changed[:20] in source.splitlines()[finding.line - 1]
+
+
+@pytest.mark.parametrize(
+    ("statement", "unknown"),
+    [
+        # rclpy's Node has it, and so has the sandbox's stand-in
+        ("self.node.remove_on_set_parameters_callback(print)", []),
+        ("self.node.get_publishers_info_by_topic('/odom')", []),
+        ("self.node.get_subscriptions_info_by_topic('/cmd_vel')", []),
+        # rclpy's Node has no such method, nor has the stand-in
+        ("self.node.get_publishers_by_topic('/odom')", ["get_publishers_by_topic"]),
+    ],
+)
+def test_the_node_api_the_checks_accept_is_the_sandboxs(
+    move_forward: tuple[Capability, SkillSpec], statement: str, unknown: list[str]
+) -> None:
+    source = stopping_with(f"        {statement}\n")
+    found = [f for f in _names(source, move_forward) if f.code == UNKNOWN_API_ATTRIBUTE.code]
+    assert [f.data["attribute"] for f in found] == unknown
 
 
 def test_a_message_asked_of_a_subscription_is_waited_for_once_and_taken_from_the_callback(

@@ -421,6 +421,18 @@ def test_the_heading_helper_handed_a_whole_message_gets_its_orientation(
     assert finding.replacement == f"self.start_x = self._yaw({fix})"
 
 
+def test_the_heading_helper_handed_a_message_by_keyword_gets_its_orientation(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    helper = "    def _yaw(self, q) -> float:\n        return 0.0\n\n    @execute\n"
+    source = GOOD.replace("    @execute\n", helper, 1).replace(
+        "self.start_x = self.odom_msg.pose.pose.position.x",
+        "self.start_x = self._yaw(q=self.odom_msg)",
+    )
+    (finding,) = [f for f in run(source, move_forward).findings if "_yaw" in f.message]
+    assert finding.replacement == "self.start_x = self._yaw(q=self.odom_msg.pose.pose.orientation)"
+
+
 def test_a_field_one_level_further_down_is_named_and_put_in_the_statement(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

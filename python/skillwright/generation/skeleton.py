@@ -18,6 +18,7 @@ from collections.abc import Collection, Sequence
 from typing import TYPE_CHECKING, Literal
 
 from skillwright.capability.model import Capability, Expression, Parameter
+from skillwright.generation.helpers import helper_lines
 from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParameter
 from skillwright.generation.names import attribute_name, class_name, python_import, snake_case
 from skillwright.spec.model import PACKML_STATES, SkillSpec
@@ -112,8 +113,8 @@ def full_turn(capability: Capability, iri: str | None, unit: str | None) -> str 
     [0, one turn): ``angle >= 0`` and ``angle < 2 * pi`` (or ``< 360`` in degrees).
 
     An angle a turn further is the same heading, so the skill reports it in the range the
-    capability states: MR-1 get-position's model wrapped its heading to (-pi, pi], and the
-    simulation found it negative.
+    capability states: a yaw from ``math.atan2`` lies in [-pi, pi], and a heading reported
+    so is negative half of the time, outside the capability's range.
     """
     if iri is None or (unit or "").strip().lower() not in _ANGLE_UNITS:
         return None
@@ -327,9 +328,9 @@ def _release_lines(interface: InterfaceRef, indent: str) -> list[str]:
         release = f"{handle}.unregister()"
     else:
         release = f"self.node.destroy_subscription({handle})"
-    # A base keeps driving on its last velocity command: the skill leaves it at rest before
-    # it lets go of the publisher (cap2skill set-velocity completes while moving, and its
-    # resetting only destroyed the publisher).
+    # A base keeps driving on its last velocity command (a skill may complete while it
+    # moves): the skill leaves it at rest before it lets go of the publisher, after which
+    # nothing could stop it.
     stop = [f"{indent}    {handle}.publish({type_class(interface)}())"]
     return [
         f"{indent}if {handle} is not None:",
@@ -514,68 +515,29 @@ def skeleton_helpers(
     helpers: dict[str, list[str]] = {}
     generic = {"_wait_until", "_result_of"} & set(wanted)
     if interfaces or generic:
-        helpers["_wait_until"] = [
-            "    def _wait_until(self, condition, timeout: float, what: str) -> None:",
-            '        """Waits until ``condition()`` is true while callbacks keep running; raises',
-            '        RuntimeError naming ``what`` after ``timeout`` seconds."""',
-            "        deadline = time.monotonic() + timeout",
-            "        while not condition():",
-            "            if time.monotonic() > deadline:",
-            '                raise RuntimeError(f"no {what} within {timeout:g} s")',
-            "            time.sleep(0.02)",
-        ]
+        helpers["_wait_until"] = helper_lines("_wait_until")
     if "_result_of" in generic or any(i.kind in {"service", "action"} for i in interfaces):
-        helpers["_result_of"] = [
-            "    def _result_of(self, future, timeout: float, what: str):",
-            '        """Waits for ``future`` (a service call, a goal, a result) and returns its',
-            '        result; raises RuntimeError naming ``what`` after ``timeout`` seconds."""',
-            "        self._wait_until(future.done, timeout, what)",
-            "        return future.result()",
-        ]
+        helpers["_result_of"] = helper_lines("_result_of")
     for interface in interfaces:
         if interface.kind == "action":
             helpers.update(_action_helpers(interface))
     if any(i.type_name in _MOVE_GROUP for i in interfaces):
-        helpers["_position_goal"] = _POSITION_GOAL
+        helpers["_position_goal"] = helper_lines("_position_goal")
     if any(i.type_name in _NAVIGATE_TO_POSE for i in interfaces):
-        helpers["_pose_goal"] = _POSE_GOAL
+        helpers["_pose_goal"] = helper_lines("_pose_goal")
     if any(is_tf(i) for i in interfaces):
-        helpers["_transform"] = [
-            "    def _transform(self, target_frame: str, source_frame: str, timeout: float):",
-            '        """The latest transform from ``source_frame`` into ``target_frame`` (a',
-            "        TransformStamped) from the tf2 buffer; raises RuntimeError after ``timeout``",
-            '        seconds without one."""',
-            "        deadline = time.monotonic() + timeout",
-            "        while True:",
-            "            try:",
-            "                return self.tf_buffer.lookup_transform(",
-            "                    target_frame, source_frame, Time()",
-            "                )",
-            "            except TransformException as error:",
-            "                if time.monotonic() > deadline:",
-            "                    raise RuntimeError(",
-            '                        f"no transform from {source_frame} to {target_frame} "',
-            '                        f"within {timeout:g} s ({error})"',
-            "                    ) from None",
-            "            time.sleep(0.05)",
-        ]
+        helpers["_transform"] = helper_lines("_transform")
     if any(i.role == "subscribe" and i.type_name in _LASER_SCANS for i in interfaces):
-        helpers["_closest_reading"] = _CLOSEST_READING
+        helpers["_closest_reading"] = helper_lines("_closest_reading")
     if any(is_tf(i) or (i.role == "subscribe" and i.type_name in _ORIENTED) for i in interfaces):
-        helpers["_yaw"] = _YAW
-    twists = [i for i in interfaces if _is_twist_publisher(i)]
+        helpers["_yaw"] = helper_lines("_yaw")
+    twists = [
+        {"velocity_publisher": handle_attribute(i), "Velocity": type_class(i)}
+        for i in interfaces
+        if _is_twist_publisher(i)
+    ]
     if twists:
-        lines = [
-            "    def _stop_base(self) -> None:",
-            '        """Commands zero velocity, so the base stands still."""',
-        ]
-        for interface in twists:
-            handle = f"self.{handle_attribute(interface)}"
-            lines += [
-                f"        if {handle} is not None:",
-                f"            {handle}.publish({type_class(interface)}())",
-            ]
-        helpers["_stop_base"] = lines
+        helpers["_stop_base"] = helper_lines("_stop_base", repeated=twists)
     return helpers
 
 
@@ -628,25 +590,6 @@ def helper_summaries(interfaces: Sequence[InterfaceRef]) -> dict[str, str]:
 
 
 _LASER_SCANS = frozenset({"sensor_msgs/msg/LaserScan", "sensor_msgs/LaserScan"})
-_CLOSEST_READING = [
-    "    def _closest_reading(self, *scans) -> tuple[float, float]:",
-    '        """The closest valid reading of the ``scans`` (LaserScans: one, or each scanner',
-    "        of a robot whose scanners see different sides): its range in metres and its",
-    "        bearing in radians (0 along the x axis of the scanner it came from, positive to",
-    "        the left). NaN, infinite and out-of-range readings are skipped; (math.inf, 0.0)",
-    '        when none is valid."""',
-    "        closest, bearing = math.inf, 0.0",
-    "        for scan in scans:",
-    "            for index, distance in enumerate(scan.ranges):",
-    "                if scan.range_min <= distance <= scan.range_max and distance < closest:",
-    "                    closest = distance",
-    "                    bearing = scan.angle_min + index * scan.angle_increment",
-    "        return closest, bearing",
-]
-"""The nearest obstacle and its direction: a loop over the ranges that small models got wrong
-(ev69's MR-1 collision avoidance took ``min`` of the ranges, so it had no index for a bearing,
-and stored 0.0 for it)."""
-
 _ORIENTED = frozenset(
     f"{package}/{kind}{name}"
     for package, name in (
@@ -658,21 +601,6 @@ _ORIENTED = frozenset(
     for kind in ("msg/", "")
 )
 """Messages that carry an orientation quaternion (with the transform tree, for ``_yaw``)."""
-_YAW = [
-    "    def _yaw(self, q) -> float:",
-    '        """The heading (yaw) of the quaternion ``q`` in radians, in [-pi, pi]: 0 along the',
-    "        frame's x axis, positive counter-clockwise (to the left). ``q`` is an orientation",
-    "        such as an Odometry's pose.pose.orientation or a transform's transform.rotation.",
-    "        The change of the heading since a start is the angle turned; wrap a difference d",
-    '        into [-pi, pi] with math.atan2(math.sin(d), math.cos(d))."""',
-    "        return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))",
-]
-"""The heading from an orientation quaternion. ev70's cap2skill rotate, offered the scan's
-nearest-reading helper and nothing for the heading, turned until the nearest obstacle's
-bearing matched the angle it was asked to turn by; earlier evaluations reported a
-quaternion's ``z`` as the angle (ev38-ev43). It takes the quaternion, not the message, so
-that one helper serves odometry, poses and transforms alike."""
-
 _GENERIC_SUMMARIES = {
     "_wait_until": "self._wait_until(condition, timeout, what) waits while callbacks run, else "
     "raises RuntimeError",
@@ -706,122 +634,26 @@ _MOVEIT_RESULTS = frozenset(
 """MoveIt actions whose result carries a MoveItErrorCodes error_code: a goal can end in
 SUCCEEDED with a failure code."""
 
-_POSITION_GOAL = [
-    "    def _position_goal(",
-    "        self, group: str, link: str, frame: str,",
-    "        x: float, y: float, z: float, tolerance: float,",
-    "    ) -> MoveGroup.Goal:",
-    '        """A move-group goal that plans and executes a motion of ``link`` (planning group',
-    "        ``group``) to the point (x, y, z) in ``frame``, within ``tolerance`` metres, in any",
-    '        orientation."""',
-    "        region = SolidPrimitive()",
-    "        region.type = SolidPrimitive.SPHERE",
-    "        region.dimensions = [float(tolerance)]",
-    "        target = Pose()",
-    "        target.position.x = float(x)",
-    "        target.position.y = float(y)",
-    "        target.position.z = float(z)",
-    "        target.orientation.w = 1.0",
-    "        constraint = PositionConstraint()",
-    "        constraint.header.frame_id = frame",
-    "        constraint.link_name = link",
-    "        constraint.constraint_region.primitives = [region]",
-    "        constraint.constraint_region.primitive_poses = [target]",
-    "        constraint.weight = 1.0",
-    "        goal = MoveGroup.Goal()",
-    "        goal.request.group_name = group",
-    "        goal.request.goal_constraints = [Constraints(position_constraints=[constraint])]",
-    "        goal.request.num_planning_attempts = 1",
-    "        goal.planning_options.plan_only = False",
-    "        return goal",
-]
-
 
 _NAVIGATE_TO_POSE = frozenset({"nav2_msgs/action/NavigateToPose", "nav2_msgs/NavigateToPose"})
-_POSE_GOAL = [
-    "    def _pose_goal(self, frame: str, x: float, y: float, yaw: float) -> NavigateToPose.Goal:",
-    '        """A navigate-to-pose goal: the base at the point (x, y) in ``frame``, heading',
-    "        ``yaw`` radians (0 along the frame's x axis, counter-clockwise positive). The stamp",
-    '        stays zero, which Nav2 reads as the latest transform."""',
-    "        goal = NavigateToPose.Goal()",
-    "        goal.pose.header.frame_id = frame",
-    "        goal.pose.pose.position.x = float(x)",
-    "        goal.pose.pose.position.y = float(y)",
-    "        goal.pose.pose.orientation.z = math.sin(yaw / 2.0)",
-    "        goal.pose.pose.orientation.w = math.cos(yaw / 2.0)",
-    "        return goal",
-]
-"""A Nav2 goal from a point and a heading. The MR-1 demo's navigate-to-point once built a
-bare ``Pose()``, set a header and a ``pose`` on it and handed it to the send helper, and two
-repairs did not mend it: a goal is a PoseStamped inside a Goal, with the heading as a
-quaternion, three layers a small model confuses. The coordinates go through ``float``: a
-message's float field refuses an int, and the MR-1 mapping of the evaluation at 3ec2321 laid
-its grid out with ``range()``."""
 
 
 def _action_helpers(interface: InterfaceRef) -> dict[str, list[str]]:
-    """Sending a goal, its feedback, waiting for its result and cancelling it: the goal
-    handle's life, which small models confuse with the client's."""
-    stem, name = action_stem(interface), interface.name
-    client = f"self.{handle_attribute(interface)}"
-    handle, future = f"self.{stem}_goal_handle", f"self.{stem}_result_future"
-    outcome = [
-        "        if response.status != GoalStatus.STATUS_SUCCEEDED:",
-        f'            raise RuntimeError(f"the {name} goal ended with status {{response.status}}")',
-    ]
-    if interface.type_name in _MOVEIT_RESULTS:
-        outcome += [
-            "        if response.result.error_code.val != MoveItErrorCodes.SUCCESS:",
-            "            raise RuntimeError(",
-            f'                f"{name} failed with error code {{response.result.error_code.val}}"',
-            "            )",
-        ]
+    """The helpers of one action (:class:`~skillwright.generation.helpers.SkeletonHelpers`'
+    ``stem`` templates), by their names in the skill."""
+    stem = action_stem(interface)
+    names = {"stem": stem, "Action": type_class(interface), "/action": interface.name}
+    moveit = interface.type_name in _MOVEIT_RESULTS
     return {
-        f"_send_{stem}_goal": [
-            f"    def _send_{stem}_goal(self, goal, timeout: float) -> None:",
-            f'        """Sends ``goal`` to {name} and waits until the server accepts it;',
-            "        raises RuntimeError if it rejects the goal or does not answer within",
-            '        ``timeout`` s."""',
-            f"        self.{stem}_feedback = None",
-            f"        future = {client}.send_goal_async(",
-            f"            goal, feedback_callback=self._on_{stem}_feedback",
-            "        )",
-            f'        goal_handle = self._result_of(future, timeout, "answer to the {name} goal")',
-            "        if not goal_handle.accepted:",
-            f'            raise RuntimeError("{name} rejected the goal")',
-            f"        {handle} = goal_handle",
-            f"        {future} = goal_handle.get_result_async()",
-        ],
-        f"_on_{stem}_feedback": [
-            f"    def _on_{stem}_feedback(self, message) -> None:",
-            f'        """Keeps the latest feedback of the {name} goal."""',
-            f"        self.{stem}_feedback = message.feedback",
-        ],
-        f"_{stem}_result": [
-            # The annotation is text: the checks read it (the fields of the result), and no
-            # runtime has to resolve it.
-            f'    def _{stem}_result(self, timeout: float) -> "{type_class(interface)}.Result":',
-            f'        """Waits for the result of the goal sent with self._send_{stem}_goal and',
-            "        returns it; raises RuntimeError if none was sent, none came within",
-            '        ``timeout`` s or the goal did not succeed."""',
-            f"        if {future} is None:",
-            f'            raise RuntimeError("no goal was sent to {name}")',
-            f'        response = self._result_of({future}, timeout, "result of the {name} goal")',
-            f"        {handle} = None",
-            *outcome,
-            "        return response.result",
-        ],
-        f"_cancel_{stem}_goal": [
-            f"    def _cancel_{stem}_goal(self, timeout: float) -> None:",
-            f'        """Cancels the goal in progress on {name}, if any, and waits until the',
-            "        server confirms; raises RuntimeError without a confirmation within",
-            '        ``timeout`` s."""',
-            f"        if {handle} is not None:",
-            f"            future = {handle}.cancel_goal_async()",
-            f'            self._result_of(future, timeout, "cancellation of the {name} goal")',
-            f"            {handle} = None",
-        ],
+        template.replace("stem", stem): helper_lines(template, names, moveit=moveit)
+        for template in _ACTION_HELPERS
     }
+
+
+_ACTION_HELPERS = ("_send_stem_goal", "_on_stem_feedback", "_stem_result", "_cancel_stem_goal")
+"""An action goal's life, in the order the skeleton writes it: rclpy's ``send_goal_async``
+gives a future of a ClientGoalHandle, whose ``get_result_async`` and ``cancel_goal_async``
+give the result and the cancel, none of which the ActionClient itself offers."""
 
 
 def _helpers(out: _Writer, helpers: dict[str, list[str]]) -> None:

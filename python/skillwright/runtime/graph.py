@@ -842,6 +842,23 @@ class GraphHost:
             return own + (1 if self._publishes(name) else 0)
         return own + (1 if name in self._topics else 0)
 
+    def robot_endpoints(self, what: str, name: str) -> list[dict[str, Any]]:
+        """The robot's publishers or subscribers of a topic (those :meth:`count` adds to the
+        skill's own): their type and the QoS that discovery shares (reliability and
+        durability; a recorded subscriber's QoS is not known)."""
+        info = self._topics.get(name)
+        if info is None or (what == "publishers" and not self._publishes(name)):
+            return []
+        if what == "publishers":
+            return [
+                {
+                    "type": info.type_name,
+                    "reliability": info.reliability,
+                    "durability": info.durability,
+                }
+            ]
+        return [{"type": info.type_name, "reliability": None, "durability": None}]
+
     def names_and_types(self, kind: str) -> list[list[Any]]:
         """``[[name, [type]], ...]`` of the robot's topics or services."""
         known = (

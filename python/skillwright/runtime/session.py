@@ -504,6 +504,8 @@ class Episode:
             return {"ok": graph.exists(str(frame["kind"]), str(frame["name"]))}
         if op == "count":
             return {"count": graph.count(str(frame["what"]), str(frame["name"]))}
+        if op == "endpoints":
+            return {"endpoints": graph.robot_endpoints(str(frame["what"]), str(frame["name"]))}
         if op == "graph":
             return {"names": graph.names_and_types(str(frame["kind"]))}
         if op == "advance":

@@ -3,10 +3,9 @@
 
 The skeleton's ``self._closest_reading(scan)`` returns ``(range, bearing)`` with the bearing
 already counted from the scanner's x axis: ``scan.angle_min + index * scan.angle_increment``.
-The default model's MR-1 get-distance-to-nearest-object in the evaluation at 1840a63 then
-wrote ``self.out_angle = scan[1] - self.scan_msg.angle_min``: the MR-1's scan starts at -pi,
-so every bearing it reported was off by pi (an obstacle ahead came out as behind). The
-simulation saw it; this check says why before anything runs.
+Subtracting ``angle_min`` from it again (``self.out_angle = scan[1] - self.scan_msg.angle_min``)
+offsets every bearing by the scan's start angle: a LaserScan that starts at -pi, as a 360°
+scanner's does, then reports an obstacle ahead as behind the robot.
 
 An error stands at each ``+`` or ``-`` of such a bearing (``self._closest_reading(...)[1]``,
 a local holding the call's result indexed ``[1]``, or the second name it was unpacked into)

@@ -1,10 +1,9 @@
 """A measured value tested for exact equality (check ``equality``).
 
 Odometry, scans and transforms carry floating-point readings with noise: a velocity the
-robot reaches is 0.2994 or 0.3008, never the 0.3 it was asked for. The default model's
-cap2skill set-velocity in the evaluation at d678df9 looped ``while True`` until
-``velocity == self.out_velocity``, the latter just read from the odometry, so the loop ran
-until the state's deadline and the run failed on a robot that had done what it was told.
+robot reaches is 0.2994 or 0.3008, never the 0.3 it was asked for. A loop that runs until
+``velocity == self.in_velocity`` with the velocity read from odometry runs until the state's
+deadline, and fails on a robot that did what it was told.
 
 A comparison with ``==`` or ``!=`` is flagged when one side is a measured number: a
 coordinate or component (``x``, ``y``, ``z``, ``w``) of a field of a latest message

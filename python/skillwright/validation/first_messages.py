@@ -9,9 +9,10 @@ guard often (and the sandboxed run finds it, one slow run later). Where the guar
 raises, the finding carries the wait that should take its place.
 
 A state that reads a field of such a message (``self.odom_msg.twist.twist.linear.x``) before
-anything waited for it raises AttributeError the same way; a Panther set-velocity did, in
-execute, after a starting that made the subscription and waited for nothing. The finding puts
-the wait before the statement that reads it.
+anything waited for it raises AttributeError the same way (``None`` has no fields), also in
+execute after a starting that made the subscription and waited for nothing: rclpy delivers a
+message only once discovery has matched the publisher, which takes a moment. The finding
+puts the wait before the statement that reads it.
 
 A message counts as waited for once a state on the normal path (``starting``, ``execute``,
 ``completing``) before the guard waited for it: a ``_wait_until`` or a loop whose condition

@@ -2,11 +2,10 @@
 
 The skeleton's ``self._transform(target_frame, source_frame, timeout)`` gives the transform
 that takes ``source_frame`` into ``target_frame``: ``self._transform("map", "base_link", 2.0)``
-is where the robot stands in the map. The default model's cap2skill get-position in the
-evaluation at 48572ae wrote ``self.out_position_x = self._transform("base_link",
-"map").transform.translation.x``: the map's origin seen from the robot, which is the robot's
-position only while it stands at the origin facing along x, and its negative when it stands
-elsewhere facing that way.
+is where the robot stands in the map (tf2's ``lookup_transform(target, source, ...)``).
+``self.out_position_x = self._transform("base_link", "map").transform.translation.x`` is the
+map's origin seen from the robot, which is the robot's position only while it stands at the
+origin facing along x, and its negative when it stands elsewhere facing that way.
 
 An error stands at each statement that stores in an output (``self.out_...``) the translation
 or rotation of a transform asked with the robot's base frame as the target and a world frame
@@ -22,7 +21,12 @@ import ast
 from skillwright.rules.behaviour import TRANSFORM_REVERSED
 from skillwright.rules.finding import Finding
 from skillwright.validation.names import self_attribute, simple_statements
-from skillwright.validation.syntax import error_at, self_method, with_node_replaced
+from skillwright.validation.syntax import (
+    error_at,
+    helper_argument,
+    self_method,
+    with_node_replaced,
+)
 
 __all__ = ["check_frames"]
 
@@ -59,7 +63,7 @@ def check_frames(cls: ast.ClassDef) -> list[Finding]:
             if call is None or statement is None or id(call) in flagged:
                 continue
             flagged.add(id(call))
-            target, source = (ast.literal_eval(a) for a in call.args[:2])
+            target, source = (ast.literal_eval(a) for a in _frames(call) if a is not None)
             findings.append(
                 error_at(
                     TRANSFORM_REVERSED,
@@ -77,9 +81,9 @@ def check_frames(cls: ast.ClassDef) -> list[Finding]:
 
 def _reversed(call: ast.Call) -> bool:
     """Whether ``call`` is ``self._transform(<base frame>, <world frame>, ...)``."""
-    if self_method(call) != _TRANSFORM or len(call.args) < 2:
+    if self_method(call) != _TRANSFORM:
         return False
-    target, source = call.args[:2]
+    target, source = _frames(call)
     return (
         isinstance(target, ast.Constant)
         and target.value in _BASE_FRAMES
@@ -107,8 +111,20 @@ def _pose_read(value: ast.expr, reversed_locals: dict[str, ast.Call]) -> ast.Cal
     return None
 
 
+def _frames(call: ast.Call) -> tuple[ast.expr | None, ast.expr | None]:
+    """What ``call`` of ``_transform`` passes for its target and its source frame."""
+    return helper_argument(call, "target_frame"), helper_argument(call, "source_frame")
+
+
 def _swapped(call: ast.expr) -> ast.expr:
-    """``call`` (a copy) with its first two arguments swapped."""
-    if isinstance(call, ast.Call):
-        call.args[0], call.args[1] = call.args[1], call.args[0]
+    """``call`` (a copy) with the two frames it passes swapped."""
+    if not isinstance(call, ast.Call):
+        return call
+    target, source = _frames(call)
+    if target is None or source is None:
+        return call
+    call.args = [source if a is target else target if a is source else a for a in call.args]
+    for keyword in call.keywords:
+        if keyword.value is target or keyword.value is source:
+            keyword.value = source if keyword.value is target else target
     return call

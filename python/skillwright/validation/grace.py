@@ -2,9 +2,8 @@
 
 A state's text may say how long the robot's interfaces have to show up: "abort if any is
 missing after 5 s". A skill that waits 2 s for them gives up on a robot that is fine but
-slower to answer; SLAM Toolbox, for one, publishes its map every 5 s by default. The default
-model's MR-1 mapping waited 2 s for it in all six of its skills kept from the evaluations at
-hand, in a starting state whose text gives 5 s, and one failed in the simulation on it.
+slower to answer; SLAM Toolbox, for one, publishes its map every 5 s by default
+(``map_update_interval``), so a 2 s wait for its first map can end before the map comes.
 
 Counted are the waits for something to appear in the state's own method: the skeleton's
 ``_wait_until`` whose condition reads a latest message, ``_transform``, and rclpy's
@@ -19,9 +18,11 @@ import re
 
 from skillwright.rules.behaviour import WAIT_SHORTER_THAN_SPEC
 from skillwright.rules.finding import Finding
+from skillwright.runtime import standin_api
 from skillwright.validation.names import self_attribute
 from skillwright.validation.syntax import (
     error_at,
+    helper_argument,
     self_method,
     statement_holding,
     with_text_in_place,
@@ -36,7 +37,8 @@ _APPEARING = re.compile(
     r"missing|available|arriv|present|ready|respond|answer|come up|\bwait", re.IGNORECASE
 )
 """Words of a sentence about interfaces showing up (not about a motion's duration)."""
-_SERVER_WAITS = frozenset({"wait_for_server", "wait_for_service"})
+_SERVER_WAITS = {"wait_for_server": "action_client", "wait_for_service": "client"}
+"""rclpy's waits for a server, by the kind of handle that has them."""
 
 
 def _sentences(text: str) -> list[str]:
@@ -55,34 +57,25 @@ def stated_seconds(text: str) -> tuple[float, str] | None:
     return next(iter(found.items())) if len(found) == 1 else None
 
 
-def _argument(
-    call: ast.Call, method: ast.FunctionDef | None, name: str, position: int
-) -> ast.expr | None:
-    """The argument ``call`` passes for parameter ``name`` (at ``position`` when the
-    definition of the called ``method`` is not there to tell)."""
-    for keyword in call.keywords:
-        if keyword.arg == name:
-            return keyword.value
-    if method is not None:
-        parameters = [a.arg for a in method.args.args if a.arg != "self"]
-        position = parameters.index(name) if name in parameters else -1
-    return call.args[position] if 0 <= position < len(call.args) else None
-
-
 def _timeout_of(call: ast.Call, methods: dict[str, ast.FunctionDef]) -> ast.expr | None:
     """The argument that is the seconds of ``call``, when it waits for something to appear."""
     called = self_method(call)
     if called == "_wait_until":
-        condition = _argument(call, methods.get(called), "condition", 0)
+        condition = helper_argument(call, "condition", methods.get(called))
         if condition is None or not any(
             (self_attribute(n) or "").endswith("_msg") for n in ast.walk(condition)
         ):
             return None
-        return _argument(call, methods.get(called), "timeout", 1)
+        return helper_argument(call, "timeout", methods.get(called))
     if called == "_transform":
-        return _argument(call, methods.get(called), "timeout", 2)
+        return helper_argument(call, "timeout", methods.get(called))
     if isinstance(call.func, ast.Attribute) and call.func.attr in _SERVER_WAITS:
-        return _argument(call, None, "timeout_sec", 0)
+        signature = standin_api.signature(_SERVER_WAITS[call.func.attr], call.func.attr)
+        keywords = {k.arg: k.value for k in call.keywords if k.arg is not None}
+        try:
+            return signature.bind(*call.args, **keywords).arguments.get("timeout_sec")
+        except TypeError:
+            return None
     return None
 
 

@@ -13,15 +13,13 @@ message, an action's feedback) or asks a future whether it is done. It waits whe
 ``time.sleep``, a rate's ``sleep``, a ``wait_for_*``/``spin*`` function, or a method of the
 class that does one of these on every call. The skeleton's ``_wait_until``, ``_result_of`` and
 ``_transform`` do not: they sleep only until their data is there, and return at once after
-that. MR-1 rotate paced its control loop with ``_wait_until(lambda: self.odom_msg is not
-None, ...)`` and cap2skill rotate with ``_transform``; both loops spun a core once odometry
-had come.
+that: a control loop paced with ``_wait_until(lambda: self.odom_msg is not None, ...)`` or
+``_transform`` spins a core once the first odometry or transform has come.
 
 A loop's timeout must be a deadline. ``time.monotonic() > 5.0`` compares the clock's reading,
 seconds since an arbitrary start (the machine's boot), with a duration: it is true at once, so
-the loop gives up on its first pass. The 1.5B model wrote it for MR-1 rotate and
-navigate-to-point; the fix takes ``deadline = time.monotonic() + 5.0`` before the loop and
-compares with that.
+the loop gives up on its first pass. The fix takes ``deadline = time.monotonic() + 5.0``
+before the loop and compares with that.
 """
 
 from __future__ import annotations

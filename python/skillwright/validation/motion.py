@@ -1,18 +1,16 @@
 """A skill that never commands the motion its capability asks for, and a loop that waits for
 the robot to move when nothing commands it to (check ``motion``).
 
-The default model's cap2skill collision avoidance in the evaluation at d678df9 copied its
-velocity inputs into its outputs, slept for the requested time and stopped the base: no
-velocity was ever published, and the simulation saw a robot that never moved. A skill whose
-capability takes a speed (an input in m/s or rad/s) and which has a velocity publisher is
-flagged when no method of it publishes a command other than a zero one or sends a goal.
+A skill that copies its velocity inputs into its outputs, sleeps for the requested time and
+stops the base has moved nothing: a base moves only on the velocity commands it receives. A
+skill whose capability takes a speed (an input in m/s or rad/s) and which has a velocity
+publisher is flagged when no method of it publishes a command other than a zero one or sends
+a goal.
 
-The default model's cap2skill rotate in the evaluation at d678df9 read the heading once and
-then looped ``while math.degrees(abs(self._closest_reading(self.scan_msg)[1] - last_yaw)) <
-self.in_degree: time.sleep(0.05)``: no velocity was published anywhere in the skill, so the
-robot stood still, the reading never changed and the run gave up at the state's deadline.
-The run can only say that the state did not return; this check says why before anything
-runs.
+A loop that waits for a reading to change (``while abs(self._yaw(...) - start) <
+self.in_angle: time.sleep(0.05)``) while nothing in the skill commands the base waits
+forever: the robot stands still, the reading never changes and the state runs into its
+deadline, which a run can only report as a state that did not return.
 
 A ``while`` loop of ``starting`` or ``execute`` is flagged when the skill has a velocity
 publisher (a ``Twist`` or ``TwistStamped`` handle), the loop's condition, or an ``if`` in it
@@ -21,12 +19,10 @@ measurements`) with ``<``, ``>``, ``<=`` or ``>=`` (it waits for progress), and 
 state, nor ``starting`` before it, nor a method of the skill either calls, publishes a command
 other than a zero one or sends a goal or a request.
 
-The default model's MR-1 move forward in the evaluation at 1840a63 published its forward
-command once, before a ``while True`` loop that summed the odometry's steps until the distance
-was covered, and never again: the run's base, like ros2_control's diff_drive_controller,
-drops a command that is not repeated within half a second, so the robot stood still after
-0.5 s and the state ran into its deadline (the simulated MR-1, whose driver holds the last
-command, drove on, which a real base would not). A ``while`` loop of any method that sleeps,
+A forward command published once before a loop that waits for the distance moves a real
+base for half a second only: ros2_control's diff_drive_controller (and the run's base, which
+follows it) drops a velocity command that is not repeated within its timeout of 0.5 s, so
+the robot stops and the state runs into its deadline. A ``while`` loop of any method that sleeps,
 spins or calls a wait helper is flagged when the last velocity command published in its block
 before it is not a stop, and the loop neither publishes on that publisher (outside the
 branches that leave it) nor commands otherwise, and no timer of the skill could repeat it. The

@@ -10,9 +10,10 @@ The kinds, each found without running the code:
 - a method of the class called with arguments its definition does not take;
 - an attribute only ever set to ``None`` but read as an object (``self.start.x``).
 
-The rclpy names below are the public API of rclpy's ``Node``, ``Publisher``,
-``Subscription``, ``Client``, ``Timer``, ``Rate``, ``ActionClient`` and the logger, as far as
-skills use them.
+The rclpy, tf2 and pySkillUp names the checks accept are those of the sandbox's stand-ins
+(:mod:`skillwright.runtime.standin_api` reads them from their source), so that a call the
+checks pass is one the sandboxed run can make, and the two cannot disagree; the stand-ins
+follow rclpy (Humble/Jazzy), tf2_ros and pySkillUp where skills use them.
 """
 
 from __future__ import annotations
@@ -49,7 +50,7 @@ from skillwright.rules.api import (
 )
 from skillwright.rules.finding import Finding
 from skillwright.rules.registry import Rule
-from skillwright.spec.model import PACKML_STATES
+from skillwright.runtime import standin_api
 from skillwright.validation.syntax import (
     self_method,
     statement_holding,
@@ -66,148 +67,27 @@ __all__ = [
     "without_guard",
 ]
 
-PYSKILLUP_NAMES = frozenset({"skill", "skill_parameter", "skill_output", *PACKML_STATES})
+PYSKILLUP_NAMES = frozenset(standin_api.exported("pyskillup.decorators.decorators"))
 """What ``from pyskillup.decorators.decorators import *`` provides."""
 
-_LOGGER = frozenset(
-    {"debug", "info", "warning", "warn", "error", "fatal", "get_child", "set_level"}
-)
-
 RCLPY_API: dict[str, frozenset[str]] = {
-    "node": frozenset(
-        {
-            "get_logger",
-            "get_clock",
-            "get_name",
-            "get_namespace",
-            "get_fully_qualified_name",
-            "create_publisher",
-            "create_subscription",
-            "create_client",
-            "create_service",
-            "create_timer",
-            "create_rate",
-            "create_guard_condition",
-            "destroy_publisher",
-            "destroy_subscription",
-            "destroy_client",
-            "destroy_service",
-            "destroy_timer",
-            "destroy_rate",
-            "destroy_node",
-            "declare_parameter",
-            "declare_parameters",
-            "get_parameter",
-            "get_parameters",
-            "get_parameter_or",
-            "has_parameter",
-            "set_parameters",
-            "undeclare_parameter",
-            "add_on_set_parameters_callback",
-            "get_topic_names_and_types",
-            "get_service_names_and_types",
-            "get_node_names",
-            "count_publishers",
-            "count_subscribers",
-            "get_publishers_info_by_topic",
-            "get_subscriptions_info_by_topic",
-            "executor",
-            "context",
-            "handle",
-            "publishers",
-            "subscriptions",
-            "clients",
-            "timers",
-        }
-    ),
-    "publisher": frozenset(
-        {
-            "publish",
-            "destroy",
-            "get_subscription_count",
-            "topic_name",
-            "topic",
-            "qos_profile",
-            "handle",
-            "assert_liveliness",
-            "wait_for_all_acked",
-        }
-    ),
-    "subscription": frozenset(
-        {"destroy", "topic_name", "topic", "qos_profile", "handle", "msg_type", "callback"}
-    ),
-    "client": frozenset(
-        {
-            "call",
-            "call_async",
-            "wait_for_service",
-            "service_is_ready",
-            "remove_pending_request",
-            "destroy",
-            "srv_name",
-            "srv_type",
-            "handle",
-        }
-    ),
-    "action_client": frozenset(
-        {
-            "send_goal",
-            "send_goal_async",
-            "wait_for_server",
-            "server_is_ready",
-            "destroy",
-            "action_type",
-        }
-    ),
-    "timer": frozenset(
-        {
-            "cancel",
-            "reset",
-            "is_canceled",
-            "is_ready",
-            "destroy",
-            "timer_period_ns",
-            "time_since_last_call",
-            "time_until_next_call",
-            "handle",
-            "callback",
-        }
-    ),
-    "rate": frozenset({"sleep", "destroy"}),
-    "tf_listener": frozenset({"buffer", "unregister", "node"}),
-    "tf_buffer": frozenset(
-        {
-            "lookup_transform",
-            "lookup_transform_async",
-            "lookup_transform_full",
-            "lookup_transform_full_async",
-            "lookup_transform_core",
-            "lookup_transform_full_core",
-            "can_transform",
-            "can_transform_full",
-            "can_transform_core",
-            "can_transform_full_core",
-            "wait_for_transform_async",
-            "wait_for_transform_full_async",
-            "transform",
-            "transform_full",
-            "registration",
-            "set_transform",
-            "set_transform_static",
-            "clear",
-            "all_frames_as_string",
-            "all_frames_as_yaml",
-            "get_latest_common_time",
-            "clock",
-            "srv",
-            "jump_handle",
-            "time_jump_callback",
-        }
-    ),
-    "time": frozenset({"nanoseconds", "seconds_nanoseconds", "to_msg", "from_msg", "clock_type"}),
-    "logger": _LOGGER,
+    kind: standin_api.members(kind)
+    for kind in (
+        "node",
+        "publisher",
+        "subscription",
+        "client",
+        "action_client",
+        "timer",
+        "rate",
+        "tf_listener",
+        "tf_buffer",
+        "time",
+        "logger",
+    )
 }
-"""Attributes of rclpy's objects a skill may use, by the kind of object."""
+"""Attributes of rclpy's and tf2's objects a skill may use, by the kind of object: those of
+the sandbox's stand-ins (:mod:`skillwright.runtime.standin_api`)."""
 
 _MAKERS = {
     "create_publisher": "publisher",
@@ -233,7 +113,7 @@ _KIND_WORDS = {
     "logger": "the logger",
     "time": "an rclpy Time",
 }
-_BASE_ATTRIBUTES = frozenset({"node"})
+_BASE_ATTRIBUTES = standin_api.members("skill_base")
 """What pySkillUp's ``ROS2Skill`` gives a skill."""
 
 
@@ -300,8 +180,8 @@ def _undefined_message(name: str, tree: ast.Module) -> str:
                     f"{owner} stored on the skill{kept}, or get the value again here"
                 )
     if name[:1].islower():
-        # A variable, not a class: the demo's navigate-to-point read result after the checks
-        # took out its assignment from a method that returns nothing.
+        # A variable, not a class: a local read before any statement of the method assigns it
+        # (a fix may have taken out an assignment from a method that returns nothing).
         return (
             f"{name} is not defined: no statement of this method assigns it before it is "
             f"read; assign {name} first, or use what the skeleton defines"
@@ -431,9 +311,9 @@ def _ros2_call(call: ast.expr) -> str | None:
 
 def _from_ros1(tree: ast.Module, use: ast.Name) -> tuple[str, str | None] | None:
     """The message (and, when every use of rospy in the statement has a plain ROS 2
-    counterpart, the statement so translated) for ``rospy`` used in a ROS 2 skill: the
-    MR-1 move-to-point of the evaluation at d678df9 looked up a transform at
-    ``rospy.Duration(0.0)``."""
+    counterpart, the statement so translated) for ``rospy`` used in a ROS 2 skill
+    (``rospy.Duration(0.0)`` for a lookup's timeout): rospy is ROS 1's client library, which
+    a ROS 2 robot does not have."""
     statement = statement_holding(tree, use)
     if statement is None:
         return None
@@ -700,10 +580,9 @@ _LABEL_ENDS = (", ", "; ", " (", "\n")
 
 def _unlogged(cls: ast.ClassDef, node: ast.Attribute) -> str | None:
     """The log line holding ``node`` in an f-string's field without that field and its label
-    (the default model's MR-1 get-position in the evaluation at cf9631a logged
-    ``f"heading: {self.out_heading:.2f}, timestamp: {self._transform_time:.2f}"``, an
-    attribute nothing sets, and its repair wrote the line again): a log line reports, and one
-    value less is better than a state that raises AttributeError. The text after the field up
+    (``f"heading: {self.out_heading:.2f}, timestamp: {self._transform_time:.2f}"``, with an
+    attribute nothing sets): a log line reports, and one value less is better than a state
+    that raises AttributeError. The text after the field up
     to the next separator (its unit) goes with it."""
     statement = simple_statements(cls).get(id(node))
     if not (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)):
@@ -741,9 +620,9 @@ def _unlogged(cls: ast.ClassDef, node: ast.Attribute) -> str | None:
 
 def _underscored(cls: ast.ClassDef, node: ast.Attribute, defined: set[str]) -> str | None:
     """The simple statement holding ``node`` (``self._map_saver_client``) with the attribute
-    the class does set when the two differ only in leading underscores (ev70's MR-1 mapping
-    called ``self._map_saver_save_map_client`` for the skeleton's
-    ``self.map_saver_save_map_client``)."""
+    the class does set when the two differ only in leading underscores
+    (``self._map_saver_save_map_client`` for the skeleton's ``self.map_saver_save_map_client``):
+    Python's attribute names are exact, and the misspelt one raises AttributeError."""
     bare = node.attr.lstrip("_")
     meant = [d for d in defined if d != node.attr and d.lstrip("_") == bare]
     statement = simple_statements(cls).get(id(node))
@@ -956,15 +835,20 @@ def _latest_message_fix(
     return "\n".join(filter(None, [ready, text]))
 
 
-_GOAL_HANDLE = frozenset({"get_result_async", "cancel_goal_async", "accepted", "status"})
+_GOAL_HANDLE = standin_api.members("goal_handle") - standin_api.members("action_client")
 """What rclpy's ClientGoalHandle has that a model asks of the ActionClient."""
+
+
+_LOGGER_CALLS = RCLPY_API["logger"] - {"name"}
+"""The logger's methods: its one data attribute, ``name``, means something else on a handle
+(a topic's or a service's name), so a made-up ``X.name`` is not sent to the logger."""
 
 
 def _owner_of(attribute: str, kind: str) -> str | None:
     """Where ``attribute`` lives when it is the node's or the logger's, not ``kind``'s."""
     if kind != "node" and attribute in RCLPY_API["node"]:
         return "the node: self.node"
-    if kind != "logger" and attribute in RCLPY_API["logger"]:
+    if kind != "logger" and attribute in _LOGGER_CALLS:
         return "the logger: self.node.get_logger()"
     return None
 
@@ -1376,9 +1260,9 @@ def _stand_in(
 
 
 def _modules_as_numbers(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
-    """A module compared or computed with (``while time.monotonic() - start < time:``, ev71's
-    cap2skill collision avoidance after a local ``time`` was renamed in one statement and
-    not the next): it raises TypeError when it runs. When the method has one local that
+    """A module compared or computed with (``while time.monotonic() - start < time:``, after a
+    local ``time`` was renamed in one statement and not the next): it raises TypeError when
+    it runs. When the method has one local that
     stands for it, or the capability an input of its name, the statement uses that."""
     modules = _imported_modules(tree)
     defined, _ = _class_facts(cls)
@@ -1627,8 +1511,8 @@ def _with_timeout(
     call: ast.Call, signature: inspect.Signature, statement_of: dict[int, ast.stmt]
 ) -> str | None:
     """The statement holding ``call`` with :data:`HELPER_TIMEOUT` added as its last argument,
-    when the timeout is all the call leaves out (the default model's cap2skill get-position
-    in the evaluation at 48572ae: ``self._transform("base_link", "map")``)."""
+    when the timeout is all the call leaves out (``self._transform("map", "base_link")``):
+    the skeleton's waits take their timeout without a default, so that none waits forever."""
     statement = statement_of.get(id(call))
     parameters = list(signature.parameters)
     if statement is None or "timeout" not in parameters or call.keywords:
@@ -1659,16 +1543,15 @@ def check_names(
     return findings
 
 
-_FUTURE_API = frozenset({"done", "result", "add_done_callback", "cancelled", "exception"})
+_FUTURE_API = standin_api.members("future")
 """What an rclpy Future has and the response or result it gives does not."""
 
 
 def _waited_futures(cls: ast.ClassDef) -> list[Finding]:
     """A future's methods asked of what the skeleton's ``self._result_of(future, ...)``
-    returned: the response (or result) itself, which has none of them. The MR-1 mapping of
-    the evaluation, once its ``call_async(request, 5.0)`` was fixed into a
-    ``self._result_of``, still tested ``if not self.out_map.done(): raise ...`` and raised
-    in its run. A guard that only raises goes; ``X.result()`` becomes ``X``."""
+    returned: the response (or result) itself, a message, which has none of them
+    (``if not response.done(): raise ...`` raises AttributeError when it runs). A guard that
+    only raises goes; ``X.result()`` becomes ``X``."""
     calls = {id(n.func): n for n in ast.walk(cls) if isinstance(n, ast.Call) and not n.args}
     guards = _guards(cls)
     statement_of = simple_statements(cls)
@@ -1717,35 +1600,26 @@ def _waited_futures(cls: ast.ClassDef) -> list[Finding]:
     return findings
 
 
-def _rclpy_signature(*required: str, **optional: object) -> inspect.Signature:
-    kind = inspect.Parameter.POSITIONAL_OR_KEYWORD
-    return inspect.Signature(
-        [inspect.Parameter(n, kind) for n in required]
-        + [inspect.Parameter(n, kind, default=d) for n, d in optional.items()]
-    )
-
-
 _RCLPY_SIGNATURES = {
-    ("client", "call_async"): _rclpy_signature("request"),
-    ("client", "call"): _rclpy_signature("request", timeout_sec=None),
-    ("client", "wait_for_service"): _rclpy_signature(timeout_sec=None),
-    ("action_client", "send_goal_async"): _rclpy_signature(
-        "goal", feedback_callback=None, goal_uuid=None
-    ),
-    ("action_client", "send_goal"): _rclpy_signature(
-        "goal", feedback_callback=None, goal_uuid=None
-    ),
-    ("action_client", "wait_for_server"): _rclpy_signature(timeout_sec=None),
-    ("publisher", "publish"): _rclpy_signature("msg"),
+    (kind, method): standin_api.signature(kind, method)
+    for kind, method in (
+        ("client", "call_async"),
+        ("client", "call"),
+        ("client", "wait_for_service"),
+        ("action_client", "send_goal_async"),
+        ("action_client", "send_goal"),
+        ("action_client", "wait_for_server"),
+        ("publisher", "publish"),
+    )
 }
 """What rclpy's methods take (Humble and Jazzy), for the calls a model gets wrong."""
 
 
 def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
     """Calls of rclpy handles' methods with arguments the methods do not take, above all a
-    timeout handed to a call that gives a future at once (the MR-1 mapping of the
-    evaluation: ``client.call_async(request, 5.0)``, a TypeError in its run), and a number
-    where send_goal_async takes its feedback callback. A service call's timeout moves to the
+    timeout handed to a call that gives a future at once (``client.call_async(request, 5.0)``:
+    rclpy's call_async takes the request only, and raises TypeError), and a number where
+    send_goal_async takes its feedback callback. A service call's timeout moves to the
     skeleton's ``self._result_of``, which waits for the response."""
     defined, kinds = _class_facts(cls)
     statement_of = simple_statements(cls)
@@ -1807,8 +1681,8 @@ def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
 
 def _overwritten_methods(cls: ast.ClassDef) -> list[Finding]:
     """A method of the class replaced by a value (``self._closest_reading =
-    self._closest_reading(self.scan_msg)``, the MR-1 collision avoidance of the evaluation at
-    3ec2321): every later call of it raises TypeError ('tuple' object is not callable). The
+    self._closest_reading(self.scan_msg)``): every later call of it raises TypeError
+    ('tuple' object is not callable). The
     fix keeps the value in a local of the method's name."""
     methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef | ast.AsyncFunctionDef)}
     findings = []

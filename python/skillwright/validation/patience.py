@@ -1,10 +1,10 @@
 """A wait of the skill's own helpers given no time at all (check ``waits``).
 
 The skeleton's helpers that wait take their seconds as ``timeout``: ``_wait_until``,
-``_transform``, ``_result_of`` and the goal helpers. Given 0 (the default model's MR-1
-navigate-to-point in the demo at 3ec2321 looked the robot up with ``self._transform("map",
-"base_link", 0.0)``, reading the 0 as tf's "latest transform" stamp), such a wait gives up
-before the first message can come, and a run finds it only after another slow run. The fix
+``_transform``, ``_result_of`` and the goal helpers. Given 0 (``self._transform("map",
+"base_link", 0.0)`` reads like tf's "latest transform" stamp, ``Time()``, but is the helper's
+timeout), such a wait gives up before the first message can come: rclpy delivers messages
+and tf2's listener fills its buffer only while the skill waits. The fix
 gives the wait the skeleton's own two seconds; a run that finds them short lengthens them.
 """
 

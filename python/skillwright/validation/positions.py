@@ -4,9 +4,9 @@
 ``valid = [r for r in scan.ranges if math.isfinite(r)]`` and then
 ``index = valid.index(min(valid))``: the index counts the readings the filter kept, so once a
 reading before the nearest one was dropped, ``scan.angle_min + index * scan.angle_increment``
-is the bearing of another reading. The 1.5B model wrote exactly this for MR-1
-get-distance-to-nearest-object in every evaluation from ev41 to ev54, and the simulation saw a
-bearing off by 0.23 rad.
+is the bearing of another reading: a LaserScan's beam angle belongs to the index into its own
+``ranges``, and a scanner that reports NaN or inf for beams without a return (REP 117) makes
+every filtered index after them name the wrong beam.
 
 A method is flagged when it calls ``.index(...)`` on a name bound to a list comprehension that
 keeps elements of another sequence as they are (``[r for r in A if ...]``) and uses the

@@ -1,14 +1,14 @@
 """Giving up on a reading taken the moment after a command (check ``waits``).
 
-ev70's cap2skill set-velocity published the velocity, then at once::
+A skill that publishes a velocity and then at once::
 
     self._wait_until(lambda: self.odom_msg is not None, 30.0, "odometry on /odom")
     if abs(self.in_velocity - self.odom_msg.twist.twist.linear.x) > 0.05:
         raise RuntimeError(f"constraint violated: ...")
 
-The odometry it tests came in before the command: the robot has had no time to answer it,
-and the skill gives up on a robot that is fine ("constraint violated: 0.3 != 0.0"). The wait
-before it does not help, because the message was there already.
+tests odometry that came in before the command: a base takes time to accelerate, so the
+skill gives up on a robot that is fine ("constraint violated: 0.3 != 0.0"). The wait before
+it does not help, because the message was there already.
 
 A method's ``if TEST: raise ...`` (nothing else in its body, no ``else``) is flagged when an
 earlier statement of the method's body publishes or sends a goal, ``TEST`` reads a field of a

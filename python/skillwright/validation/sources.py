@@ -1,13 +1,13 @@
 """Where a skill can read the quantity an output reports, for the finding that it reports none.
 
 An output the capability measures (a distance in m, a heading in rad, a velocity in m/s) that
-a skill only ever sets to ``0.0`` reports a fixed number whatever the robot did. Told so, the
-1.5B model wrote ``self.out_distance = 0.0`` again in all four pairs that had it (ev61): it did
-not see which of its messages carries a distance. The skeleton keeps the latest message of each
-subscribed topic in an attribute declared in ``__init__`` (``self.odom_msg: Odometry | None``),
-so the finding can name the fields of those messages that carry a quantity of the output's
-unit, by what the message types are (an ``Odometry``'s position and twist, a ``LaserScan``'s
-ranges and beam angles), and how a skill gets the usual quantity out of them.
+a skill only ever sets to ``0.0`` reports a fixed number whatever the robot did. Being told
+so does not say which of its messages carries a distance. The skeleton keeps the latest
+message of each subscribed topic in an attribute declared in ``__init__`` (``self.odom_msg:
+Odometry | None``), so the finding can name the fields of those messages that carry a
+quantity of the output's unit, by what the message types are (an ``Odometry``'s position and
+twist, a ``LaserScan``'s ranges and beam angles), and how a skill gets the usual quantity out
+of them.
 """
 
 from __future__ import annotations

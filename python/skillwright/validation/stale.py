@@ -2,8 +2,7 @@
 
 ``last_angle = self._yaw()`` before ``while abs(last_angle - target) > 0.05:`` and no new
 reading inside the loop: the condition is decided once, so the loop turns the robot until its
-timeout raises, every time. The 1.5B model wrote exactly this for cap2skill rotate in every
-evaluation since ev46, and the run can only say that the state gave up.
+timeout raises, every time, and a run can only say that the state gave up.
 
 A loop is flagged when its condition reads local names (and nothing a callback or another
 method may change), calls nothing but pure arithmetic, and its body assigns none of those
@@ -54,7 +53,7 @@ def _stale_exit(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> 
     """``while True:`` whose ``if TEST: break`` decides on names nothing in the loop reads
     again: TEST's own names, through the values the loop works out from others before it
     (``remaining = (target - current) % (2 * math.pi)`` from ``current`` read once before
-    the loop, the MR-1 rotate of the evaluation at 3ec2321). The fix reads again, first thing
+    the loop). The fix reads again, first thing
     in each pass, the names last read from the skill before the loop."""
     if not (isinstance(loop.test, ast.Constant) and loop.test.value is True):
         return None

@@ -98,6 +98,7 @@ from skillwright.validation.settle import check_settling
 from skillwright.validation.sources import measuring_sources, raw_scans
 from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
+from skillwright.validation.syntax import helper_argument
 from skillwright.validation.units import check_angle_units
 from skillwright.validation.unsent import check_unsent
 from skillwright.validation.views import check_views
@@ -637,8 +638,9 @@ _SAME_AS_FIRST = {
     ("geometry_msgs/msg/TransformStamped", "position"): ("transform", "translation"),
     ("geometry_msgs/msg/TransformStamped", "orientation"): ("transform", "rotation"),
 }
-"""A pose's own fields asked of a transform (``transform.orientation``: the MR-1 demo's
-navigate-to-point read the heading of ``self._transform(...)`` so)."""
+"""A pose's own fields asked of a transform (``transform.orientation``): a
+TransformStamped's ``transform`` has ``translation`` and ``rotation``, a Pose ``position``
+and ``orientation``."""
 
 
 def _missing_field(
@@ -1000,9 +1002,9 @@ def _message_bindings(
     """Per method: which local names / self attributes hold which message type (``returns``:
     the class's methods annotated to return a message, as :func:`_returned_messages` finds).
     A name given a part of a message (``twist = self.odom_msg.twist``) holds
-    ``type#path`` (``nav_msgs/msg/Odometry#twist``): ev70's MR-1 set-velocity then read
-    ``twist.linear.x``, which the run found missing and the checks did not. The second pass
-    sees the attributes every method stores."""
+    ``type#path`` (``nav_msgs/msg/Odometry#twist``): an Odometry's ``twist`` is a
+    TwistWithCovariance, so ``twist.linear.x`` is missing (it is ``twist.twist.linear.x``).
+    The second pass sees the attributes every method stores."""
     callbacks = {u.callback: u.type_name for u in uses if u.callback and u.type_name}
     stored: dict[str, str] = {}
     per_method: dict[str, dict[str, str]] = {}
@@ -1180,18 +1182,22 @@ _ORIENTATIONS = {
 def _check_yaw_arguments(
     ctx: _Context, cls: ast.ClassDef, bindings: dict[str, dict[str, str]]
 ) -> None:
-    """The skeleton's ``self._yaw(q)`` handed a whole message (``self._yaw(transform)``, as
-    ev73's MR-1 get-position did after a worked example that wrote ``_yaw`` for odometry):
-    it takes the quaternion, and the fix hands it the message's orientation."""
+    """The skeleton's ``self._yaw(q)`` handed a whole message (``self._yaw(transform)``): it
+    takes the quaternion, which a message has no x, y, z, w of its own for (AttributeError),
+    and the fix hands it the message's orientation."""
     for call, bound, statement in _helper_calls(cls, "_yaw", bindings):
-        if len(call.args) != 1:
+        given = helper_argument(call, "q")
+        if given is None or len(call.args) + len(call.keywords) != 1:
             continue
-        argument = ast.unparse(call.args[0])
+        argument = ast.unparse(given)
         key = bound.get(argument)
         path = _ORIENTATIONS.get(key or "")
         if path is None:
             continue
-        fix = _replaced_once(statement, f"self._yaw({argument})", f"self._yaw({argument}.{path})")
+        named = "q=" if call.keywords else ""
+        fix = _replaced_once(
+            statement, f"self._yaw({named}{argument})", f"self._yaw({named}{argument}.{path})"
+        )
         ctx.add(
             YAW_OF_MESSAGE,
             call,
@@ -1230,11 +1236,11 @@ def _check_heading_arguments(
     ctx: _Context, cls: ast.ClassDef, bindings: dict[str, dict[str, str]]
 ) -> None:
     """The skeleton's ``self._pose_goal(frame, x, y, yaw)`` handed an orientation for the
-    heading (a quaternion, or a whole odometry, pose or transform; the MR-1 demo's
-    navigate-to-point handed it the transform's orientation): it takes the angle in radians,
-    and the fix hands it ``self._yaw()`` of the quaternion."""
+    heading (a quaternion, or a whole odometry, pose or transform): it takes the angle in
+    radians, which ``math.sin`` of a message raises TypeError on, and the fix hands it
+    ``self._yaw()`` of the quaternion."""
     for call, bound, statement in _helper_calls(cls, "_pose_goal", bindings):
-        heading = call.args[3] if len(call.args) == 4 else _keyword(call, "yaw")
+        heading = helper_argument(call, "yaw")
         if heading is None:
             continue
         text = ast.unparse(heading)
@@ -1259,8 +1265,8 @@ def _check_heading_arguments(
 def _positional_fields(
     ctx: _Context, call: ast.Call, tree: FieldTree, key: str, statement: ast.stmt | None
 ) -> None:
-    """A message made with positional arguments (``Vector3(0.0, 0.0, bearing)``, ev70's
-    cap2skill mapping): a ROS 2 message takes its fields as keywords only, and raises
+    """A message made with positional arguments (``Vector3(0.0, 0.0, bearing)``): a ROS 2
+    message takes its fields as keywords only, and raises
     TypeError. The fix names each argument by the field in its place."""
     names = [n for n in tree if n not in {k.arg for k in call.keywords}]
     fix = None
@@ -1424,8 +1430,8 @@ def _check_arguments(
                 if text.count(ast.unparse(call.args[0])) == 1:
                     replacement = text.replace(ast.unparse(call.args[0]), made)
             elif len(fitting) == 1:
-                # the message is right and the handle wrong: on a Panther the model published
-                # its Twist on the arm's Float64MultiArray controller topic beside /panther/cmd_vel
+                # the message is right and the handle wrong: a Twist published on a handle of
+                # another type (an arm's Float64MultiArray controller beside the base's cmd_vel)
                 message += f"; {fitting[0]} takes a {given}: {attr} it there"
                 if text.count(f"{receiver}.{attr}(") == 1:
                     replacement = text.replace(f"{receiver}.{attr}(", f"{fitting[0]}.{attr}(")
@@ -1538,9 +1544,9 @@ _NUMERIC_ANNOTATIONS = frozenset({"float", "int"})
 
 def _numeric_callables(cls: ast.ClassDef, attributes: AbstractSet[str]) -> set[str]:
     """``self.<name>()`` for the methods of the class that return a number (annotated so, or
-    every value they return is one) and the lambdas it keeps on itself that do: the MR-1
-    move-forward of the evaluation at d678df9 kept ``self._clipped_speed = lambda speed:
-    min(...)`` and published ``Twist(linear=self._clipped_speed(v))``."""
+    every value they return is one) and the lambdas it keeps on itself that do
+    (``self._clipped_speed = lambda speed: min(...)``, then
+    ``Twist(linear=self._clipped_speed(v))``, a number where a Vector3 goes)."""
     out: set[str] = set()
     methods = [n for n in cls.body if isinstance(n, ast.FunctionDef)]
     for method in methods:
@@ -1877,8 +1883,8 @@ def _helper_reading(
     """A store of a literal in ``self.<attr>`` in a method that calls the skeleton's
     ``self._closest_reading(scan)``, for an output in metres or in an angle unit: the
     store, the method and the element of the helper's answer that the output reports (its
-    bearing in the output's unit, or its distance). ev72's MR-1 collision avoidance stored the
-    nearest distance from the helper and 0.0 as its bearing."""
+    bearing in the output's unit, or its distance): the helper gives both, and a literal
+    reports the same number whatever the scan showed."""
     unit = next((p.element.unit for p in capability.outputs if p.name == name), None)
     unit = (unit or "").strip().lower()
     if unit == "m":
@@ -1916,9 +1922,8 @@ def _helper_reading(
 def _worked_out_local(cls: ast.ClassDef, attr: str) -> tuple[ast.Assign, str, str] | None:
     """A store of a literal in ``self.<attr>`` that follows, in the same method, a local of
     the output's name (``out_obstacle_degree``, else ``obstacle_degree``) given a computed
-    value, not a copy of an input: the store, the method and the local. The 1.5B model wrote
-    exactly that in cap2skill's collision avoidance in ev61, ev64 and ev69: it worked the
-    bearing and distance out into locals and stored 0.0 in the outputs."""
+    value, not a copy of an input: the store, the method and the local. The value worked out
+    is what the output should report; the literal reports a fixed number."""
     names = {attr, attr.removeprefix("out_")}
     for method in cls.body:
         if not isinstance(method, ast.FunctionDef) or method.name in {"__init__", "resetting"}:
@@ -2009,8 +2014,8 @@ def _only_constants(values: list[ast.expr | None]) -> bool:
 def _refusals(method: ast.FunctionDef) -> set[int]:
     """``id`` of every node of the refusals in ``method``: an ``if`` without ``else`` whose
     body only raises (after logging, perhaps), test and body. An input read only there is
-    checked, not used (ev69's MR-1 collision avoidance refused a non-positive minimum
-    distance in starting and then stopped at a distance it took from the scan)."""
+    checked, not used (a non-positive minimum distance refused in starting, and then a stop
+    at a distance taken from somewhere else)."""
     out: set[int] = set()
     for node in ast.walk(method):
         if (
@@ -2026,8 +2031,8 @@ def _refusals(method: ast.FunctionDef) -> set[int]:
 def _idle_copies(method: ast.FunctionDef, refusals: AbstractSet[int]) -> dict[int, str]:
     """``id`` of the ``self.<attr>`` of each ``local = self.<attr>`` in ``method`` whose local
     nothing in the method reads but the ``refusals`` (node ids) -> the local. ``local =
-    local`` reads nothing (ev72's MR-1 collision avoidance copied its minimum distance, refused
-    a bad one, wrote ``min_obstacle_distance = min_obstacle_distance`` and used it nowhere)."""
+    local`` reads nothing (``min_obstacle_distance = min_obstacle_distance`` after a copy of
+    the input that only a refusal reads)."""
     no_ops = {
         id(node.value)
         for node in ast.walk(method)

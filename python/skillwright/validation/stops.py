@@ -1,14 +1,14 @@
 """Loops that stop the robot on every pass while they wait for it to move (check ``stops``).
 
-MR-1 rotate (ev48-ev50) published its turn once before the loop and then, on every pass of
-the loop that waits for the heading, ``self.cmd_vel_publisher.publish(Twist())``: a zero
-velocity. The base stops after the first pass, the heading never arrives, and the state gives
-up. The run can say that nothing was moving; this check says why, and where.
+A turn published once before a loop that waits for the heading, and in the loop, on every
+pass, ``self.cmd_vel_publisher.publish(Twist())``: a zero velocity, which a base obeys at
+once. The base stops after the first pass, the heading never arrives, and the state gives
+up. A run can say that nothing was moving; this check says why, and where.
 
 A loop is flagged when every velocity command it publishes on a publisher, outside the
 branches that leave it (``if ...: publish(Twist()); raise``, the stop before giving up), is a
 zero ``Twist()`` or ``TwistStamped()``, or a call of a method that only publishes those (the
-skeleton's ``_stop_base()``, which the model called inside MR-1 rotate's loop in ev51), and
+skeleton's ``_stop_base()``), and
 the last command published on it before the loop, in the same block, is one whose fields
 were set. The fix publishes that command
 in the loop instead.

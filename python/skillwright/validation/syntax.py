@@ -6,12 +6,14 @@ import ast
 import copy
 from collections.abc import Callable
 
+from skillwright.generation.helpers import helper_signature
 from skillwright.rules.finding import Finding
 from skillwright.rules.registry import Rule
 
 __all__ = [
     "blocks",
     "error_at",
+    "helper_argument",
     "self_method",
     "skips_its_end",
     "statement_holding",
@@ -83,6 +85,30 @@ def self_method(call: ast.Call) -> str | None:
     if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
         return func.attr if func.value.id == "self" else None
     return None
+
+
+def helper_argument(
+    call: ast.Call, parameter: str, definition: ast.FunctionDef | None = None
+) -> ast.expr | None:
+    """The argument ``call`` of a skeleton helper passes for ``parameter``: by keyword, else
+    at the parameter's position in the skill's own definition of the helper
+    (``definition``, when it has one), else in the skeleton's
+    (:func:`~skillwright.generation.helpers.helper_signature`)."""
+    for keyword in call.keywords:
+        if keyword.arg == parameter:
+            return keyword.value
+    if definition is not None:
+        positional = [a.arg for a in definition.args.args if a.arg != "self"]
+    else:
+        name = self_method(call)
+        try:
+            positional = [] if name is None else list(helper_signature(name).parameters)
+        except LookupError:
+            positional = []
+    if parameter not in positional:
+        return None
+    position = positional.index(parameter)
+    return call.args[position] if position < len(call.args) else None
 
 
 def with_node_replaced(

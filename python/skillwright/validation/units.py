@@ -1,11 +1,10 @@
 """Angles in degrees and in radians mixed up (check ``units``).
 
 The paper's capabilities give bearings and headings in degrees (``outDegree [°]``); LaserScan
-angles, ``math.atan2`` and every yaw worked out from a quaternion are in radians. The 1.5B
-model wrote ``self.out_degree = scan.angle_min + scan.angle_increment * index`` for
-get-distance-to-nearest-object in every evaluation from ev46 to ev56 (the simulation saw
-3.07 reported for 176 degrees), and ``(self.in_degree + self._yaw()) % 360`` for rotate in
-most of them. It also reported a quaternion's ``rotation.z`` as an angle.
+angles, ``math.atan2`` and every yaw worked out from a quaternion are in radians (REP 103).
+``self.out_degree = scan.angle_min + scan.angle_increment * index`` reports 3.07 for an
+obstacle at 176 degrees, ``(self.in_degree + self._yaw()) % 360`` adds degrees to radians,
+and a quaternion's ``rotation.z`` is no angle at all (for a pure yaw it is sin(yaw / 2)).
 
 Each expression gets the unit it evidently has, with the reason:
 
@@ -20,8 +19,8 @@ Each expression gets the unit it evidently has, with the reason:
 
 The skeleton's ``_closest_reading()`` returns a distance in metres beside the bearing. An
 angle multiplied by that distance (``scan.angle_increment * self._closest_reading(scan)[0]``,
-the model's old index formula fed the helper's range, cap2skill collision avoidance in ev71)
-is no angle at all: the finding says so, and the fix takes the helper's bearing instead.
+an index formula fed the helper's range) is no angle at all: the finding says so, and the
+fix takes the helper's bearing instead.
 
 A finding needs both sides known: a sum or comparison of degrees and radians, a value in
 radians stored in an output in degrees (or the other way round), a quaternion component used

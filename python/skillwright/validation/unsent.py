@@ -1,9 +1,9 @@
 """Commands built and never sent (check ``unsent``).
 
-MR-1 set-velocity (ev59) built ``command = Twist()``, set its linear and angular speed, waited
-for the odometry to show them and stored ``command.linear.x`` as an output: nothing ever
-published the command, so the base never moved and the wait gave up. The run saw a timeout;
-this check says why before anything runs.
+A skill that builds ``command = Twist()``, sets its linear and angular speed, waits for the
+odometry to show them and stores ``command.linear.x`` as an output has commanded nothing: a
+message reaches the base only through ``publish``, so the base never moves and the wait gives
+up. A run sees a timeout; this check says why before anything runs.
 
 A local variable is flagged when it is assigned a message the class publishes (the type a
 ``create_publisher`` of the class names), an action goal (``NavigateToPose.Goal()`` for an

@@ -2,15 +2,13 @@
 
 A run that gives up twice on the same wait, the second time with most of the state's
 deadline, or that sits in a loop until the deadline, says that waiting longer is not the
-fix; it does not say why the condition never held. The small models get there three ways,
-and each needs another repair:
+fix; it does not say why the condition never held. There are three ways to get there, and
+each needs another repair:
 
-* the condition never changes: the loop compares a heading it read once, before the loop
-  (cap2skill rotate, ev49);
-* the robot goes past its goal between two passes: MR-1 rotate turned 0.04 rad per pass
-  and waited for ``abs(remaining_angle)`` to drop below 0.01, so it turned through its
-  target on every revolution (ev60), and cap2skill rotate swung about its target by
-  0.86 degrees a pass, waiting for 0.05;
+* the condition never changes: the loop compares a heading it read once, before the loop;
+* the robot goes past its goal between two passes: a base turning 0.04 rad per pass never
+  sees ``abs(remaining_angle)`` below 0.01, and turns through its target on every
+  revolution (the tolerance must exceed what the robot moves between two readings);
 * the robot moves away from its goal: the command's sign is wrong.
 
 This module finds the comparison such a wait tests (:func:`watch_at`), gives the skill

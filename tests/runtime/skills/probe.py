@@ -108,6 +108,22 @@ class Probe(ROS2Skill):
             publisher.publish(Vector3())
         except TypeError as error:
             log(f"publish {error}")
+        publishers = self.node.get_publishers_info_by_topic("/odom")
+        log(
+            f"odom publishers {[(p.node_name, p.topic_type, p.qos_profile.reliability.name) for p in publishers]}"
+        )
+        mine = self.node.get_publishers_info_by_topic("cmd_vel")
+        log(
+            f"cmd_vel publishers {[(p.node_name, p.endpoint_type.name, p.qos_profile.depth) for p in mine]}"
+        )
+        readers = self.node.get_subscriptions_info_by_topic("/scan")
+        log(f"scan subscriptions {sorted(p.node_name for p in readers)}")
+        self.node.declare_parameters("limits", [("speed", 0.5), ("turn", 1.0)])
+        log(f"parameters {sorted(self.node.get_parameters_by_prefix('limits'))}")
+        self.node.undeclare_parameter("limits.turn")
+        log(
+            f"parameters {sorted(self.node.get_parameters_by_prefix('limits'))} {self.node.get_node_names_and_namespaces()}"
+        )
         buffer = Buffer()
         listener = TransformListener(buffer, self.node)
         time.sleep(0.5)

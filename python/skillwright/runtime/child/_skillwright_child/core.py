@@ -198,7 +198,7 @@ class Core:
             if ready is not None and ready():
                 return True
             timer = self._next_timer()
-            due = timer.next_due if timer is not None else None
+            due = timer._next_due if timer is not None else None
             head = float(self.pending[0]["t"]) if self.pending else None
             if head is not None and (due is None or head <= due):
                 if until is None or head <= until:
@@ -207,7 +207,7 @@ class Core:
                     continue
             elif due is not None and due <= self.horizon and (until is None or due <= until):
                 self._set_now(due)
-                timer.fire()
+                timer._fire()
                 continue
             if until is not None and until <= self.horizon:
                 self._set_now(until)
@@ -233,7 +233,7 @@ class Core:
         wait ends (no other thread runs; every handle's callbacks only store)."""
         if threading.active_count() != 1:
             return False
-        return all(getattr(h, "quiet", _loud)() for h in self.handles.values())
+        return all(getattr(h, "_quiet", _loud)() for h in self.handles.values())
 
     def side_wait(self, until: float | None, ready: Callable[[], bool] | None = None) -> bool:
         """A wait on a thread the skill started: woken by the main thread's advances."""
@@ -281,7 +281,7 @@ class Core:
     def _next_timer(self) -> Any:
         best = None
         for timer in self.timers.values():
-            if timer.active and (best is None or timer.next_due < best.next_due):
+            if timer._active and (best is None or timer._next_due < best._next_due):
                 best = timer
         return best
 
@@ -293,7 +293,7 @@ class Core:
         if handle is None:
             return
         self.dispatched += 1
-        handle.deliver(delivery)
+        handle._deliver(delivery)
 
     def message(self, type_name: str, data: dict) -> Any:
         """A message object of ``type_name`` from the host's data."""

@@ -12,6 +12,7 @@ import re
 
 from _skillwright_child.core import core, quiet
 
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 from rclpy.clock import Clock, ROSClock
 from rclpy.exceptions import (
     InvalidServiceNameException,
@@ -22,9 +23,18 @@ from rclpy.exceptions import (
 )
 from rclpy.logging import RcutilsLogger
 from rclpy.parameter import Parameter
-from rclpy.qos import QoSProfile, describe, profile_of, qos_profile_services_default
+from rclpy.qos import (
+    DurabilityPolicy,
+    HistoryPolicy,
+    QoSProfile,
+    ReliabilityPolicy,
+    describe,
+    profile_of,
+    qos_profile_services_default,
+)
 from rclpy.task import Future
 from rclpy.timer import Rate, Timer
+from rclpy.topic_endpoint_info import TopicEndpointInfo, TopicEndpointTypeEnum
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -72,15 +82,16 @@ class Publisher:
         self.msg_type = msg_type
         self.topic = topic
         self.qos_profile = qos
-        self.id = c.new_id()
+        self._id = c.new_id()
         self._node = node
-        c.handles[self.id] = self
+        self._type_name = _type_name(msg_type, "msg_type")
+        c.handles[self._id] = self
         c.notify(
             "endpoint",
-            id=self.id,
+            id=self._id,
             kind="publisher",
             name=topic,
-            type=_type_name(msg_type, "msg_type"),
+            type=self._type_name,
             qos=describe(qos),
             line=c.skill_line(),
         )
@@ -93,17 +104,24 @@ class Publisher:
         if not isinstance(msg, self.msg_type):
             raise TypeError(f"Expected {self.msg_type}, got {type(msg)}")
         c = core()
-        if self.id not in c.handles:
+        if self._id not in c.handles:
             raise RuntimeError(f"the publisher of {self.topic} was destroyed")
-        c.notify("publish", id=self.id, msg=c.data(msg), line=c.skill_line())
+        c.notify("publish", id=self._id, msg=c.data(msg), line=c.skill_line())
 
     def get_subscription_count(self) -> int:
         return int(core().request("count", what="subscribers", name=self.topic)["count"])
 
-    def deliver(self, delivery: dict) -> None:
+    def assert_liveliness(self) -> None:
+        """Nothing to do: the simulated graph's liveliness is automatic."""
+
+    def wait_for_all_acked(self, timeout: object = None) -> bool:
+        """True at once: the simulated graph takes every message when it is published."""
+        return True
+
+    def _deliver(self, delivery: dict) -> None:
         return None
 
-    def quiet(self) -> bool:
+    def _quiet(self) -> bool:
         return True
 
     def destroy(self) -> None:
@@ -128,16 +146,16 @@ class Subscription:
         self.topic = topic
         self.callback = callback
         self.qos_profile = qos
-        self.id = c.new_id()
+        self._id = c.new_id()
         self._node = node
         self._type_name = _type_name(msg_type, "msg_type")
-        self.quiet_callback: Callable[[], bool] | None = None
+        self._quiet_callback: Callable[[], bool] | None = None
         """Set by the runtime's own stand-ins whose callbacks only store."""
-        self._quiet: tuple[type, bool] | None = None
-        c.handles[self.id] = self
+        self._quiet_owner: tuple[type, bool] | None = None
+        c.handles[self._id] = self
         c.notify(
             "endpoint",
-            id=self.id,
+            id=self._id,
             kind="subscription",
             name=topic,
             type=self._type_name,
@@ -149,17 +167,17 @@ class Subscription:
     def topic_name(self) -> str:
         return self.topic
 
-    def deliver(self, delivery: dict) -> None:
+    def _deliver(self, delivery: dict) -> None:
         self.callback(core().message(self._type_name, delivery["data"]))
 
-    def quiet(self) -> bool:
-        if self.quiet_callback is not None:
-            return self.quiet_callback()
+    def _quiet(self) -> bool:
+        if self._quiet_callback is not None:
+            return self._quiet_callback()
         # The skill's class may change after the subscription is made (the driver's watch).
         owner = type(getattr(self.callback, "__self__", None))
-        if self._quiet is None or self._quiet[0] is not owner:
-            self._quiet = (owner, quiet(self.callback))
-        return self._quiet[1]
+        if self._quiet_owner is None or self._quiet_owner[0] is not owner:
+            self._quiet_owner = (owner, quiet(self.callback))
+        return self._quiet_owner[1]
 
     def destroy(self) -> None:
         self._node.destroy_subscription(self)
@@ -172,15 +190,15 @@ class Client:
         c = core()
         self.srv_type = srv_type
         self.srv_name = srv_name
-        self.id = c.new_id()
+        self._id = c.new_id()
         self._node = node
         self._type_name = _type_name(srv_type, "srv_type service")
         self._pending: dict[int, Future] = {}
         self._sequence = 0
-        c.handles[self.id] = self
+        c.handles[self._id] = self
         c.notify(
             "endpoint",
-            id=self.id,
+            id=self._id,
             kind="client",
             name=srv_name,
             type=self._type_name,
@@ -203,13 +221,13 @@ class Client:
         if not isinstance(request, self.srv_type.Request):  # type: ignore[attr-defined]
             raise TypeError(f"Expected {self.srv_type.Request}, got {type(request)}")  # type: ignore[attr-defined]
         c = core()
-        if self.id not in c.handles:
+        if self._id not in c.handles:
             raise RuntimeError(f"the client of {self.srv_name} was destroyed")
         self._sequence += 1
         future = Future()
         self._pending[self._sequence] = future
         c.notify(
-            "call", id=self.id, seq=self._sequence, request=c.data(request), line=c.skill_line()
+            "call", id=self._id, seq=self._sequence, request=c.data(request), line=c.skill_line()
         )
         return future
 
@@ -228,13 +246,13 @@ class Client:
             if pending is future:
                 del self._pending[sequence]
 
-    def deliver(self, delivery: dict) -> None:
+    def _deliver(self, delivery: dict) -> None:
         future = self._pending.pop(int(delivery["seq"]), None)
         if future is not None and not future.done():
             future.set_result(core().message(self._type_name + "_Response", delivery["data"]))
 
-    def quiet(self) -> bool:
-        return not any(future.has_callbacks() for future in self._pending.values())
+    def _quiet(self) -> bool:
+        return not any(future._has_callbacks() for future in self._pending.values())
 
     def destroy(self) -> None:
         self._node.destroy_client(self)
@@ -248,12 +266,12 @@ class Service:
         self.srv_type = srv_type
         self.srv_name = srv_name
         self.callback = callback
-        self.id = c.new_id()
+        self._id = c.new_id()
         self._node = node
-        c.handles[self.id] = self
+        c.handles[self._id] = self
         c.notify(
             "endpoint",
-            id=self.id,
+            id=self._id,
             kind="service",
             name=srv_name,
             type=_type_name(srv_type, "srv_type service"),
@@ -261,10 +279,10 @@ class Service:
             line=c.skill_line(),
         )
 
-    def deliver(self, delivery: dict) -> None:
+    def _deliver(self, delivery: dict) -> None:
         return None
 
-    def quiet(self) -> bool:
+    def _quiet(self) -> bool:
         return True
 
     def destroy(self) -> None:
@@ -310,6 +328,7 @@ class Node:
         self._allow_undeclared = allow_undeclared_parameters
         self._handles: list[Any] = []
         self._timers: list[Timer] = []
+        self._default_callback_group = MutuallyExclusiveCallbackGroup()
         self._destroyed = False
         core().notify("node", name=node_name, namespace=self._namespace, line=core().skill_line())
 
@@ -335,12 +354,25 @@ class Node:
         return None
 
     @property
+    def default_callback_group(self) -> MutuallyExclusiveCallbackGroup:
+        """The group of every callback not given one (rclpy's default: mutually exclusive)."""
+        return self._default_callback_group
+
+    @property
     def publishers(self) -> list[Publisher]:
         return [h for h in self._handles if isinstance(h, Publisher)]
 
     @property
     def subscriptions(self) -> list[Subscription]:
         return [h for h in self._handles if isinstance(h, Subscription)]
+
+    @property
+    def clients(self) -> list[Client]:
+        return [h for h in self._handles if isinstance(h, Client)]
+
+    @property
+    def services(self) -> list[Service]:
+        return [h for h in self._handles if isinstance(h, Service)]
 
     @property
     def timers(self) -> list[Timer]:
@@ -438,9 +470,9 @@ class Node:
         c = core()
         if handle in self._handles:
             self._handles.remove(handle)
-        if c.handles.pop(handle.id, None) is None:
+        if c.handles.pop(handle._id, None) is None:
             return False
-        c.notify("destroy", id=handle.id, line=c.skill_line())
+        c.notify("destroy", id=handle._id, line=c.skill_line())
         return True
 
     def destroy_publisher(self, publisher: Publisher) -> bool:
@@ -493,6 +525,68 @@ class Node:
     def get_node_names(self) -> list[str]:
         return [self._name]
 
+    def get_node_names_and_namespaces(self) -> list[tuple[str, str]]:
+        return [(self._name, self._namespace)]
+
+    def get_publishers_info_by_topic(
+        self, topic_name: str, no_mangle: bool = False
+    ) -> list[TopicEndpointInfo]:
+        return self._endpoints_info(topic_name, no_mangle, Publisher)
+
+    def get_subscriptions_info_by_topic(
+        self, topic_name: str, no_mangle: bool = False
+    ) -> list[TopicEndpointInfo]:
+        return self._endpoints_info(topic_name, no_mangle, Subscription)
+
+    def _endpoints_info(
+        self, topic_name: str, no_mangle: bool, kind: type[Publisher | Subscription]
+    ) -> list[TopicEndpointInfo]:
+        """The skill's own endpoints of the topic (of every node it made), then the robot's,
+        whose node discovery does not name (rmw's ``_NODE_NAME_UNKNOWN_``) and whose history
+        DDS does not share."""
+        c = core()
+        name = topic_name if no_mangle else self._expand(topic_name)
+        endpoint_type = (
+            TopicEndpointTypeEnum.PUBLISHER
+            if kind is Publisher
+            else TopicEndpointTypeEnum.SUBSCRIPTION
+        )
+        infos = [
+            TopicEndpointInfo(
+                node_name=handle._node.get_name(),
+                node_namespace=handle._node.get_namespace(),
+                topic_type=handle._type_name,
+                endpoint_type=endpoint_type,
+                endpoint_gid=[(handle._id >> (8 * i)) & 0xFF for i in range(16)],
+                qos_profile=handle.qos_profile,
+            )
+            for handle in c.handles.values()
+            if isinstance(handle, kind) and handle.topic == name
+        ]
+        what = "publishers" if kind is Publisher else "subscribers"
+        for entry in c.request("endpoints", what=what, name=name)["endpoints"]:
+            qos = QoSProfile(
+                history=HistoryPolicy.UNKNOWN,
+                reliability={
+                    "reliable": ReliabilityPolicy.RELIABLE,
+                    "best_effort": ReliabilityPolicy.BEST_EFFORT,
+                }.get(entry["reliability"], ReliabilityPolicy.UNKNOWN),
+                durability={
+                    "volatile": DurabilityPolicy.VOLATILE,
+                    "transient_local": DurabilityPolicy.TRANSIENT_LOCAL,
+                }.get(entry["durability"], DurabilityPolicy.UNKNOWN),
+            )
+            infos.append(
+                TopicEndpointInfo(
+                    node_name="_NODE_NAME_UNKNOWN_",
+                    node_namespace="_NODE_NAMESPACE_UNKNOWN_",
+                    topic_type=entry["type"],
+                    endpoint_type=endpoint_type,
+                    qos_profile=qos,
+                )
+            )
+        return infos
+
     # --- parameters ----------------------------------------------------------------
 
     def declare_parameter(
@@ -523,6 +617,11 @@ class Node:
     def has_parameter(self, name: str) -> bool:
         return name in self._parameters
 
+    def undeclare_parameter(self, name: str) -> None:
+        if name not in self._parameters:
+            raise ParameterNotDeclaredException(name)
+        del self._parameters[name]
+
     def get_parameter(self, name: str) -> Parameter:
         if name in self._parameters:
             return self._parameters[name]
@@ -537,6 +636,15 @@ class Node:
 
     def get_parameters(self, names: list[str]) -> list[Parameter]:
         return [self.get_parameter(name) for name in names]
+
+    def get_parameters_by_prefix(self, prefix: str) -> dict[str, Parameter]:
+        """The parameters under ``prefix.``, by their names without it (all without one)."""
+        start = f"{prefix}." if prefix else ""
+        return {
+            name[len(start) :]: parameter
+            for name, parameter in self._parameters.items()
+            if name.startswith(start)
+        }
 
     def set_parameters(self, parameter_list: list[Parameter]) -> list[object]:
         from types import SimpleNamespace

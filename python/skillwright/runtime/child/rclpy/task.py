@@ -50,7 +50,7 @@ class Future:
         self._state = "finished"
         self._run_callbacks()
 
-    def has_callbacks(self) -> bool:
+    def _has_callbacks(self) -> bool:
         """Whether finishing this future runs callbacks (the runtime's own question)."""
         return bool(self._callbacks)
 

@@ -19,26 +19,25 @@ class Timer:
             raise ValueError(f"timer period must be positive, got {period_sec}")
         c = core()
         self.callback = callback
-        self.period = float(period_sec)
+        self._period = float(period_sec)
         self._canceled = not autostart
         self._last = c.now
-        self.next_due = c.now + self.period
-        self.id = c.new_id()
-        self.line = c.skill_line()
-        c.timers[self.id] = self
+        self._next_due = c.now + self._period
+        self._id = c.new_id()
+        c.timers[self._id] = self
 
     @property
-    def active(self) -> bool:
-        return not self._canceled and self.id in core().timers
+    def _active(self) -> bool:
+        return not self._canceled and self._id in core().timers
 
     @property
     def timer_period_ns(self) -> int:
-        return round(self.period * 1e9)
+        return round(self._period * 1e9)
 
-    def fire(self) -> None:
+    def _fire(self) -> None:
         c = core()
-        while self.next_due <= c.now:
-            self.next_due += self.period
+        while self._next_due <= c.now:
+            self._next_due += self._period
         self._last = c.now
         c.dispatched += 1
         if self.callback is not None:
@@ -53,21 +52,21 @@ class Timer:
     def reset(self) -> None:
         c = core()
         self._canceled = False
-        self.next_due = c.now + self.period
+        self._next_due = c.now + self._period
 
     def is_ready(self) -> bool:
-        return self.active and self.next_due <= core().now
+        return self._active and self._next_due <= core().now
 
     def time_until_next_call(self) -> int | None:
         if self._canceled:
             return None
-        return max(0, round((self.next_due - core().now) * 1e9))
+        return max(0, round((self._next_due - core().now) * 1e9))
 
     def time_since_last_call(self) -> int:
         return round((core().now - self._last) * 1e9)
 
     def destroy(self) -> None:
-        core().timers.pop(self.id, None)
+        core().timers.pop(self._id, None)
 
 
 class Rate:
@@ -76,8 +75,8 @@ class Rate:
     def __init__(self, frequency: float) -> None:
         if frequency <= 0:
             raise ValueError("frequency must be > 0")
-        self.period = 1.0 / float(frequency)
-        self._next = core().now + self.period
+        self._period = 1.0 / float(frequency)
+        self._next = core().now + self._period
         self._destroyed = False
 
     def sleep(self) -> None:
@@ -85,7 +84,7 @@ class Rate:
             raise RuntimeError("Rate was destroyed")
         c = core()
         while self._next <= c.now:
-            self._next += self.period
+            self._next += self._period
         c.block(self._next, None, "rate")
 
     def destroy(self) -> None:

@@ -187,6 +187,33 @@ class Buffer:
         rotation.x, rotation.y, rotation.z, rotation.w = (float(v) for v in pose[1])
         return transform
 
+    def lookup_transform_full(
+        self,
+        target_frame: str,
+        target_time: Time,
+        source_frame: str,
+        source_time: Time,
+        fixed_frame: str,
+        timeout: Duration | None = None,
+    ) -> Any:
+        """The source frame at ``source_time`` in the target frame at ``target_time``: with
+        only the latest transforms to go by, the same as :meth:`lookup_transform`."""
+        return self.lookup_transform(target_frame, source_frame, target_time, timeout)
+
+    def can_transform_full(
+        self,
+        target_frame: str,
+        target_time: Time,
+        source_frame: str,
+        source_time: Time,
+        fixed_frame: str,
+        timeout: Duration | None = None,
+        return_debug_tuple: bool = False,
+    ) -> Any:
+        return self.can_transform(
+            target_frame, source_frame, target_time, timeout, return_debug_tuple
+        )
+
     def lookup_transform_async(
         self, target_frame: str, source_frame: str, time: Time | None = None
     ) -> Any:

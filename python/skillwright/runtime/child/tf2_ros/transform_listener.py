@@ -44,8 +44,8 @@ class TransformListener:
                 history=HistoryPolicy.KEEP_LAST,
             ),
         )
-        self.tf_sub.quiet_callback = self._stores_only
-        self.tf_static_sub.quiet_callback = self._stores_only
+        self.tf_sub._quiet_callback = self._stores_only
+        self.tf_static_sub._quiet_callback = self._stores_only
 
     def _stores_only(self) -> bool:
         """Its callbacks only store transforms, unless the skill changed them or the buffer."""

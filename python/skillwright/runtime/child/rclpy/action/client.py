@@ -96,7 +96,7 @@ class ActionClient:
         self._action_type = action_type
         self._type_name = _type_name(action_type, "action_type action")
         self._action_name = node._expand(action_name, "service")
-        self.id = c.new_id()
+        self._id = c.new_id()
         self._sequence = 0
         self._goal_futures: dict[int, Future] = {}
         self._feedback: dict[int, Callable[[Any], object]] = {}
@@ -104,20 +104,16 @@ class ActionClient:
         self._finished: dict[int, Any] = {}
         self._cancels: dict[int, list[Future]] = {}
         self._handles: dict[int, ClientGoalHandle] = {}
-        c.handles[self.id] = self
+        c.handles[self._id] = self
         c.notify(
             "endpoint",
-            id=self.id,
+            id=self._id,
             kind="action_client",
             name=self._action_name,
             type=self._type_name,
             qos={},
             line=c.skill_line(),
         )
-
-    @property
-    def action_name(self) -> str:
-        return self._action_name
 
     def server_is_ready(self) -> bool:
         return bool(core().request("exists", kind="action", name=self._action_name)["ok"])
@@ -140,7 +136,7 @@ class ActionClient:
         if not isinstance(goal, goal_class):
             raise TypeError(f"Expected {goal_class}, got {type(goal)}")
         c = core()
-        if self.id not in c.handles:
+        if self._id not in c.handles:
             raise RuntimeError(f"the action client of {self._action_name} was destroyed")
         self._sequence += 1
         sequence = self._sequence
@@ -150,7 +146,7 @@ class ActionClient:
             self._feedback[sequence] = feedback_callback
         c.notify(
             "goal",
-            id=self.id,
+            id=self._id,
             goal=sequence,
             request=c.data(goal),
             feedback=feedback_callback is not None,
@@ -185,10 +181,10 @@ class ActionClient:
         c = core()
         future = Future()
         self._cancels.setdefault(sequence, []).append(future)
-        c.notify("cancel", id=self.id, goal=sequence, line=c.skill_line())
+        c.notify("cancel", id=self._id, goal=sequence, line=c.skill_line())
         return future
 
-    def deliver(self, delivery: dict) -> None:
+    def _deliver(self, delivery: dict) -> None:
         c = core()
         sequence = int(delivery["goal"])
         kind = delivery["kind"]
@@ -228,14 +224,14 @@ class ActionClient:
             for future in self._cancels.pop(sequence, []):
                 future.set_result(response)
 
-    def quiet(self) -> bool:
+    def _quiet(self) -> bool:
         if self._feedback:
             return False
         futures = [*self._goal_futures.values(), *self._results.values()]
         futures += [future for waiting in self._cancels.values() for future in waiting]
-        return not any(future.has_callbacks() for future in futures)
+        return not any(future._has_callbacks() for future in futures)
 
     def destroy(self) -> None:
         c = core()
-        if c.handles.pop(self.id, None) is not None:
-            c.notify("destroy", id=self.id, line=c.skill_line())
+        if c.handles.pop(self._id, None) is not None:
+            c.notify("destroy", id=self._id, line=c.skill_line())
