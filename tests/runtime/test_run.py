@@ -279,3 +279,52 @@ def test_an_input_that_reaches_no_parameter_is_a_finding_not_bad_input(
     [unbound] = [f for f in report.findings if f.code == "SW630"]
     assert unbound.data == {"input": "inLinearVelocity", "candidates": []}
     assert "none of its parameters (how_far, knob) means it" in unbound.message
+
+
+def test_tf2_s_buffer_transform_moves_a_stamped_point_as_the_lookup_says(
+    tmp_path: Path, mr1_inventory: Inventory
+) -> None:
+    """Buffer.transform with tf2_geometry_msgs, as real tf2 has them: the robot's origin put
+    in the map is where the lookup of the map -> base_link transform says it is."""
+    from skillwright.capability import load_capability
+    from skillwright.spec import load_spec
+    from skillwright.validation.catalog import catalog_from_inventory
+    from skillwright.validation.static import check_skill
+    from tests.conftest import SHIPPED_CAPABILITIES
+
+    text = (SKILLS / "get_position.py").read_text(encoding="utf-8")
+    imports = "from tf2_ros import Buffer, TransformException, TransformListener\n"
+    stored = (
+        "        self.out_position_x = translation.x\n        self.out_position_y = translation.y\n"
+    )
+    assert imports in text
+    assert stored in text
+    text = text.replace(
+        imports,
+        imports
+        + "import tf2_geometry_msgs  # noqa: F401\nfrom geometry_msgs.msg import PointStamped\n",
+    ).replace(
+        stored,
+        "        origin = PointStamped()\n"
+        "        origin.header.frame_id = self.BASE_FRAME\n"
+        "        moved = self.tf_buffer.transform(origin, self.MAP_FRAME, Duration(seconds=2.0))\n"
+        "        assert moved.header.frame_id == self.MAP_FRAME\n"
+        "        self.out_position_x = moved.point.x\n"
+        "        self.out_position_y = moved.point.y\n",
+    )
+    skill = tmp_path / "get_position.py"
+    skill.write_text(text, encoding="utf-8")
+    capability = load_capability(SHIPPED_CAPABILITIES / "get-position.ttl").capability
+    spec = load_spec(SHIPPED_CAPABILITIES / "get-position.spec.yaml")
+    static = check_skill(
+        text, capability=capability, spec=spec, catalog=catalog_from_inventory(mr1_inventory)
+    )
+    assert [f for f in static.findings if f.severity == "error"] == []
+    scenario = load_scenario(SKILLS / "get_position.scenario.yaml")
+    moved = run_skill(skill, mr1_inventory, scenario=scenario)
+    looked_up = run_skill(SKILLS / "get_position.py", mr1_inventory, scenario=scenario)
+    assert moved.passed, moved.findings
+    for name in ("outPositionX", "outPositionY"):
+        assert moved.trace.episodes[0].outputs[name] == pytest.approx(
+            looked_up.trace.episodes[0].outputs[name], abs=1e-9
+        )

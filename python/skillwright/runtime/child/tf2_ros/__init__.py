@@ -8,6 +8,7 @@ from tf2_ros.errors import (
     LookupException,
     TimeoutException,
     TransformException,
+    TypeException,
 )
 from tf2_ros.static_transform_broadcaster import StaticTransformBroadcaster
 from tf2_ros.transform_broadcaster import TransformBroadcaster
@@ -24,4 +25,5 @@ __all__ = [
     "TransformBroadcaster",
     "TransformException",
     "TransformListener",
+    "TypeException",
 ]

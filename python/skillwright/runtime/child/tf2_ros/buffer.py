@@ -63,6 +63,7 @@ class Buffer:
 
     def __init__(self, cache_time: Duration | None = None, node: Any = None) -> None:
         self._parents: dict[str, tuple[str, _Pose, dict]] = {}
+        self._waiting: list[tuple[str, str, Any]] = []
 
     def clear(self) -> None:
         self._parents.clear()
@@ -77,6 +78,11 @@ class Buffer:
         pose = ((t.x, t.y, t.z), _normalised((r.x, r.y, r.z, r.w)))
         stamp = {"sec": transform.header.stamp.sec, "nanosec": transform.header.stamp.nanosec}
         self._parents[child] = (parent, pose, stamp)
+        for waiting in list(self._waiting):
+            target, source, future = waiting
+            if self.can_transform(target, source):
+                self._waiting.remove(waiting)
+                future.set_result(True)
         return True
 
     def set_transform_static(self, transform: Any, authority: str) -> bool:
@@ -234,3 +240,73 @@ class Buffer:
             f"{child}:\n  parent: '{parent}'\n"
             for child, (parent, _, _) in sorted(self._parents.items())
         )
+
+    def wait_for_transform_async(self, target_frame: str, source_frame: str, time: Any) -> Any:
+        """A future that is done (``True``) once ``source_frame`` can be put in
+        ``target_frame``."""
+        from rclpy.task import Future
+
+        future = Future()
+        if self.can_transform(target_frame, source_frame):
+            future.set_result(True)
+        else:
+            self._waiting.append((target_frame, source_frame, future))
+        return future
+
+    def get_latest_common_time(self, target_frame: str, source_frame: str) -> Time:
+        """The time of the latest transform between the two frames (now for frames that
+        only static or world-made transforms join)."""
+        _, stamp = self._resolve(target_frame, source_frame)
+        if stamp is None:
+            return Time(nanoseconds=core().ros_time_ns())
+        return Time(seconds=stamp["sec"], nanoseconds=stamp["nanosec"])
+
+    def transform(
+        self,
+        object_stamped: Any,
+        target_frame: str,
+        timeout: Duration | None = None,
+        new_type: Any = None,
+    ) -> Any:
+        """``object_stamped`` (a PointStamped, PoseStamped or Vector3Stamped) in
+        ``target_frame``, by tf2_geometry_msgs' conversions, as tf2_ros' BufferInterface."""
+        transform = self.lookup_transform(
+            target_frame, object_stamped.header.frame_id, Time(), timeout
+        )
+        return _moved(object_stamped, transform, new_type)
+
+    def transform_full(
+        self,
+        object_stamped: Any,
+        target_frame: str,
+        target_time: Time,
+        fixed_frame: str,
+        timeout: Duration | None = None,
+        new_type: Any = None,
+    ) -> Any:
+        """As :meth:`transform`: with only the latest transforms, times make no difference."""
+        return self.transform(object_stamped, target_frame, timeout, new_type)
+
+
+def _moved(message: Any, transform: Any, new_type: Any) -> Any:
+    import tf2_geometry_msgs
+
+    kind = type(message).__name__
+    moves = {
+        "PointStamped": tf2_geometry_msgs.do_transform_point,
+        "PoseStamped": tf2_geometry_msgs.do_transform_pose_stamped,
+        "Vector3Stamped": tf2_geometry_msgs.do_transform_vector3,
+    }
+    if kind not in moves:
+        from tf2_ros.errors import TypeException
+
+        raise TypeException(
+            f"no tf2 conversion of a {kind}: tf2_geometry_msgs moves PointStamped, "
+            "PoseStamped and Vector3Stamped"
+        )
+    moved = moves[kind](message, transform)
+    if new_type is not None and not isinstance(moved, new_type):
+        from tf2_ros.errors import TypeException
+
+        raise TypeException(f"cannot convert a {kind} to {new_type.__name__}")
+    return moved

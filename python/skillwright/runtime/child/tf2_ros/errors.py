@@ -23,3 +23,7 @@ class InvalidArgumentException(TransformException):
 
 class TimeoutException(TransformException):
     pass
+
+
+class TypeException(TransformException):
+    pass
