@@ -179,3 +179,24 @@ def test_rules_lists_every_rule() -> None:
     assert {r["fix"] for r in as_json} == {None, "safe", "unsafe"}
     one = CliRunner().invoke(main, ["rules", "SW701"])
     assert one.stdout.startswith("SW701 sim-outcome (simulation, error")
+
+
+def test_bind_names_what_a_parameter_stands_for(tmp_path: Path) -> None:
+    from tests.rules.cases import GOOD as GOOD_SKILL
+
+    skill = tmp_path / "skill.py"
+    skill.write_text(
+        GOOD_SKILL.read_text(encoding="utf-8").replace(
+            'name="inDistance", description="Distance [m]."', 'name="knob", description="A knob."'
+        ),
+        encoding="utf-8",
+    )
+    unbound = CliRunner().invoke(main, move_forward_args(skill), terminal_width=200)
+    assert "no @skill_parameter for the capability's input inDistance" in unbound.stdout
+    bound = CliRunner().invoke(
+        main, move_forward_args(skill, "--bind", "knob=inDistance"), terminal_width=200
+    )
+    assert bound.exit_code == 0, bound.output
+    bad = CliRunner().invoke(main, move_forward_args(skill, "--bind", "knob"))
+    assert bad.exit_code == 2
+    assert "is not SKILL_NAME=CAPABILITY_NAME" in bad.output

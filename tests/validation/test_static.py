@@ -107,14 +107,19 @@ def test_syntax_error_is_located(move_forward: tuple[Capability, SkillSpec]) -> 
         ),
         ("(ROS2Skill)", "(object)", "must derive from ROS2Skill"),
         (
-            'name="inDistance"',
-            'name="distance"',
+            'name="inDistance", description="Distance [m]."',
+            'name="charge", description="What is left of the battery [%]."',
             "no @skill_parameter for the capability's input inDistance",
         ),
         (
-            'name="outLinearVelocity"',
-            'name="speed"',
+            'name="outLinearVelocity", description="Final speed [m/s]."',
+            'name="charge", description="Battery left [%]."',
             "no @skill_output for the capability's output",
+        ),
+        (
+            'name="inDistance", description="Distance [m]."',
+            'name="charge", description="What is left of the battery [%]."',
+            "@skill_parameter 'charge' matches no input of the capability",
         ),
         ("    @stopping\n", "", "no method decorated @stopping"),
         (

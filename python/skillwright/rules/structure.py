@@ -13,6 +13,7 @@ from skillwright.rules.registry import Rule
 
 __all__ = [
     "ABORT_SWALLOWED",
+    "ANNOTATION_AMBIGUOUS",
     "ANNOTATION_MATCHES_NOTHING",
     "EMPTY_STATE",
     "ERROR_SWALLOWED",
@@ -240,4 +241,21 @@ ERROR_SWALLOWED = Rule(
     example="except Exception:\n    pass",
     data=("state", "caught"),
     grounds=_SKILL,
+)
+
+ANNOTATION_AMBIGUOUS = Rule(
+    "SW116",
+    "annotation-ambiguous",
+    group="annotations",
+    stage="static",
+    severity="warning",
+    summary="A @skill_parameter or @skill_output named otherwise than the capability's input "
+    "or output means one of them unambiguously (by the quantity, unit and axis its name and "
+    "description speak of).",
+    why="pySkillUp does not ask for the capability's names, so the skill is bound to its "
+    "capability by what each annotation means; one that could mean two inputs (a 'velocity' "
+    "where the capability has inVelocityX and inVelocityY) is given neither.",
+    example="@skill_parameter(name='velocity', description='how fast')",
+    data=("decorator", "name", "candidates"),
+    grounds=(*_SKILL, "the capability"),
 )

@@ -10,7 +10,12 @@ from typing import TYPE_CHECKING, TypeVar
 
 import click
 
-from skillwright.cli_options import capability_options, interfaces_option, spec_option
+from skillwright.cli_options import (
+    bind_option,
+    capability_options,
+    interfaces_option,
+    spec_option,
+)
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -87,6 +92,7 @@ def selection_options(function: F) -> F:
     metavar="NAME",
     help="An interface retrieval chose (repeatable): enables the used-versus-retrieved check.",
 )
+@bind_option
 @selection_options
 @click.option(
     "--fix",
@@ -116,6 +122,7 @@ def check(
     spec_file: Path,
     source: Path | None,
     retrieved: tuple[str, ...],
+    bind: dict[str, str],
     select: tuple[str, ...],
     ignore: tuple[str, ...],
     fix: bool,
@@ -166,6 +173,7 @@ def check(
             catalog=catalog,
             retrieved=retrieved,
             path=str(skill_file),
+            bindings=bind,
         )
         return report.model_copy(update={"findings": selection.filter(report.findings)})
 

@@ -16,12 +16,14 @@ import copy
 import io
 import re
 import tokenize
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
 from keyword import kwlist
+from typing import Literal
 
-from skillwright.capability.model import Capability, Parameter
+from skillwright.capability.binding import Annotation, Binding, bind
+from skillwright.capability.model import Capability
 from skillwright.rules.api import (
     GOAL_RESULT_WITHOUT_SEND,
     HANDLE_MADE_TWICE,
@@ -57,6 +59,7 @@ from skillwright.rules.interfaces import (
 from skillwright.rules.registry import Rule
 from skillwright.rules.structure import (
     ABORT_SWALLOWED,
+    ANNOTATION_AMBIGUOUS,
     ANNOTATION_MATCHES_NOTHING,
     EMPTY_STATE,
     ERROR_SWALLOWED,
@@ -242,46 +245,68 @@ def _check_skill_decorator(
         )
 
 
-def _annotated_names(cls: ast.ClassDef, decorator: str) -> dict[str, ast.AST]:
-    out: dict[str, ast.AST] = {}
+def _annotations(cls: ast.ClassDef) -> list[tuple[Annotation, ast.AST]]:
+    """The class's @skill_parameter and @skill_output annotations, with their decorators."""
+    found: list[tuple[Annotation, ast.AST]] = []
     for node in cls.body:
-        if isinstance(node, ast.FunctionDef):
-            for dec in node.decorator_list:
-                if isinstance(dec, ast.Call) and _decorator_name(dec) == decorator:
-                    name = _constant_text(_keyword(dec, "name"))
-                    out[name or node.name] = dec
-    return out
+        if not isinstance(node, ast.FunctionDef):
+            continue
+        for dec in node.decorator_list:
+            kind = _decorator_name(dec) if isinstance(dec, ast.Call) else None
+            if kind not in {"skill_parameter", "skill_output"} or not isinstance(dec, ast.Call):
+                continue
+            name = _constant_text(_keyword(dec, "name")) or node.name
+            described = _constant_text(_keyword(dec, "description")) or ""
+            direction: Literal["input", "output"] = (
+                "input" if kind == "skill_parameter" else "output"
+            )
+            found.append((Annotation(name, direction, described, dec.lineno), dec))
+    return found
 
 
 def _check_parameters(
-    ctx: _Context,
-    cls: ast.ClassDef,
-    parameters: Sequence[Parameter],
-    decorator: str,
-    what: str,
+    ctx: _Context, cls: ast.ClassDef, capability: Capability, binding: Binding
 ) -> None:
-    found = _annotated_names(cls, decorator)
-    known: set[str] = set()
-    for parameter in parameters:
-        components = {c.name for c in parameter.components}
-        known |= components | {parameter.name}
-        if parameter.name in found or components <= set(found):
-            continue
-        missing = sorted(components - set(found))
-        ctx.add(
-            PARAMETER_UNANNOTATED,
-            cls,
-            f"no @{decorator} for the capability's {what} {parameter.name}"
-            + (f" (missing: {', '.join(missing)})" if len(components) > 1 else ""),
-            data={"decorator": decorator, "parameter": parameter.name, "missing": missing},
-        )
-    for name, node in found.items():
-        if name not in known:
+    """Each capability input and output has an annotation bound to it (by name, by meaning
+    or by --bind, :mod:`skillwright.capability.binding`), and each annotation is bound."""
+    bound = {b.target for b in binding.bound}
+    given = {a.name for a, _ in _annotations(cls)}
+    composites = {p.name for p in capability.inputs + capability.outputs if len(p.components) > 1}
+    for parameters, decorator, what in (
+        (capability.inputs, "skill_parameter", "input"),
+        (capability.outputs, "skill_output", "output"),
+    ):
+        for parameter in parameters:
+            names = [c.name for c in parameter.components] if len(parameter.components) > 1 else []
+            if parameter.name in bound | given or (names and set(names) <= bound):
+                continue
+            missing = sorted(set(names) - bound)
+            ctx.add(
+                PARAMETER_UNANNOTATED,
+                cls,
+                f"no @{decorator} for the capability's {what} {parameter.name}"
+                + (f" (missing: {', '.join(missing)})" if len(names) > 1 else ""),
+                data={"decorator": decorator, "parameter": parameter.name, "missing": missing},
+            )
+    for annotation, node in _annotations(cls):
+        decorator = "skill_parameter" if annotation.direction == "input" else "skill_output"
+        candidates = binding.ambiguous.get(annotation.name)
+        if candidates:
+            ctx.add(
+                ANNOTATION_AMBIGUOUS,
+                node,
+                f"@{decorator} {annotation.name!r} could stand for the capability's "
+                f"{' or '.join(candidates)}; name it as the capability does, or say which "
+                f"with --bind {annotation.name}=NAME",
+                data={"decorator": decorator, "name": annotation.name, "candidates": candidates},
+            )
+        elif annotation.name in binding.unknown and annotation.name not in composites:
             ctx.add(
                 ANNOTATION_MATCHES_NOTHING,
                 node,
-                f"@{decorator} {name!r} matches no {what} of the capability",
-                data={"decorator": decorator, "name": name},
+                f"@{decorator} {annotation.name!r} matches no {annotation.direction} of the "
+                "capability, by name or by what its name and description mean",
+                data={"decorator": decorator, "name": annotation.name},
             )
 
 
@@ -1688,12 +1713,14 @@ def _parameter_detail(capability: Capability, name: str, annotation: str | None)
     return ""
 
 
-def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capability) -> None:
+def _check_parameter_use(
+    ctx: _Context, cls: ast.ClassDef, capability: Capability, binding: Binding
+) -> None:
     """An input no method reads, or an output no method sets, once every state is written:
     the skill ignores what it is asked, or reports what ``__init__`` put there. Each is
     given at its getter, as the run gives it (generation asks ``execute`` for the fix), with
     what the capability says the parameter is, so that the fix knows what to use or store."""
-    getters: dict[str, tuple[str, str, str, ast.AST, str]] = {}
+    getters: dict[str, tuple[str, str, str, ast.AST, str, str]] = {}
     for node in cls.body:
         if not isinstance(node, ast.FunctionDef):
             continue
@@ -1710,11 +1737,12 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
             ):
                 name = _constant_text(_keyword(dec, "name")) or node.name
                 annotation = ast.unparse(node.returns) if node.returns is not None else None
-                detail = _parameter_detail(capability, name, annotation)
-                getters[node.name] = (kind, name, value.attr, dec, detail)
+                meant = binding.target_of(name) or name
+                detail = _parameter_detail(capability, meant, annotation)
+                getters[node.name] = (kind, name, value.attr, dec, detail, meant)
     uses = _attribute_uses(cls, {*getters, "__init__"})
     reads, idle, checked = uses.reads, uses.idle, uses.checked
-    for kind, name, attr, where, detail in getters.values():
+    for kind, name, attr, where, detail, meant in getters.values():
         about = f" ({detail})" if detail else ""
         if kind == "skill_parameter" and attr not in reads and attr in idle:
             method_name, local = idle[attr]
@@ -1750,16 +1778,16 @@ def _check_parameter_use(ctx: _Context, cls: ast.ClassDef, capability: Capabilit
                 where,
                 f"output {name} is never set: no method assigns self.{attr}, so the getter "
                 f"returns what __init__ put there; store the value it reports{about} in "
-                f"self.{attr} before execute ends{_sources(cls, capability, name)}",
-                data={"output": name, "attribute": attr, "scans": _scans(cls, capability, name)},
+                f"self.{attr} before execute ends{_sources(cls, capability, meant)}",
+                data={"output": name, "attribute": attr, "scans": _scans(cls, capability, meant)},
             )
         elif (
             kind == "skill_output"
-            and _measured(capability, name)
+            and _measured(capability, meant)
             and _only_constants(uses.stored.get(attr, []))
         ):
             values = ", ".join(dict.fromkeys(ast.unparse(v) for v in uses.stored[attr] if v))
-            _literal_output(ctx, cls, capability, (name, attr, values), where, about)
+            _literal_output(ctx, cls, capability, (meant, attr, values), where, about)
 
 
 @dataclass
@@ -2265,8 +2293,12 @@ def check_skill(
     catalog: Catalog | None = None,
     retrieved: Sequence[str] = (),
     path: str = "skill.py",
+    bindings: Mapping[str, str] | None = None,
 ) -> CheckReport:
     """Runs every static check on the skill ``source``.
+
+    The skill's parameters and outputs are bound to the capability's inputs and outputs by
+    name, by meaning or as ``bindings`` (the skill's name -> the capability's) say.
 
     ``catalog`` enables the grounding checks; ``retrieved`` names the interfaces
     retrieval chose, for the used-versus-retrieved check.
@@ -2295,15 +2327,15 @@ def check_skill(
     else:
         cls, decorator = found
         _check_skill_decorator(ctx, cls, decorator, capability, spec)
-        _check_parameters(ctx, cls, capability.inputs, "skill_parameter", "input")
-        _check_parameters(ctx, cls, capability.outputs, "skill_output", "output")
+        binding = bind([a for a, _ in _annotations(cls)], capability, bindings or {})
+        _check_parameters(ctx, cls, capability, binding)
         methods = _check_states(ctx, cls, spec)
         _check_placeholders(ctx, tree, source, methods)
         _check_swallowed_errors(ctx, methods, spec)
         _check_input_writes(ctx, cls, capability)
         placeholders = {EMPTY_STATE.code, NOT_IMPLEMENTED.code}
         if not any(f.code in placeholders for f in ctx.findings):
-            _check_parameter_use(ctx, cls, capability)
+            _check_parameter_use(ctx, cls, capability, binding)
         _check_handles(ctx, cls)
         _check_goal_results(ctx, cls)
         _check_timers(ctx, cls)
