@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 from textual import events
-from textual.widgets import Input, OptionList, Select, Static, TabbedContent
+from textual.widgets import DataTable, Input, OptionList, Select, Static, TabbedContent
 
 from skillwright.errors import GenerationCancelledError
 from skillwright.pipeline import GenerationRecord
@@ -18,6 +18,7 @@ from skillwright.tui.screens.generation import SKELETON, GenerationPane
 from skillwright.tui.screens.history import HistoryPane
 from skillwright.tui.session import SpecDraft
 from skillwright.tui.widgets.code_view import CodeView
+from skillwright.tui.widgets.simulation import SimulationView
 from tests.tui.conftest import (
     MODEL_RUN,
     STEP,
@@ -70,6 +71,10 @@ def _status(app: Any) -> str:
     return str(app.query_one("#generation-status", Static).render())
 
 
+def _header(app: Any) -> str:
+    return str(app.query_one("#generation-header", Static).render())
+
+
 def _results(workspace: Path) -> list[Path]:
     generated = workspace / "generated"
     return sorted(generated.iterdir()) if generated.exists() else []
@@ -106,9 +111,28 @@ async def test_a_skeleton_run_writes_the_result_and_findings_jump_to_their_lines
         assert record.retrieval.pinned == ["/tf"]
         code = app.query_one("#generation-code", CodeView)
         assert code.text == (result / "skill.py").read_text(encoding="utf-8")
-        assert [state for state, _ in pane.stages.values()].count("done") == 5
-        assert pane.stages["model"][0] == "skipped"
-        assert "skeleton: checks FAILED" in _status(app)  # its states still raise
+        # The stage list's verdicts are the record's: its states still raise, so the checks
+        # failed and the run and the simulation were skipped; no model stage ran.
+        assert {stage: state for stage, (state, _) in pane.stages.items()} == record.verdicts
+        assert record.verdicts == {
+            "inputs": "passed",
+            "retrieval": "passed",
+            "skeleton": "passed",
+            "model": "skipped",
+            "generation": "skipped",
+            "checks": "failed",
+            "run": "skipped",
+            "simulate": "skipped",
+            "outputs": "passed",
+        }
+        assert _status(app).startswith("failed: ")
+        header = _header(app)
+        assert header.startswith("✗ FAILED skeleton get_position: checks ✗ failed")
+        assert "run - skipped · simulate - skipped" in header
+        assert str(result.resolve()) in header
+        text = screen_text(app)
+        assert "✗ checks" in text
+        assert "✓ checks" not in text
         findings = app.query_one("#generation-findings", OptionList)
         assert findings.option_count == len(record.checks.findings) > 0
         findings.focus()
@@ -185,22 +209,27 @@ async def test_run_findings_sim_verdicts_and_the_plot_are_shown_at_80_columns(
         outcome = pane.outcome
         outcome.record = _with_behaviour(outcome.record)
         pane.post_message(GenerationFinished(outcome))
-        await wait_until(pilot, lambda: "run FAILED" in _status(app))
-        assert "sim FAILED" in _status(app)
-        side = str(app.query_one("#generation-behaviour", Static).render()).splitlines()
-        assert side == [
-            "✗ run 1 err, 0 warn",
-            "✗ sim at_origin 1/2",
-            "  ✗ normal output:outPositionX",
-            "plot: simulation.png",
-        ]
-        text = screen_text(app)
-        assert "✗ sim at_origin 1/2" in text
-        assert "plot: simulation.png" in text
+        await wait_until(pilot, lambda: "run ✗ failed" in _header(app))
+        assert "simulate ✗ failed" in _header(app)
+        assert "checks ✗ failed" in _header(app)
         checks = {f.check for f in pane.findings}
         assert {"run.exception", "behaviour.output"} <= checks
         findings = app.query_one("#generation-findings", OptionList)
         assert findings.option_count == len(pane.findings)
+        # v shows every oracle, the passed one too, with its numbers.
+        await pilot.press("v")
+        view = app.query_one(SimulationView)
+        await wait_until(pilot, lambda: view.display and view.size.height > 0)
+        table = app.query_one("#simulation-oracles", DataTable)
+        assert table.row_count == 2
+        first = [str(cell) for cell in table.get_row_at(0)]
+        assert first[:3] == ["✗", "normal", "output:outPositionX"]
+        assert first[4] == "abs(outPositionX - x) <= 0.03"
+        assert "✓" in [str(cell) for cell in table.get_row_at(1)]
+        detail = str(app.query_one("#simulation-oracle", Static).render())
+        assert "expected: abs(outPositionX - x) <= 0.03" in detail
+        await pilot.press("v")
+        assert app.focused is app.query_one("#generation-code", CodeView)
 
 
 async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(

@@ -872,7 +872,7 @@ def _behaviour_stages(
     if not behaviour.enabled:
         return None, None
     if errors:
-        skipped = f"not run: the static checks found {errors} error(s)"
+        skipped = f"the static checks found {errors} error(s)"
         run = RunRecord(passed=False, skipped=skipped) if behaviour.run_enabled else None
         sim = SimulationRecord(passed=False, skipped=skipped) if behaviour.sim_enabled else None
         return run, sim
