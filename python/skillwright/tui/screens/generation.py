@@ -74,7 +74,8 @@ def stage_text(stage: str, state: str, text: str) -> Text:
     if state == _RUNNING:
         return Text(f"… {stage:<10} {text}".rstrip(), style="bold")
     verdict = Verdict(state)
-    line = Text(f"{verdict.mark} ", style=verdict.style)
+    line = Text()
+    line.append(f"{verdict.mark} ", style=verdict.style)
     line.append(f"{stage:<10} ")
     line.append(text)
     return line
@@ -83,7 +84,8 @@ def stage_text(stage: str, state: str, text: str) -> Text:
 def _attempt_line(attempt: Any) -> Text:
     """One line per answer of the model, with its verdict's mark and word."""
     judged = attempt_verdict(attempt)
-    line = Text(f"{judged.verdict.mark} ", style=judged.verdict.style)
+    line = Text()
+    line.append(f"{judged.verdict.mark} ", style=judged.verdict.style)
     line.append(f"{attempt.target} #{attempt.number} ")
     word = judged.verdict.word + (f" ({judged.reason})" if judged.reason else "")
     line.append(word, style=judged.verdict.style)
