@@ -421,9 +421,6 @@ class GenerationPane(Pane):
         stages.clear_options()
         if self.stages:
             lines = [stage_text(stage, *state) for stage, state in self.stages.items()]
-            for line in lines:
-                line.no_wrap = True
-                line.overflow = "ellipsis"
             stages.add_options(
                 Option(line, id=stage) for line, stage in zip(lines, self.stages, strict=True)
             )
@@ -445,7 +442,7 @@ class GenerationPane(Pane):
 
     @on(OptionList.OptionHighlighted, "#generation-stages")
     def _show_stage_detail(self) -> None:
-        """The whole text of the highlighted stage (or the running one): the list cuts it."""
+        """The whole text of the highlighted stage (or the running one), under the list."""
         box = self.query_one("#generation-stage-detail", Static)
         stages = self.query_one("#generation-stages", OptionList)
         names = list(self.stages)

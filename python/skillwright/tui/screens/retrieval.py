@@ -67,6 +67,7 @@ class RetrievalPane(Pane):
             markup=False,
         )
         yield DataTable(id="retrieval-table", cursor_type="row", zebra_stripes=True)
+        yield Static("", id="retrieval-detail", markup=False)
         yield Static("", id="retrieval-marks", markup=False)
 
     def on_mount(self) -> None:
@@ -184,6 +185,31 @@ class RetrievalPane(Pane):
             if name not in self.rows:
                 table.add_row(*_row("drop", name, "dropped by you: not ranked"))
                 self.rows.append(name)
+        self.show_detail()
+
+    @on(DataTable.RowHighlighted, "#retrieval-table")
+    def show_detail(self) -> None:
+        """The highlighted interface's whole reason, scores and the model's verdict: the
+        table cuts them to its columns."""
+        box = self.query_one("#retrieval-detail", Static)
+        name = self.highlighted()
+        hit = next((h for h in self.sw.loaded.hits if h.name == name), None)
+        if name is None:
+            box.update("")
+            return
+        if hit is None:
+            box.update(f"{name}: {'pinned' if name in self.sw.session.pinned else 'dropped'}")
+            return
+        dense = "" if hit.dense is None else f", dense {hit.dense:.3f}"
+        lines = [
+            f"{hit.name} ({hit.kind}, {hit.type_name}): score {hit.score:.3f}{dense}, "
+            f"lexical {hit.lexical:.3f}",
+            f"why: {_twins_note(hit.twins)}{hit.reason}",
+        ]
+        if hit.needed is not None or hit.judgement:
+            verdict = {True: "needed", False: "not needed", None: "no verdict"}[hit.needed]
+            lines.append(f"the model: {verdict}" + (f" — {hit.judgement}" if hit.judgement else ""))
+        box.update("\n".join(lines))
 
     def show_marks(self) -> None:
         """Redraws marks and the pin/drop summary."""
