@@ -290,11 +290,23 @@ async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
         await _send_keys(app, list("abc"), lambda: field.value == "abc")
         await _send_keys(app, ["f6"], lambda: _tab(app) == "generation")
         assert pane.running, "the keys were handled while the generation worker ran"
-        # Once the model writes, Esc stops it; nothing is written.
+        # Once the model writes, the progress counts its tokens against the answer's budget.
         await wait_until(pilot, lambda: pane.streamed, timeout=MODEL_RUN)
+        progress = app.query_one("#generation-progress", Static)
+        await wait_until(pilot, lambda: "/8000 tokens" in str(progress.render()))
+        lines = str(progress.render()).splitlines()
+        assert lines[0].startswith("elapsed ")
+        assert " · generation " in lines[0]
+        assert lines[1].startswith("writing ")
+        assert lines[1].endswith("(first answer)")
+        # Esc stops it; nothing is written, and nothing it streamed is left on screen.
         await pilot.press("escape")
         await wait_until(pilot, lambda: not pane.running)
         assert "cancelled: nothing was written" in _status(app)
+        assert app.query_one("#generation-code", CodeView).text == ""
+        assert "…" not in str(app.query_one("#generation-attempts", Static).render())
+        assert pane.stages["generation"] == ("not run", "cancelled")
+        assert str(progress.render()) == ""
         assert any("cancelled" in n for n in notifications(app))
         assert _results(workspace) == []
         assert not app.query_one("#generation-start").disabled
@@ -365,3 +377,54 @@ async def test_quitting_during_a_generation_stops_it_and_writes_nothing(
         await pilot.press("ctrl+q")
     assert isinstance(await generation.first(), GenerationCancelledError)
     assert _results(workspace) == []
+
+
+async def test_a_new_run_asks_before_it_replaces_the_result_on_screen(workspace: Path) -> None:
+    from skillwright.tui.screens.confirm import ConfirmScreen
+
+    preset_session(workspace, **INPUTS, skeleton=True)
+    app = app_for(workspace)
+    async with running(app, (120, 40)) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.outcome is not None)
+        [first] = _results(workspace)
+        # Enter on the focused Generate button asks first; No keeps the result.
+        app.set_focus(app.query_one("#generation-start"))
+        await pilot.press("enter")
+        await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
+        assert "History" in str(app.screen.query_one("#confirm-question", Static).render())
+        await pilot.press("enter")  # the focus is on No: an Enter too many confirms nothing
+        await wait_until(pilot, lambda: not isinstance(app.screen, ConfirmScreen))
+        assert not pane.running
+        assert pane.shown is not None
+        assert pane.shown[0] == first
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
+        await pilot.press("y")
+        await wait_until(pilot, lambda: len(_results(workspace)) == 2 and pane.outcome)
+        assert pane.shown is not None
+        assert pane.shown[0] != first
+
+
+async def test_the_last_result_is_shown_again_after_a_restart(workspace: Path) -> None:
+    preset_session(workspace, **INPUTS, skeleton=True)
+    app = app_for(workspace)
+    async with running(app, (120, 40)) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.outcome is not None)
+        [result] = _results(workspace)
+        await wait_until(pilot, lambda: app.session.last_result is not None)
+        app.save_session_now()
+    again = app_for(workspace)
+    async with running(again, (120, 40)) as pilot:
+        pane = again.query_one(GenerationPane)
+        await wait_until(pilot, lambda: pane.shown is not None)
+        assert pane.shown is not None
+        assert pane.shown[0] == result
+        assert str(result.resolve()) in _header(again)
+        assert "restored from the last session" in _status(again)
+        code = again.query_one("#generation-code", CodeView)
+        assert code.text == (result / "skill.py").read_text(encoding="utf-8")
+        assert pane.stages["checks"][0] == "failed"

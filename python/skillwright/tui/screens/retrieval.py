@@ -52,6 +52,8 @@ class RetrievalPane(Pane):
         super().__init__(id="retrieval-pane")
         self._job = EngineJob()
         self._without_spec = False
+        self._rank_when_loaded = False
+        """The last session showed a ranking: rank again once both inputs are loaded."""
         self.rows: list[str] = []
         """Interface names in table order."""
 
@@ -73,6 +75,7 @@ class RetrievalPane(Pane):
     def on_mount(self) -> None:
         table = self.query_one("#retrieval-table", DataTable)
         table.add_columns(*COLUMNS)
+        self._rank_when_loaded = self.sw.session.ranked
         self.show_marks()
 
     # --- settings -----------------------------------------------------------------------------
@@ -140,6 +143,7 @@ class RetrievalPane(Pane):
 
     def on_retrieval_finished(self, message: RetrievalFinished) -> None:
         self.sw.loaded.hits = message.hits
+        self.sw.update_session(ranked=True)
         how = "embeddings + BM25" if message.dense else "BM25 only"
         if self._without_spec:
             how += "; the specification is not valid, so it was left out"
@@ -244,7 +248,13 @@ class RetrievalPane(Pane):
             self.sw.toggle_mark(name, "dropped")
 
     def inputs_changed(self) -> None:
-        """The capability or inventory changed: the ranking shown is no longer theirs."""
+        """The capability or inventory changed: the ranking shown is no longer theirs (on
+        start, once both are loaded, the last session's ranking is made again)."""
+        loaded = self.sw.loaded
+        if self._rank_when_loaded and loaded.capability is not None and loaded.inventory:
+            self._rank_when_loaded = False
+            self.action_rank()
+            return
         if self.sw.loaded.hits:
             self.sw.loaded.hits = []
             self.show_table()

@@ -113,8 +113,15 @@ def braille_plot(
     left, right = _number(x_low), _number(x_high)
     axis = f"{left}{x_label:^{max(0, width - len(left) - len(right))}}{right}"
     text.append(" " * gutter + " └" + axis + "\n", style="dim")
-    text.append(" " * gutter + f"  y: {y_label}  ", style="dim")
+    # The legend, wrapped to the plot's width: one entry is never split.
+    line = len(y_label) + 2
+    text.append(" " * gutter + f"  {y_label}  ", style="dim")
     for each in series:
+        entry = f"━ {each.label}  "
+        if line + len(entry) > width + 2 and line > 0:
+            text.append("\n" + " " * (gutter + 2))
+            line = 0
         text.append("━ ", style=each.style)
         text.append(f"{each.label}  ")
+        line += len(entry)
     return text

@@ -6,7 +6,7 @@ the oracle measured, what it expected (its check, e.g. ``abs(outDistance - inDis
 record holds and the summary line cannot show. The plots are drawn from the trace the
 pipeline keeps beside the record (``simulation.trace.json``: the base's ground truth at
 20 Hz): the path from above and the speed over time, each run in its own colour, the
-resource's speed limit as a line where an oracle measured one.
+resource's limits the run was judged against as lines, as in the PNG plot.
 """
 
 from __future__ import annotations
@@ -29,7 +29,9 @@ __all__ = ["ORACLE_COLUMNS", "SimulationView", "read_trajectories", "verdict_of"
 ORACLE_COLUMNS = ("", "where", "oracle", "measured", "expected", "tolerance", "message")
 
 _RUN_STYLES = {"normal": "dodger_blue1", "stop": "dark_orange"}
+_YAW_STYLES = {"normal": "light_sky_blue3", "stop": "light_salmon3"}
 _RUN_LABELS = {"normal": "run", "stop": "run stopped during execute"}
+_LIMIT_STYLES = ("red", "magenta", "bright_red", "deep_pink2")
 
 
 def verdict_of(passed: bool | None) -> Verdict:
@@ -49,26 +51,32 @@ def _measured(measured: dict[str, Any]) -> str:
     return ", ".join(f"{key}={_value(value)}" for key, value in measured.items())
 
 
-def read_trajectories(trace: Path) -> dict[str, list[tuple[float, float, float, float]]]:
-    """(t, x, y, speed) per run of ``trace`` (a ``simulation.trace.json``), by run name;
+Sample = tuple[float, float, float, float, float]
+"""(t, x, y, speed, |yaw rate|) of the base at one moment."""
+
+
+def read_trajectories(trace: Path) -> dict[str, list[Sample]]:
+    """The base's samples per run of ``trace`` (a ``simulation.trace.json``), by run name;
     empty when the file is missing or holds no ground truth."""
     try:
         document = json.loads(trace.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return {}
-    runs: dict[str, list[tuple[float, float, float, float]]] = {}
+    runs: dict[str, list[Sample]] = {}
     for episode in document.get("episodes", []):
         truth = episode.get("ground_truth") or {}
         columns = truth.get("columns", [])
-        if not {"t", "x", "y", "vx", "vy"} <= set(columns):
+        wanted = ("t", "x", "y", "vx", "vy", "wz")
+        if not set(wanted) <= set(columns):
             continue
-        at = {name: columns.index(name) for name in ("t", "x", "y", "vx", "vy")}
+        at = {name: columns.index(name) for name in wanted}
         runs[str(episode.get("name", f"run {len(runs) + 1}"))] = [
             (
                 row[at["t"]],
                 row[at["x"]],
                 row[at["y"]],
                 math.hypot(row[at["vx"]], row[at["vy"]]),
+                abs(row[at["wz"]]),
             )
             for row in truth.get("samples", [])
             if all(isinstance(row[i], int | float) for i in at.values())
@@ -83,9 +91,9 @@ class SimulationView(VerticalScroll):
         super().__init__(id=id)
         self.verdicts: list[Any] = []
         """The verdicts in table order."""
-        self.trajectories: dict[str, list[tuple[float, float, float, float]]] = {}
-        """(t, x, y, speed) per run of the default scenario."""
-        self._limit: float | None = None
+        self.trajectories: dict[str, list[Sample]] = {}
+        """The base's samples per run of the default scenario."""
+        self._limits: list[tuple[str, float]] = []
 
     def compose(self) -> ComposeResult:
         yield Static("", id="simulation-head", markup=False)
@@ -104,7 +112,7 @@ class SimulationView(VerticalScroll):
         table.clear()
         self.verdicts = []
         self.trajectories = {}
-        self._limit = None
+        self._limits = []
         self.query_one("#simulation-oracle", Static).update("")
         if simulation is None:
             head.update("This result was not simulated (the simulate stage was turned off).")
@@ -138,14 +146,16 @@ class SimulationView(VerticalScroll):
             )
         if simulation.trace:
             self.trajectories = read_trajectories(folder / simulation.trace)
-        self._limit = next(
-            (
-                float(v.measured["limit"])
-                for v in simulation.verdicts
-                if v.kind == "limit" and isinstance(v.measured.get("limit"), int | float)
-            ),
-            None,
-        )
+        # The resource's limits the default scenario's normal run was judged against, as in
+        # the PNG plot.
+        self._limits = [
+            (v.oracle, float(v.measured["limit"]))
+            for v in simulation.verdicts
+            if v.kind == "limit"
+            and v.episode == "normal"
+            and v.scenario in (None, simulation.scenario)
+            and isinstance(v.measured.get("limit"), int | float)
+        ]
         self._plot()
         self.show_oracle(0)
 
@@ -183,31 +193,41 @@ class SimulationView(VerticalScroll):
             box.update(Text("no trajectory to plot", style="dim") if self.verdicts else "")
             return
         width = max(20, self.size.width - 12)
+        runs = self.trajectories.items()
         paths = [
             Series(
-                [(x, y) for _t, x, y, _v in samples],
+                [(x, y) for _t, x, y, _v, _w in samples],
                 _RUN_STYLES.get(name, "white"),
                 _RUN_LABELS.get(name, name),
             )
-            for name, samples in self.trajectories.items()
+            for name, samples in runs
         ]
-        speeds = [
-            Series(
-                [(t, v) for t, _x, _y, v in samples],
-                _RUN_STYLES.get(name, "white"),
-                _RUN_LABELS.get(name, name),
+        speeds = []
+        for name, samples in runs:
+            label = _RUN_LABELS.get(name, name)
+            speeds.append(
+                Series(
+                    [(t, v) for t, _x, _y, v, _w in samples],
+                    _RUN_STYLES.get(name, "white"),
+                    f"speed m/s ({label})",
+                )
             )
-            for name, samples in self.trajectories.items()
-        ]
-        if self._limit is not None:
-            end = max(t for samples in self.trajectories.values() for t, *_ in samples)
-            speeds.append(Series([(0.0, self._limit), (end, self._limit)], "red", "limit"))
+            speeds.append(
+                Series(
+                    [(t, w) for t, _x, _y, _v, w in samples],
+                    _YAW_STYLES.get(name, "grey50"),
+                    f"|yaw rate| rad/s ({label})",
+                )
+            )
+        end = max(t for samples in self.trajectories.values() for t, *_ in samples)
+        for (oracle, value), style in zip(self._limits, _LIMIT_STYLES, strict=False):
+            speeds.append(Series([(0.0, value), (end, value)], style, oracle))
         text = Text("path from above (map frame, m)\n", style="bold")
         text.append_text(
             braille_plot(paths, width, 10, x_label="x [m]", y_label="y [m]", equal_axes=True)
         )
         text.append("\n\nspeed over time\n", style="bold")
         text.append_text(
-            braille_plot(speeds, width, 6, x_label="t [s]", y_label="speed [m/s]", y_floor=0.0)
+            braille_plot(speeds, width, 6, x_label="t [s]", y_label="m/s, rad/s", y_floor=0.0)
         )
         box.update(text)
