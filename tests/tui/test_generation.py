@@ -250,10 +250,14 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
         assert pane.streamed == "".join(a.response for a in record.model.attempts)
         assert pane.streamed
         assert (result / "conversation.txt").is_file()
-        # Random weights write no method that passes the checks: nothing is run or simulated.
-        behaviour = {"run", "simulate"}
-        assert all(state == "done" for n, (state, _) in pane.stages.items() if n not in behaviour)
-        assert [pane.stages[n][0] for n in ("run", "simulate")] == ["skipped", "skipped"]
+        # Random weights write no method that passes the checks: nothing is run or simulated,
+        # and the stage list says so in the record's words.
+        assert {stage: state for stage, (state, _) in pane.stages.items()} == record.verdicts
+        assert [pane.stages[n][0] for n in ("checks", "run", "simulate")] == [
+            "failed",
+            "skipped",
+            "skipped",
+        ]
         # One line per answer, in the order asked, with how it ended.
         attempts = str(app.query_one("#generation-attempts", Static).render()).splitlines()
         assert [line.split()[1] for line in attempts][:3] == ["starting", "execute", "completing"]
@@ -263,7 +267,9 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
         assert "tokens/s" in stats
         assert f"wrote {record.model.completion_tokens} tokens" in stats
         text = screen_text(app)
-        assert "✓ generation" in text
+        generation = pane.stages["generation"][0]
+        assert generation == ("failed" if record.model.states_missing else "passed")
+        assert ("✗ generation" if record.model.states_missing else "✓ generation") in text
 
 
 async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
