@@ -77,6 +77,7 @@ class _Writer:
             target.attempts.append(_answer(target.name, 1, first[target.name]))
         self.answers = {name: list(texts) for name, texts in answers.items()}
         self.asked: list[tuple[str, list[str], str]] = []
+        self.codes: list[list[str]] = []
         self.fixed: list[str] = []
         self.helpers_asked = 0
 
@@ -102,8 +103,11 @@ class _Writer:
         assembly = Assembly(code=code, written=(), missing=(), added=())
         return Judgement(skeleton, assembly, _findings(code), frozenset(picked))
 
-    def ask_again(self, name: str, problems: Sequence[str], prefill: str) -> Attempt:
+    def ask_again(
+        self, name: str, problems: Sequence[str], prefill: str, codes: Sequence[str] = ()
+    ) -> Attempt:
         self.asked.append((name, list(problems), prefill))
+        self.codes.append(list(codes))
         target = next(t for t in self.targets if t.name == name)
         body = self.answers[name].pop(0)
         attempt = _answer(name, len(target.attempts) + 1, body)
@@ -175,6 +179,8 @@ def test_answers_are_bounded_and_the_best_one_is_chosen() -> None:
         "`bad()`: bad is not defined",
         "`bad()  # again`: bad is not defined",
     ]
+    # each repair is asked with the rules of what it must fix, for a UI to say why it runs
+    assert writer.codes[0] == ["SW311", "SW311"]
 
 
 def test_only_a_runs_errors_left_get_their_own_repair_beyond_the_attempts() -> None:

@@ -72,7 +72,14 @@ def test_a_generated_skill_that_runs_clean_passes_the_run_and_the_simulation(
     assert record.simulation.plot == "simulation.png"
     assert (outcome.out_dir / "simulation.png").read_bytes().startswith(b"\x89PNG")
     assert "simulation.png" in record.files
+    # The trace the plot is drawn from is kept too, for a terminal to draw it again.
+    assert record.simulation.trace == "simulation.trace.json"
+    assert "ground_truth" in (outcome.out_dir / "simulation.trace.json").read_text("utf-8")
     assert outcome.passed
+    # Each stage ended with the verdict the record keeps.
+    ended = {e.stage: e.verdict for e in events if isinstance(e, StageFinished)}
+    assert ended == {stage: record.verdicts[stage] for stage in ended}
+    assert [record.verdicts[s] for s in ("checks", "run", "simulate")] == ["passed"] * 3
     # One run and one simulation of the one file the model wrote, reused by the stages.
     assert (record.run.repair_runs, record.simulation.repair_runs) == (1, 1)
 
@@ -135,6 +142,10 @@ def test_a_failed_oracle_in_the_simulation_reaches_the_models_repair_prompt(
     assert "scenario arc" in repair
     assert "outAngularVelocity" in repair
     assert not outcome.passed
+    ended = {e.stage: e.verdict for e in events if isinstance(e, StageFinished)}
+    assert (ended["checks"], ended["simulate"]) == ("passed", "failed")
+    assert outcome.record.verdicts["simulate"] == "failed"
+    assert outcome.record.verdicts["run"] == "skipped"  # turned off in this request
     # The repair repeated the answer: the same file is not simulated again.
     assert simulation.repair_runs == 1
 
@@ -159,6 +170,10 @@ def test_a_wait_that_gives_up_on_the_moving_base_gets_a_measured_timeout_without
     run = outcome.record.run
     assert run is not None
     assert run.passed, run.findings
+    # The skill holds the checks' own fix: its writing was fixed automatically, not failed.
+    assert tries[1].chosen
+    assert outcome.record.verdicts["generation"] == "fixed automatically"
+    assert outcome.record.verdicts["run"] == "passed"
     code = outcome.skill_path.read_text(encoding="utf-8")
     allowed = re.search(r"<= 0\.01\n\s+and .*<= 0\.01,\n\s+([\d.]+),\n", code)
     assert allowed is not None, code

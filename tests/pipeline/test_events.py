@@ -27,7 +27,9 @@ def test_chunks_within_the_interval_are_joined_and_other_events_keep_their_order
     batcher(TokenChunk("e"))
     batcher(TokenChunk("f"))
     batcher.flush()
-    assert sent == [TokenChunk("a"), TokenChunk("bcd"), notice, TokenChunk("e"), TokenChunk("f")]
+    assert sent == [TokenChunk("a"), TokenChunk("bcd", 3), notice, TokenChunk("e"), TokenChunk("f")]
+    # Each joined event says how many of the stream's chunks (tokens) it holds.
+    assert [e.pieces for e in sent if isinstance(e, TokenChunk)] == [1, 3, 1, 1]
 
 
 def test_flush_without_pending_text_sends_nothing() -> None:

@@ -128,3 +128,41 @@ def test_the_tui_command_is_listed_in_the_help() -> None:
     result = CliRunner().invoke(main, ["--help"])
     assert "tui" in result.output
     assert CliRunner().invoke(main, ["tui", "--help"]).exit_code == 0
+
+
+async def test_tab_keys_work_from_a_focused_code_view_and_the_filter_keeps_ctrl_e(
+    workspace: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from textual.widgets import Input
+
+    from skillwright.tui.screens.interfaces import InterfacesPane
+
+    app = app_for(workspace)
+    async with running(app, (120, 40)) as pilot:
+        tabs = app.query_one("#tabs", TabbedContent)
+        await pilot.press("f6")
+        code = app.query_one("#generation-code")
+        app.set_focus(code)
+        # A text area takes F6 and F7 (select line, select all); the tab keys come first.
+        await pilot.press("f7")
+        await wait_until(pilot, lambda: tabs.active == "history")
+        app.set_focus(app.query_one("#history-code"))
+        await pilot.press("f6")
+        await wait_until(pilot, lambda: tabs.active == "generation")
+        # Ctrl+E in the filter box describes the interfaces instead of moving to the end.
+        described: list[bool] = []
+        monkeypatch.setattr(InterfacesPane, "action_enrich", lambda self: described.append(True))
+        await pilot.press("f4", "slash")
+        await wait_until(pilot, lambda: isinstance(app.focused, Input))
+        await pilot.press("ctrl+e")
+        assert described == [True]
+
+
+async def test_arrows_on_the_retrieval_tab_stay_on_it(workspace: Path) -> None:
+    app = app_for(workspace)
+    async with running(app, (80, 24)) as pilot:
+        tabs = app.query_one("#tabs", TabbedContent)
+        await pilot.press("f5")
+        await wait_until(pilot, lambda: tabs.active == "retrieval")
+        await pilot.press("right", "right", "left")
+        assert tabs.active == "retrieval"

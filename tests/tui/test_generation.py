@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 from textual import events
-from textual.widgets import Input, OptionList, Select, Static, TabbedContent
+from textual.widgets import DataTable, Input, OptionList, Select, Static, TabbedContent
 
 from skillwright.errors import GenerationCancelledError
 from skillwright.pipeline import GenerationRecord
@@ -18,6 +18,7 @@ from skillwright.tui.screens.generation import SKELETON, GenerationPane
 from skillwright.tui.screens.history import HistoryPane
 from skillwright.tui.session import SpecDraft
 from skillwright.tui.widgets.code_view import CodeView
+from skillwright.tui.widgets.simulation import SimulationView
 from tests.tui.conftest import (
     MODEL_RUN,
     STEP,
@@ -70,6 +71,10 @@ def _status(app: Any) -> str:
     return str(app.query_one("#generation-status", Static).render())
 
 
+def _header(app: Any) -> str:
+    return str(app.query_one("#generation-header", Static).render())
+
+
 def _results(workspace: Path) -> list[Path]:
     generated = workspace / "generated"
     return sorted(generated.iterdir()) if generated.exists() else []
@@ -106,9 +111,28 @@ async def test_a_skeleton_run_writes_the_result_and_findings_jump_to_their_lines
         assert record.retrieval.pinned == ["/tf"]
         code = app.query_one("#generation-code", CodeView)
         assert code.text == (result / "skill.py").read_text(encoding="utf-8")
-        assert [state for state, _ in pane.stages.values()].count("done") == 5
-        assert pane.stages["model"][0] == "skipped"
-        assert "skeleton: checks FAILED" in _status(app)  # its states still raise
+        # The stage list's verdicts are the record's: its states still raise, so the checks
+        # failed and the run and the simulation were skipped; no model stage ran.
+        assert {stage: state for stage, (state, _) in pane.stages.items()} == record.verdicts
+        assert record.verdicts == {
+            "inputs": "passed",
+            "retrieval": "passed",
+            "skeleton": "passed",
+            "model": "skipped",
+            "generation": "skipped",
+            "checks": "failed",
+            "run": "skipped",
+            "simulate": "skipped",
+            "outputs": "passed",
+        }
+        assert _status(app).startswith("failed: ")
+        header = _header(app)
+        assert header.startswith("✗ FAILED skeleton get_position: checks ✗ failed")
+        assert "run - skipped · simulate - skipped" in header
+        assert str(result.resolve()) in header
+        text = screen_text(app)
+        assert "✗ checks" in text
+        assert "✓ checks" not in text
         findings = app.query_one("#generation-findings", OptionList)
         assert findings.option_count == len(record.checks.findings) > 0
         findings.focus()
@@ -185,22 +209,27 @@ async def test_run_findings_sim_verdicts_and_the_plot_are_shown_at_80_columns(
         outcome = pane.outcome
         outcome.record = _with_behaviour(outcome.record)
         pane.post_message(GenerationFinished(outcome))
-        await wait_until(pilot, lambda: "run FAILED" in _status(app))
-        assert "sim FAILED" in _status(app)
-        side = str(app.query_one("#generation-behaviour", Static).render()).splitlines()
-        assert side == [
-            "✗ run 1 err, 0 warn",
-            "✗ sim at_origin 1/2",
-            "  ✗ normal output:outPositionX",
-            "plot: simulation.png",
-        ]
-        text = screen_text(app)
-        assert "✗ sim at_origin 1/2" in text
-        assert "plot: simulation.png" in text
+        await wait_until(pilot, lambda: "run ✗ failed" in _header(app))
+        assert "simulate ✗ failed" in _header(app)
+        assert "checks ✗ failed" in _header(app)
         checks = {f.check for f in pane.findings}
         assert {"run.exception", "behaviour.output"} <= checks
         findings = app.query_one("#generation-findings", OptionList)
         assert findings.option_count == len(pane.findings)
+        # v shows every oracle, the passed one too, with its numbers.
+        await pilot.press("v")
+        view = app.query_one(SimulationView)
+        await wait_until(pilot, lambda: view.display and view.size.height > 0)
+        table = app.query_one("#simulation-oracles", DataTable)
+        assert table.row_count == 2
+        first = [str(cell) for cell in table.get_row_at(0)]
+        assert first[:3] == ["✗", "normal", "output:outPositionX"]
+        assert first[4] == "abs(outPositionX - x) <= 0.03"
+        assert "✓" in [str(cell) for cell in table.get_row_at(1)]
+        detail = str(app.query_one("#simulation-oracle", Static).render())
+        assert "expected: abs(outPositionX - x) <= 0.03" in detail
+        await pilot.press("v")
+        assert app.focused is app.query_one("#generation-code", CodeView)
 
 
 async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
@@ -221,10 +250,14 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
         assert pane.streamed == "".join(a.response for a in record.model.attempts)
         assert pane.streamed
         assert (result / "conversation.txt").is_file()
-        # Random weights write no method that passes the checks: nothing is run or simulated.
-        behaviour = {"run", "simulate"}
-        assert all(state == "done" for n, (state, _) in pane.stages.items() if n not in behaviour)
-        assert [pane.stages[n][0] for n in ("run", "simulate")] == ["skipped", "skipped"]
+        # Random weights write no method that passes the checks: nothing is run or simulated,
+        # and the stage list says so in the record's words.
+        assert {stage: state for stage, (state, _) in pane.stages.items()} == record.verdicts
+        assert [pane.stages[n][0] for n in ("checks", "run", "simulate")] == [
+            "failed",
+            "skipped",
+            "skipped",
+        ]
         # One line per answer, in the order asked, with how it ended.
         attempts = str(app.query_one("#generation-attempts", Static).render()).splitlines()
         assert [line.split()[1] for line in attempts][:3] == ["starting", "execute", "completing"]
@@ -234,7 +267,9 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
         assert "tokens/s" in stats
         assert f"wrote {record.model.completion_tokens} tokens" in stats
         text = screen_text(app)
-        assert "✓ generation" in text
+        generation = pane.stages["generation"][0]
+        assert generation == ("failed" if record.model.states_missing else "passed")
+        assert ("✗ generation" if record.model.states_missing else "✓ generation") in text
 
 
 async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
@@ -261,11 +296,23 @@ async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
         await _send_keys(app, list("abc"), lambda: field.value == "abc")
         await _send_keys(app, ["f6"], lambda: _tab(app) == "generation")
         assert pane.running, "the keys were handled while the generation worker ran"
-        # Once the model writes, Esc stops it; nothing is written.
+        # Once the model writes, the progress counts its tokens against the answer's budget.
         await wait_until(pilot, lambda: pane.streamed, timeout=MODEL_RUN)
+        progress = app.query_one("#generation-progress", Static)
+        await wait_until(pilot, lambda: "/8000 tokens" in str(progress.render()))
+        lines = str(progress.render()).splitlines()
+        assert lines[0].startswith("elapsed ")
+        assert " · generation " in lines[0]
+        assert lines[1].startswith("writing ")
+        assert lines[1].endswith("(first answer)")
+        # Esc stops it; nothing is written, and nothing it streamed is left on screen.
         await pilot.press("escape")
         await wait_until(pilot, lambda: not pane.running)
         assert "cancelled: nothing was written" in _status(app)
+        assert app.query_one("#generation-code", CodeView).text == ""
+        assert "…" not in str(app.query_one("#generation-attempts", Static).render())
+        assert pane.stages["generation"] == ("not run", "cancelled")
+        assert str(progress.render()) == ""
         assert any("cancelled" in n for n in notifications(app))
         assert _results(workspace) == []
         assert not app.query_one("#generation-start").disabled
@@ -336,3 +383,54 @@ async def test_quitting_during_a_generation_stops_it_and_writes_nothing(
         await pilot.press("ctrl+q")
     assert isinstance(await generation.first(), GenerationCancelledError)
     assert _results(workspace) == []
+
+
+async def test_a_new_run_asks_before_it_replaces_the_result_on_screen(workspace: Path) -> None:
+    from skillwright.tui.screens.confirm import ConfirmScreen
+
+    preset_session(workspace, **INPUTS, skeleton=True)
+    app = app_for(workspace)
+    async with running(app, (120, 40)) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.outcome is not None)
+        [first] = _results(workspace)
+        # Enter on the focused Generate button asks first; No keeps the result.
+        app.set_focus(app.query_one("#generation-start"))
+        await pilot.press("enter")
+        await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
+        assert "History" in str(app.screen.query_one("#confirm-question", Static).render())
+        await pilot.press("enter")  # the focus is on No: an Enter too many confirms nothing
+        await wait_until(pilot, lambda: not isinstance(app.screen, ConfirmScreen))
+        assert not pane.running
+        assert pane.shown is not None
+        assert pane.shown[0] == first
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: isinstance(app.screen, ConfirmScreen))
+        await pilot.press("y")
+        await wait_until(pilot, lambda: len(_results(workspace)) == 2 and pane.outcome)
+        assert pane.shown is not None
+        assert pane.shown[0] != first
+
+
+async def test_the_last_result_is_shown_again_after_a_restart(workspace: Path) -> None:
+    preset_session(workspace, **INPUTS, skeleton=True)
+    app = app_for(workspace)
+    async with running(app, (120, 40)) as pilot:
+        pane = await _ready(pilot, app)
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.outcome is not None)
+        [result] = _results(workspace)
+        await wait_until(pilot, lambda: app.session.last_result is not None)
+        app.save_session_now()
+    again = app_for(workspace)
+    async with running(again, (120, 40)) as pilot:
+        pane = again.query_one(GenerationPane)
+        await wait_until(pilot, lambda: pane.shown is not None)
+        assert pane.shown is not None
+        assert pane.shown[0] == result
+        assert str(result.resolve()) in _header(again)
+        assert "restored from the last session" in _status(again)
+        code = again.query_one("#generation-code", CodeView)
+        assert code.text == (result / "skill.py").read_text(encoding="utf-8")
+        assert pane.stages["checks"][0] == "failed"

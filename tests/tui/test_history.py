@@ -12,7 +12,7 @@ from skillwright.pipeline import GenerationRecord, GenerationRequest, run_genera
 from skillwright.tui.screens.history import HistoryPane, diff_results
 from skillwright.tui.widgets.code_view import CodeView
 from skillwright.tui.workspace import Workspace
-from tests.tui.conftest import app_for, running, wait_until
+from tests.tui.conftest import app_for, running, screen_text, wait_until
 
 pytestmark = pytest.mark.anyio
 
@@ -42,11 +42,15 @@ async def test_results_are_listed_newest_first_and_open_with_their_code(workspac
         await wait_until(pilot, lambda: len(pane.entries) == 2)
         assert [folder for folder, _ in pane.entries] == [newer, older]
         table = app.query_one("#history-table", DataTable)
+        # The skeleton's states raise: the checks failed, so nothing was run or simulated.
         assert [str(c) for c in table.get_row_at(0)][1:] == [
             newer.name,
+            "✗ failed",
+            "✗ failed",
+            "- skipped",
+            "- skipped",
             "skeleton",
             "-",
-            "FAILED",
             "1",
         ]
         code = app.query_one("#history-code", CodeView)
@@ -54,6 +58,7 @@ async def test_results_are_listed_newest_first_and_open_with_their_code(workspac
         summary = str(app.query_one("#history-summary", Static).render())
         assert "capability rotate.ttl  spec rotate.spec.yaml" in summary
         assert "pinned: /odom" in summary
+        assert "✗ failed: checks ✗ failed (5 error(s), 0 warning(s)) · run - skipped" in summary
         await pilot.press("down")
         await wait_until(pilot, lambda: code.text == (older / "skill.py").read_text("utf-8"))
 
@@ -68,7 +73,10 @@ async def test_two_results_are_compared_as_a_diff(workspace: Path) -> None:
         await wait_until(pilot, lambda: len(pane.entries) == 2)
         await pilot.press("d")  # nothing marked yet: says what to do
         assert app.query_one("#history-view", ContentSwitcher).current == "history-code"
-        await pilot.press("down", "m", "up", "d")
+        await pilot.press("down", "m")
+        rows = [line for line in screen_text(app).splitlines() if older.name in line]
+        assert rows[0].split()[:2] == ["◆", older.name]  # the marked result shows its mark
+        await pilot.press("up", "d")
         switcher = app.query_one("#history-view", ContentSwitcher)
         await wait_until(pilot, lambda: switcher.current == "history-diff")
         assert pane.diff_text == diff_results(pane.entries[1], pane.entries[0], app.workspace)
@@ -107,5 +115,6 @@ async def test_a_damaged_record_is_reported_and_the_others_still_listed(workspac
         await wait_until(pilot, lambda: len(pane.entries) == 1)
         assert pane.entries[0][0] == good
         status = str(app.query_one("#history-status", Static).render())
+        assert status.startswith("1 result in generated")
         assert "✗" in status
         assert "rotate-20250102-080000" in status

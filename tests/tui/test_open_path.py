@@ -71,7 +71,12 @@ async def test_a_missing_file_is_refused_and_the_reason_is_in_view(
         assert app.returned == [folder / "nothing.ttl"]
 
 
-async def test_saving_needs_an_existing_folder_and_names_the_one_missing(tmp_path: Path) -> None:
+async def test_saving_needs_an_existing_folder_and_names_the_one_missing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    started_in = tmp_path / "started-in"
+    started_in.mkdir()
+    monkeypatch.chdir(started_in)
     app = _Host(tmp_path, must_exist=False)
     async with running(app, (80, 24)) as pilot:
         field = app.screen.query_one("#open-path", Input)
@@ -79,6 +84,8 @@ async def test_saving_needs_an_existing_folder_and_names_the_one_missing(tmp_pat
         await pilot.press("enter")
         error = app.screen.query_one("#open-error", Static)
         assert str(error.render()) == f"no such folder: new is not in {tmp_path}"
-        field.value = "skill.spec.yaml"  # relative: in the folder the dialog started in
+        # Relative: from the folder the TUI was started in, not the tree's (the workspace).
+        assert str(started_in) in field.placeholder
+        field.value = "skill.spec.yaml"
         await pilot.press("enter")
-        assert app.returned == [tmp_path / "skill.spec.yaml"]
+        assert app.returned == [started_in / "skill.spec.yaml"]

@@ -73,6 +73,18 @@ async def test_ranking_shows_the_engines_hits_with_scores_and_reasons(workspace:
         assert first[2:6] == [hit.name, hit.kind, hit.type_name, f"{hit.score:.2f}"]
         assert first[8] == hit.reason
         assert "3 interfaces ranked for Move forward (BM25 only" in _status(app)
+        # The pane under the table holds the highlighted interface's whole reason.
+        detail = str(app.query_one("#retrieval-detail", Static).render())
+        assert detail.startswith(f"{hit.name} ({hit.kind}, {hit.type_name}): score ")
+        assert f"why: {hit.reason}" in detail
+
+
+async def test_the_last_sessions_ranking_is_made_again_on_start(workspace: Path) -> None:
+    preset_session(workspace, **INPUTS, k=2, ranked=True)
+    app = app_for(workspace)
+    async with running(app, (120, 40)) as pilot:
+        await wait_until(pilot, lambda: len(app.loaded.hits) == 2)
+        assert app.query_one(RetrievalPane).rows == [h.name for h in app.loaded.hits]
 
 
 async def test_a_velocity_topic_the_report_cannot_tell_apart_is_marked_in_the_table(

@@ -116,11 +116,14 @@ class AuthorSettings:
 
 @dataclass(frozen=True)
 class AttemptStarted:
-    """The model starts an answer."""
+    """The model starts an answer of at most ``max_tokens`` tokens; a repair names the rules
+    of the findings it is asked to fix (``problem_codes``), so a UI can say why it runs."""
 
     target: str
     kind: str
     number: int
+    max_tokens: int | None = None
+    problem_codes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -193,9 +196,11 @@ class _Author:
         target: _Target,
         ask: str,
         prefill: str,
+        codes: Sequence[str] = (),
     ) -> Attempt:
         """Asks the model for one method after the turns before the target's, its answer
-        starting with ``prefill``, and judges what comes back."""
+        starting with ``prefill``, and judges what comes back; ``codes`` are the rules of
+        the findings a repair is asked to fix."""
         self.check_cancel()
         number = len(target.attempts) + 1
         # Greedy decoding gives the first answer, and the first repair of an answer that was
@@ -206,10 +211,11 @@ class _Author:
         greedy = not answers or (len(answers) == 1 and answers[0].finish not in _DEAD_ENDS)
         temperature = 0.0 if greedy else self.settings.repair_temperature
         seed = self.settings.seed + number
-        self.emit(AttemptStarted(target.name, target.kind, number))
+        budget = self.settings.budget(target.kind, target.name)
+        self.emit(AttemptStarted(target.name, target.kind, number, budget, tuple(codes)))
         prompt = conversation.prompt(ask, prefill, upto=target.turn_index)
         options = GenerationOptions(
-            max_tokens=self.settings.budget(target.kind, target.name),
+            max_tokens=budget,
             temperature=temperature,
             seed=seed,
             stop=STOP,
@@ -475,12 +481,15 @@ class _Skill:
             skeleton, assembly, self.validate(assembly.code, skeleton), frozenset(self.targets)
         )
 
-    def ask_again(self, name: str, problems: Sequence[str], prefill: str) -> Attempt:
+    def ask_again(
+        self, name: str, problems: Sequence[str], prefill: str, codes: Sequence[str] = ()
+    ) -> Attempt:
         """The model's next answer for ``name``: its request with the ``problems``, the answer
-        starting with ``prefill``, after the turns before the method's first request."""
+        starting with ``prefill``, after the turns before the method's first request;
+        ``codes`` are the rules of the findings it is asked to fix."""
         target = self.targets[name]
         return self.author.answer(
-            self.conversation, target, repair_ask(target.ask, problems), prefill
+            self.conversation, target, repair_ask(target.ask, problems), prefill, codes
         )
 
     def record_fix(self, name: str, attempt: Attempt) -> None:

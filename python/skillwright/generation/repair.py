@@ -100,9 +100,12 @@ class Writer(Protocol):
         """The file assembled from the ``picked`` answer of each method (by name), with what
         the checks found in it."""
 
-    def ask_again(self, name: str, problems: Sequence[str], prefill: str) -> Attempt:
+    def ask_again(
+        self, name: str, problems: Sequence[str], prefill: str, codes: Sequence[str] = ()
+    ) -> Attempt:
         """The model's next answer for method ``name``: its request with ``problems``, the
-        answer starting with ``prefill``."""
+        answer starting with ``prefill``; ``codes`` are the rules of the findings it is asked
+        to fix."""
 
     def write_helpers(self) -> None:
         """Asks for helpers the answers call but nobody has written."""
@@ -311,9 +314,10 @@ def _repair(writer: Writer, method: Method, told: list[tuple[str, str]], prefill
     # everything found so far, continuing the latest answer up to its first error.
     problems = [text for _, text in told]
     method.problems.extend([p for p in problems if p not in method.problems])
-    attempt = writer.ask_again(method.name, method.problems[-_MAX_PROBLEMS:], prefill)
+    codes = [c for c, _ in told if c]
+    attempt = writer.ask_again(method.name, method.problems[-_MAX_PROBLEMS:], prefill, codes)
     attempt.problems = problems
-    attempt.problem_codes = [c for c, _ in told if c]
+    attempt.problem_codes = codes
 
 
 def _problems(

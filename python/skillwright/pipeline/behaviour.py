@@ -107,6 +107,14 @@ class SimResult:
         plot = self.report.scenarios[0].plot
         return Path(plot) if plot else None
 
+    @property
+    def trace(self) -> Path | None:
+        """The default scenario's trace with ground truth, while the work folder exists."""
+        if self.report is None or not self.report.scenarios:
+            return None
+        trace = self.report.scenarios[0].trace
+        return Path(trace) if trace else None
+
 
 class _Budget:
     """A cancel event for one stage: set by the caller's cancel, or when ``seconds`` pass."""
@@ -363,8 +371,11 @@ class Behaviour:
             repair_runs=self.repair_runs,
         )
 
-    def sim_record(self, result: SimResult, plot: str | None) -> SimulationRecord:
-        """What ``record.json`` keeps of a simulation; ``plot`` is the plot's file name."""
+    def sim_record(
+        self, result: SimResult, plot: str | None, trace: str | None = None
+    ) -> SimulationRecord:
+        """What ``record.json`` keeps of a simulation; ``plot`` and ``trace`` are the names
+        of the plot's and the trace's files in the output folder."""
         report = result.report
         if report is None or not report.scenarios:
             return SimulationRecord(
@@ -392,6 +403,7 @@ class Behaviour:
             verdicts=verdicts,
             findings=report.findings,
             plot=plot,
+            trace=trace,
             speed=speed,
             seconds=round(result.seconds, 3),
             repair_runs=self.repair_sims,

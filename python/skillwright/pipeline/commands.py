@@ -16,6 +16,13 @@ from skillwright.cli_options import (
     spec_option,
     warn_unisolated,
 )
+from skillwright.pipeline.verdict import (
+    Verdict,
+    behaviour_verdict,
+    checks_verdict,
+    overall,
+    stage_verdicts,
+)
 from skillwright.validation.commands import selection_options
 
 if TYPE_CHECKING:
@@ -102,8 +109,8 @@ def _attempt_line(event: AttemptFinished) -> str:
     attempt = event.attempt
     if attempt.finish == "fixed":
         return (
-            f"  {attempt.target} answer {attempt.number}: fixed with the checks' suggestions "
-            "(no model time)"
+            f"  {attempt.target} answer {attempt.number}: {Verdict.FIXED.word} with the checks' "
+            "suggestions (no model time)"
         )
     verdict = "ok" if attempt.finish == "stop" else attempt.finish
     note = f" — {attempt.note}" if attempt.note else ""
@@ -138,7 +145,7 @@ def _summary(outcome: Outcome) -> None:
     for note in record.notes:
         console.print(f"note: {note}", style="yellow", highlight=False, markup=False)
     checks = record.checks
-    verdict = "[green]passed[/]" if checks.passed else "[red]failed[/]"
+    verdict = checks_verdict(checks).verdict.markup()
     what = "skeleton" if record.model is None else f"skill written by {record.model.id}"
     console.print(
         f"{what}: {outcome.skill_path}\nchecks {verdict}: {checks.errors} error(s), "
@@ -146,18 +153,25 @@ def _summary(outcome: Outcome) -> None:
         highlight=False,
     )
     _behaviour_summary(console, outcome)
+    console.print(f"verdict: {overall(stage_verdicts(record)).markup()}", highlight=False)
     for backup in outcome.backups:
         console.print(f"earlier version kept in {backup}", style="dim", highlight=False)
 
 
 def _behaviour_summary(console: Console, outcome: Outcome) -> None:
+    from rich.markup import escape
+
     from skillwright.validation.commands import print_findings
 
     record = outcome.record
     run, simulation = record.run, record.simulation
+    for name, part in (("run", run), ("simulation", simulation)):
+        if part is not None and part.skipped is not None:
+            given = behaviour_verdict(part, record.checks.passed).verdict
+            console.print(f"{name} {given.markup()}: {escape(part.skipped)}", highlight=False)
     if run is not None and run.skipped is None:
         print_findings(console, outcome.skill_path, run.findings)
-        verdict = "[green]passed[/]" if run.passed else "[red]failed[/]"
+        verdict = behaviour_verdict(run, record.checks.passed).verdict.markup()
         console.print(
             f"run {verdict}: {run.errors} error(s), {run.warnings} warning(s) "
             f"(world: {run.world or 'none'})",
@@ -173,7 +187,7 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
                 markup=False,
             )
         judged = sum(v.passed is not None for v in simulation.verdicts)
-        verdict = "[green]passed[/]" if simulation.passed else "[red]failed[/]"
+        verdict = behaviour_verdict(simulation, record.checks.passed).verdict.markup()
         plot = f"; plot: {outcome.out_dir / simulation.plot}" if simulation.plot else ""
         console.print(
             f"simulation {verdict} in {simulation.where}: {judged - len(failed)}/{judged} "

@@ -52,11 +52,14 @@ class StageStarted:
 
 @dataclass(frozen=True)
 class StageFinished:
-    """A stage ended after ``seconds``."""
+    """A stage ended after ``seconds``; ``verdict`` is its
+    :class:`~skillwright.pipeline.verdict.Verdict`'s word (a stage without a check of its
+    own passed when it ended)."""
 
     stage: str
     seconds: float
     detail: str
+    verdict: str = "passed"
 
 
 @dataclass(frozen=True)
@@ -77,9 +80,11 @@ class PrefixCacheStatus:
 
 @dataclass(frozen=True)
 class TokenChunk:
-    """Text the model just produced."""
+    """Text the model just produced, in ``pieces`` chunks of its stream (one token each for
+    llama.cpp; :class:`ChunkBatcher` joins several into one event)."""
 
     text: str
+    pieces: int = 1
 
 
 @dataclass(frozen=True)
@@ -124,11 +129,13 @@ class ChunkBatcher:
         self.interval = interval
         self.clock = clock
         self.pending: list[str] = []
+        self.pieces = 0
         self.sent_at: float | None = None
 
     def __call__(self, event: object) -> None:
         if isinstance(event, TokenChunk):
             self.pending.append(event.text)
+            self.pieces += event.pieces
             now = self.clock()
             if self.sent_at is None or now - self.sent_at >= self.interval:
                 self.sent_at = now
@@ -140,6 +147,7 @@ class ChunkBatcher:
     def flush(self) -> None:
         """Sends the text held back, if any."""
         if self.pending:
-            text = "".join(self.pending)
+            text, pieces = "".join(self.pending), self.pieces
             self.pending.clear()
-            self.send(TokenChunk(text))
+            self.pieces = 0
+            self.send(TokenChunk(text, pieces))

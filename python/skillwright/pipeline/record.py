@@ -38,8 +38,9 @@ __all__ = [
 
 RECORD_SCHEMA_VERSION: Final = 2
 """2: the model writes method by method (``model.attempts``); 1: one whole-file answer.
-``run``, ``simulation``, ``retrieval.rerank``, ``retrieval.min_share`` and a hit's
-``set_aside`` are optional additions to 2 (records without them still load)."""
+``run``, ``simulation``, ``retrieval.rerank``, ``retrieval.min_share``, a hit's
+``set_aside``, ``simulation.trace`` and ``verdicts`` are optional additions to 2 (records
+without them still load)."""
 
 
 class _Model(BaseModel):
@@ -280,6 +281,11 @@ class SimulationRecord(_Model):
     plot: str | None = Field(
         default=None, description="The trajectory plot, a file in the output folder."
     )
+    trace: str | None = Field(
+        default=None,
+        description="The default scenario's trace with the base's ground truth at 20 Hz (JSON), "
+        "a file in the output folder: what the plot is drawn from.",
+    )
     speed: float | None = Field(default=None, description="Virtual per wall seconds, normal run.")
     seconds: float | None = Field(default=None, description="Wall time of the validation.")
     repair_runs: int = Field(
@@ -321,6 +327,11 @@ class GenerationRecord(_Model):
     )
     files: list[str] = Field(description="Files written into the output folder.")
     notes: list[str] = Field(default_factory=list, description="What the user should know.")
+    verdicts: dict[str, str] = Field(
+        default_factory=dict,
+        description="Each stage's verdict (passed, failed, fixed automatically, skipped, not "
+        "run; skillwright.pipeline.verdict), as the TUI and the generate command show it.",
+    )
 
     @classmethod
     def load(cls, path: Path) -> GenerationRecord:

@@ -62,6 +62,7 @@ from skillwright.pipeline.record import (
     SimulationRecord,
     SkeletonRecord,
 )
+from skillwright.pipeline.verdict import Verdict, behaviour_verdict, stage_verdicts, writing_verdict
 
 if TYPE_CHECKING:
     from skillwright.capability.model import CapabilityLoad
@@ -197,17 +198,24 @@ class _Stages:
             raise GenerationCancelledError("generation cancelled; nothing was written")
 
     @contextmanager
-    def stage(self, name: str, detail: str) -> Iterator[list[str]]:
-        """Runs a stage; the body may append a result summary to the yielded list."""
+    def stage(self, name: str, detail: str) -> Iterator[_Summary]:
+        """Runs a stage; the body may append a result summary to the yielded list and set
+        its verdict (a stage that ends without a check of its own passed)."""
         self.check_cancel()
         self.current = name
         self.emit(StageStarted(name, detail))
         started = time.perf_counter()
-        summary: list[str] = []
+        summary = _Summary()
         yield summary
         seconds = time.perf_counter() - started
         self.timings[name] = round(seconds, 4)
-        self.emit(StageFinished(name, seconds, "; ".join(summary)))
+        self.emit(StageFinished(name, seconds, "; ".join(summary), summary.verdict.value))
+
+
+class _Summary(list[str]):
+    """A stage's result in a few phrases, and its verdict."""
+
+    verdict = Verdict.PASSED
 
 
 def _sha256(path: Path) -> str:
@@ -547,6 +555,7 @@ def _generate(
             + (f", {behaviour.repair_runs} runs" if behaviour.repair_runs else "")
             + (f", {behaviour.repair_sims} simulations" if behaviour.repair_sims else "")
         )
+        summary.verdict = writing_verdict(authored.assembly.missing, authored.attempts).verdict
         for attempt in authored.attempts:
             if attempt.finish == "length":
                 stages.emit(
@@ -615,7 +624,7 @@ def _record(
     from skillwright import __version__
 
     errors = sum(f.severity == "error" for f in report.findings)
-    return GenerationRecord(
+    record = GenerationRecord(
         skillwright_version=__version__,
         created=datetime.now(UTC).isoformat(timespec="seconds"),
         mode="skeleton" if model_result is None else "llm",
@@ -670,6 +679,8 @@ def _record(
         files=files,
         notes=notes,
     )
+    record.verdicts = {stage: v.verdict.word for stage, v in stage_verdicts(record).items()}
+    return record
 
 
 def _model_stages(
@@ -734,14 +745,25 @@ PLOT_FILE = "simulation.png"
 """The simulation's trajectory plot in the output folder."""
 
 
+TRACE_FILE = "simulation.trace.json"
+"""The default scenario's trace with the base's ground truth in the output folder (what the
+plot shows, as numbers: the TUI draws it in the terminal)."""
+
+
+def _took(seconds: float | None) -> str:
+    """How long the run or the simulation itself took: the repair loop may have run the
+    same code already, and then the stage only reuses that result."""
+    return "" if seconds is None else f"; took {seconds:.1f} s"
+
+
 def _run_summary(run: RunRecord) -> str:
     if run.skipped is not None:
         return run.skipped
     normal = next((e for e in run.episodes if e.name == "normal"), None)
-    verdict = f"{'passed' if run.passed else 'failed'}, {run.errors} error(s)"
-    if normal is None:
-        return verdict
-    return f"{verdict}; {normal.virtual_seconds:.1f} s simulated in {normal.wall_seconds:.1f} s"
+    verdict = f"{behaviour_verdict(run, True).verdict.word}, {run.errors} error(s)"
+    if normal is not None:
+        verdict += f"; {normal.virtual_seconds:.1f} s simulated in {normal.wall_seconds:.1f} s"
+    return verdict + _took(run.seconds)
 
 
 def _sim_summary(simulation: SimulationRecord) -> str:
@@ -751,7 +773,12 @@ def _sim_summary(simulation: SimulationRecord) -> str:
     failed = sorted({v.oracle for v in judged if v.passed is False})
     speed = f", {simulation.speed:.0f}x real time" if simulation.speed else ""
     head = f"{simulation.where}: {len(judged) - len(failed)}/{len(judged)} verdicts passed"
-    return head + speed + (f"; failed {', '.join(failed)}" if failed else "")
+    return (
+        head
+        + speed
+        + (f"; failed {', '.join(failed)}" if failed else "")
+        + _took(simulation.seconds)
+    )
 
 
 def _behaviour_stages(
@@ -767,7 +794,7 @@ def _behaviour_stages(
     if not behaviour.enabled:
         return None, None
     if errors:
-        skipped = f"not run: the static checks found {errors} error(s)"
+        skipped = f"the static checks found {errors} error(s)"
         run = RunRecord(passed=False, skipped=skipped) if behaviour.run_enabled else None
         sim = SimulationRecord(passed=False, skipped=skipped) if behaviour.sim_enabled else None
         return run, sim
@@ -778,6 +805,7 @@ def _behaviour_stages(
             "run", f"the states in the sandbox against the simulated graph ({RUN_WORLD} world)"
         ) as s:
             run_record = behaviour.run_record(behaviour.run(code))
+            s.verdict = behaviour_verdict(run_record, True).verdict
             s.append(_run_summary(run_record))
         stages.check_cancel()
     if behaviour.sim_enabled:
@@ -785,10 +813,15 @@ def _behaviour_stages(
             "simulate", "MuJoCo, every scenario of the capability and its oracles"
         ) as s:
             result = behaviour.simulate(code)
-            plot = result.plot
-            if plot is not None and plot.is_file():
-                files[PLOT_FILE] = plot.read_bytes()
-            sim_record = behaviour.sim_record(result, PLOT_FILE if PLOT_FILE in files else None)
+            for made, name in ((result.plot, PLOT_FILE), (result.trace, TRACE_FILE)):
+                if made is not None and made.is_file():
+                    files[name] = made.read_bytes()
+            sim_record = behaviour.sim_record(
+                result,
+                PLOT_FILE if PLOT_FILE in files else None,
+                TRACE_FILE if TRACE_FILE in files else None,
+            )
+            s.verdict = behaviour_verdict(sim_record, True).verdict
             s.append(_sim_summary(sim_record))
         stages.check_cancel()
     for name, record in (("run", run_record), ("simulation", sim_record)):
@@ -947,7 +980,8 @@ def _run_stages(
                 load, spec, inventory, request.out_dir / "skill.py", selection
             ).report(code, kept)
             errors = sum(f.severity == "error" for f in report.findings)
-            s.append(f"{'passed' if report.passed else 'failed'}, {errors} error(s)")
+            s.verdict = Verdict.PASSED if report.passed else Verdict.FAILED
+            s.append(f"{s.verdict.word}, {errors} error(s)")
         stages.check_cancel()
         run_record, sim_record = _behaviour_stages(behaviour, stages, code, errors, files, notes)
 

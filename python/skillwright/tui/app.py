@@ -75,8 +75,10 @@ class SkillwrightApp(App[None]):
     TITLE = "skillwright"
     BINDINGS: ClassVar[list[BindingType]] = [
         Binding("f1", "help", "Help"),
+        # Before the focused widget's own keys: a text area takes F6 and F7 (select line,
+        # select all), and the tab keys must work from every tab.
         *(
-            Binding(key, f"show_tab('{tab}')", TAB_TITLES[tab], show=False)
+            Binding(key, f"show_tab('{tab}')", TAB_TITLES[tab], show=False, priority=True)
             for tab, key in TAB_KEYS.items()
         ),
         Binding("ctrl+g", "generate", "Generate", priority=True),
@@ -101,8 +103,9 @@ class SkillwrightApp(App[None]):
         self._save_timer: Timer | None = None
         self._save_failed = False
         self.sub_title = f"workspace {self.workspace.root.name}"
-        # Wider terminals (>= 120 columns) put findings beside the code (see app.tcss).
-        self.HORIZONTAL_BREAKPOINTS = [(0, "-narrow"), (120, "-wide")]
+        # Wider terminals give side panels more room; from 160 columns the findings go
+        # beside the code (see app.tcss).
+        self.HORIZONTAL_BREAKPOINTS = [(0, "-narrow"), (120, "-wide"), (160, "-wider")]
 
     # --- layout -----------------------------------------------------------------------------
     def compose(self) -> ComposeResult:

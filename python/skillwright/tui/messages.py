@@ -33,6 +33,7 @@ __all__ = [
     "InventoryLoaded",
     "JobFailed",
     "ModelsListed",
+    "ResultRestored",
     "RetrievalFinished",
     "SpecFileLoaded",
     "SpecFormReady",
@@ -152,6 +153,14 @@ class GenerationFinished(_ForThePoster):
     """Generation wrote its result folder; ``outcome`` is the pipeline's ``Outcome``."""
 
     outcome: Any
+
+
+@dataclass
+class ResultRestored(_ForThePoster):
+    """The last session's result was read: its folder and ``GenerationRecord``."""
+
+    folder: Path
+    record: Any
 
 
 @dataclass

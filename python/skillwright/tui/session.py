@@ -83,6 +83,10 @@ class SessionState:
     """Use the embedding model in retrieval (else lexical only)."""
     attempts: int = 3
     """Answers the model may give per method: the first, then repairs."""
+    last_result: str | None = None
+    """The result folder the Generation tab showed last, shown again on start."""
+    ranked: bool = False
+    """The Retrieval tab showed a ranking: it ranks again once the inputs are loaded."""
 
     def to_json(self) -> str:
         """The document written to ``session.json``."""
@@ -138,6 +142,8 @@ def _check_types(state: SessionState) -> None:
         "k": int,
         "dense": bool,
         "attempts": int,
+        "last_result": (str, type(None)),
+        "ranked": bool,
     }
     for name, kind in expected.items():
         if not isinstance(getattr(state, name), kind):

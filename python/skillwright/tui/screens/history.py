@@ -16,12 +16,22 @@ from textual.coordinate import Coordinate
 from textual.widgets import Button, ContentSwitcher, DataTable, Static
 
 from skillwright.errors import SkillwrightError
+from skillwright.pipeline.verdict import Verdict, overall, stage_verdicts
 from skillwright.tui.messages import HistoryLoaded
 from skillwright.tui.screens.base import Pane
 from skillwright.tui.widgets.code_view import CodeView
 from skillwright.tui.workspace import Workspace
 
-__all__ = ["HistoryPane", "diff_results"]
+__all__ = ["COLUMNS", "JUDGING", "HistoryPane", "diff_results", "summary_lines", "verdict_cell"]
+
+JUDGING = ("checks", "run", "simulate")
+"""The stages that judge a skill, each a column of the table."""
+
+COLUMNS = ("result", "verdict", "checks", "run", "simulate", "mode", "model", "pins")
+"""The table's columns after the mark of the result marked for a diff."""
+
+_MARKED = "◆"
+"""The mark of the result marked as the old side of a diff."""
 
 
 def _skill_text(folder: Path, record: Any) -> tuple[str, str]:
@@ -55,10 +65,26 @@ def summary_lines(folder: Path, record: Any, workspace: Workspace | None = None)
         pinned = ", ".join(retrieval.pinned) or "-"
         dropped = ", ".join(retrieval.dropped) or "-"
         lines.append(f"pinned: {pinned}  dropped: {dropped}")
-    findings = record.checks.findings
-    verdict = "passed" if record.checks.passed else "FAILED"
-    lines.append(f"checks {verdict} ({len(findings)} findings)")
+    verdicts = stage_verdicts(record)
+    judged = overall(verdicts)
+    lines.append(
+        f"{judged.mark} {judged.word}: "
+        + " · ".join(
+            f"{stage} {verdicts[stage].verdict.mark} {verdicts[stage].verdict.word}"
+            + (f" ({verdicts[stage].reason})" if verdicts[stage].reason else "")
+            for stage in JUDGING
+        )
+    )
     return lines
+
+
+def verdict_cell(judged: Verdict) -> Text:
+    """A table cell with the verdict's mark and word in its colour."""
+    return Text(f"{judged.mark} {judged.word}", style=judged.style)
+
+
+def _plural(count: int, noun: str) -> str:
+    return f"{count} {noun}" + ("" if count == 1 else "s")
 
 
 def diff_results(
@@ -118,9 +144,11 @@ class HistoryPane(Pane):
                 yield Static("", id="history-diff-text", markup=False)
 
     def on_mount(self) -> None:
-        self.query_one("#history-table", DataTable).add_columns(
-            "", "result", "mode", "model", "checks", "pins"
-        )
+        table = self.query_one("#history-table", DataTable)
+        # A column as wide as its mark: a column sized by its content is 0 wide while no
+        # result is marked, and the mark would not show.
+        table.add_column("", width=1)
+        table.add_columns(*COLUMNS)
         self.reload()
 
     @on(Button.Pressed, "#history-reload")
@@ -154,17 +182,18 @@ class HistoryPane(Pane):
         for folder, record in self.entries:
             model = record.model.id if record.model is not None else "-"
             pins = len(record.retrieval.pinned) + len(record.retrieval.dropped)
-            cells = (
-                "*" if folder == self.marked else "",
-                folder.name,
-                record.mode,
-                model,
-                "passed" if record.checks.passed else "FAILED",
-                str(pins) if pins else "",
+            verdicts = stage_verdicts(record)
+            table.add_row(
+                Text(_MARKED if folder == self.marked else ""),
+                Text(folder.name),
+                verdict_cell(overall(verdicts)),
+                *(verdict_cell(verdicts[stage].verdict) for stage in JUDGING),
+                Text(record.mode),
+                Text(model),
+                Text(str(pins) if pins else ""),
             )
-            table.add_row(*(Text(c) for c in cells))
         where = self.sw.workspace.relative(self.sw.workspace.generated_dir)
-        status = f"{len(self.entries)} results in {where}"
+        status = f"{_plural(len(self.entries), 'result')} in {where}"
         if not self.entries:
             status = "No results yet: generate one (Ctrl+G)."
         for problem in message.problems:
@@ -201,7 +230,14 @@ class HistoryPane(Pane):
         self.marked = None if self.marked == entry[0] else entry[0]
         table = self.query_one("#history-table", DataTable)
         for row, (folder, _record) in enumerate(self.entries):
-            table.update_cell_at(Coordinate(row, 0), "*" if folder == self.marked else "")
+            table.update_cell_at(Coordinate(row, 0), _MARKED if folder == self.marked else "")
+        self.notify(
+            f"marked {entry[0].name}: highlight another result and press d to diff"
+            if self.marked is not None
+            else "mark removed",
+            title="History",
+            markup=False,
+        )
 
     @on(Button.Pressed, "#history-diff-button")
     def action_diff(self) -> None:

@@ -75,7 +75,8 @@ class InterfacesPane(Pane):
     primary = "#interfaces-table"
     BINDINGS: ClassVar[list[BindingType]] = [
         Binding("ctrl+o", "open_source", "Open source"),
-        Binding("ctrl+e", "enrich", "Describe"),
+        # Before the filter box's own Ctrl+E (end of line; End does that too).
+        Binding("ctrl+e", "enrich", "Describe", priority=True),
         Binding("slash", "filter", "Filter"),
         Binding("p", "pin", "Pin"),
         Binding("x", "drop", "Drop"),

@@ -33,7 +33,9 @@ class OpenPathScreen(ModalScreen[Path | None]):
     """Returns the chosen path, or None when cancelled.
 
     ``must_exist`` refuses paths that do not exist (opening); without it any path in an
-    existing folder is accepted (saving).
+    existing folder is accepted (saving). The tree starts in ``start``; a relative path typed
+    in the field is taken from the folder the TUI was started in, as a shell would take it
+    (``base``, the current directory by default), and the field says so.
     """
 
     BINDINGS: ClassVar[list[BindingType]] = [
@@ -42,18 +44,29 @@ class OpenPathScreen(ModalScreen[Path | None]):
     ]
 
     def __init__(
-        self, title: str, start: Path, *, value: str = "", must_exist: bool = True
+        self,
+        title: str,
+        start: Path,
+        *,
+        value: str = "",
+        must_exist: bool = True,
+        base: Path | None = None,
     ) -> None:
         super().__init__()
         self.title_text = title
         self.start = start if start.is_dir() else start.parent
+        self.base = base if base is not None else Path.cwd()
         self.value = value
         self.must_exist = must_exist
 
     def compose(self) -> ComposeResult:
         with Vertical(id="open-dialog"):
             yield Label(self.title_text, id="open-title")
-            yield Input(value=self.value, placeholder="path (Enter to confirm)", id="open-path")
+            yield Input(
+                value=self.value,
+                placeholder=f"path (a relative one is taken from {self.base}; Enter confirms)",
+                id="open-path",
+            )
             yield Static("", id="open-error", markup=False)
             yield DirectoryTree(self.start, id="open-tree")
             with Horizontal(id="open-buttons"):
@@ -88,7 +101,7 @@ class OpenPathScreen(ModalScreen[Path | None]):
             return
         path = Path(text).expanduser()
         if not path.is_absolute():
-            path = self.start / path
+            path = self.base / path
         try:
             if self.must_exist and not path.exists():
                 error.update(f"no such file or folder: {missing_part(path)}")

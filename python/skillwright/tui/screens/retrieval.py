@@ -52,6 +52,8 @@ class RetrievalPane(Pane):
         super().__init__(id="retrieval-pane")
         self._job = EngineJob()
         self._without_spec = False
+        self._rank_when_loaded = False
+        """The last session showed a ranking: rank again once both inputs are loaded."""
         self.rows: list[str] = []
         """Interface names in table order."""
 
@@ -67,11 +69,13 @@ class RetrievalPane(Pane):
             markup=False,
         )
         yield DataTable(id="retrieval-table", cursor_type="row", zebra_stripes=True)
+        yield Static("", id="retrieval-detail", markup=False)
         yield Static("", id="retrieval-marks", markup=False)
 
     def on_mount(self) -> None:
         table = self.query_one("#retrieval-table", DataTable)
         table.add_columns(*COLUMNS)
+        self._rank_when_loaded = self.sw.session.ranked
         self.show_marks()
 
     # --- settings -----------------------------------------------------------------------------
@@ -139,6 +143,7 @@ class RetrievalPane(Pane):
 
     def on_retrieval_finished(self, message: RetrievalFinished) -> None:
         self.sw.loaded.hits = message.hits
+        self.sw.update_session(ranked=True)
         how = "embeddings + BM25" if message.dense else "BM25 only"
         if self._without_spec:
             how += "; the specification is not valid, so it was left out"
@@ -184,6 +189,31 @@ class RetrievalPane(Pane):
             if name not in self.rows:
                 table.add_row(*_row("drop", name, "dropped by you: not ranked"))
                 self.rows.append(name)
+        self.show_detail()
+
+    @on(DataTable.RowHighlighted, "#retrieval-table")
+    def show_detail(self) -> None:
+        """The highlighted interface's whole reason, scores and the model's verdict: the
+        table cuts them to its columns."""
+        box = self.query_one("#retrieval-detail", Static)
+        name = self.highlighted()
+        hit = next((h for h in self.sw.loaded.hits if h.name == name), None)
+        if name is None:
+            box.update("")
+            return
+        if hit is None:
+            box.update(f"{name}: {'pinned' if name in self.sw.session.pinned else 'dropped'}")
+            return
+        dense = "" if hit.dense is None else f", dense {hit.dense:.3f}"
+        lines = [
+            f"{hit.name} ({hit.kind}, {hit.type_name}): score {hit.score:.3f}{dense}, "
+            f"lexical {hit.lexical:.3f}",
+            f"why: {_twins_note(hit.twins)}{hit.reason}",
+        ]
+        if hit.needed is not None or hit.judgement:
+            verdict = {True: "needed", False: "not needed", None: "no verdict"}[hit.needed]
+            lines.append(f"the model: {verdict}" + (f" — {hit.judgement}" if hit.judgement else ""))
+        box.update("\n".join(lines))
 
     def show_marks(self) -> None:
         """Redraws marks and the pin/drop summary."""
@@ -218,7 +248,13 @@ class RetrievalPane(Pane):
             self.sw.toggle_mark(name, "dropped")
 
     def inputs_changed(self) -> None:
-        """The capability or inventory changed: the ranking shown is no longer theirs."""
+        """The capability or inventory changed: the ranking shown is no longer theirs (on
+        start, once both are loaded, the last session's ranking is made again)."""
+        loaded = self.sw.loaded
+        if self._rank_when_loaded and loaded.capability is not None and loaded.inventory:
+            self._rank_when_loaded = False
+            self.action_rank()
+            return
         if self.sw.loaded.hits:
             self.sw.loaded.hits = []
             self.show_table()

@@ -92,7 +92,8 @@ class SpecPane(Pane):
                 ),
                 Static("", id="spec-status", markup=False),
                 Label("Name (a Python identifier, e.g. move_forward)"),
-                Input(draft.name, id="spec-name", compact=True),
+                # Focus keeps the cursor at the end: a selected name goes with one key.
+                Input(draft.name, id="spec-name", compact=True, select_on_focus=False),
                 Label("Description"),
                 TextArea(draft.description, id="spec-description"),
                 Label("Skill interface"),
@@ -289,7 +290,7 @@ class SpecPane(Pane):
                 self.fail(
                     "the specification form is still loading; try again in a moment"
                     if not self.ready
-                    else f"specification: {self.problem}"
+                    else str(self.problem)  # it names the specification already
                 )
                 self.sw.action_show_tab("specification")
             return None
