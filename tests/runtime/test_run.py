@@ -328,3 +328,23 @@ def test_tf2_s_buffer_transform_moves_a_stamped_point_as_the_lookup_says(
         assert moved.trace.episodes[0].outputs[name] == pytest.approx(
             looked_up.trace.episodes[0].outputs[name], abs=1e-9
         )
+
+
+def test_an_input_is_set_where_its_getter_reads_it(
+    tmp_path: Path, mr1_inventory: Inventory
+) -> None:
+    """A getter that returns a field of what __init__ made (``return self.request.x``) gets
+    its input there, not written over the whole object."""
+    text = (SKILLS / "move_forward.py").read_text(encoding="utf-8")
+    text = text.replace(
+        "        self.in_distance: float = 0.0\n",
+        "        self.request = Twist()\n",
+    ).replace("        return self.in_distance\n", "        return self.request.linear.x\n")
+    text = text.replace("self.in_distance", "self.request.linear.x")
+    skill = tmp_path / "move_forward.py"
+    skill.write_text(text, encoding="utf-8")
+    report = run_skill(
+        skill, mr1_inventory, inputs={"inDistance": 0.3, "inLinearVelocity": 0.3}, world="kinematic"
+    )
+    assert report.passed, report.findings
+    assert abs(report.trace.episodes[0].outputs["outDistance"] - 0.3) < 0.05

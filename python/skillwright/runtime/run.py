@@ -231,7 +231,9 @@ def _inputs(
                 line=variable.line,
             )
             continue
-        resolved.append({"name": variable.name, "attr": variable.attr, "value": value})
+        resolved.append(
+            {"name": variable.name, "attr": variable.attr, "path": variable.path, "value": value}
+        )
     return resolved, shown
 
 

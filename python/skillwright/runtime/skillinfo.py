@@ -48,10 +48,14 @@ class Variable:
     name: str
     getter: str
     attr: str | None
-    """The ``self.<attr>`` the getter returns; ``None`` when it returns something else."""
+    """The ``self.<attr>`` the getter returns (the first of ``self.goal.x``); ``None`` when it
+    returns something else."""
     annotation: str | None
     required: bool
     line: int
+    path: str | None = None
+    """Where the getter reads its value (``goal.x`` for ``return self.goal.x``; ``attr`` for
+    ``return self.attr``): an input is set there, as the getter will read it."""
     description: str = ""
     """The decorator's ``description``: what binds the variable to its capability by meaning
     when its name is not the capability's."""
@@ -82,8 +86,9 @@ def _keyword(call: ast.Call, name: str) -> ast.expr | None:
     return next((k.value for k in call.keywords if k.arg == name), None)
 
 
-def _returned_attribute(function: ast.FunctionDef) -> str | None:
-    """``x`` when every ``return`` of the getter gives ``self.x`` (possibly converted)."""
+def _returned_path(function: ast.FunctionDef) -> str | None:
+    """``x`` (or ``goal.x``) when every ``return`` of the getter gives ``self.x``
+    (``self.goal.x``), possibly converted (``float(self.x)``)."""
     found: set[str] = set()
     returns = [n for n in ast.walk(function) if isinstance(n, ast.Return)]
     if not returns:
@@ -91,20 +96,34 @@ def _returned_attribute(function: ast.FunctionDef) -> str | None:
     for node in returns:
         if node.value is None:
             return None
-        attributes = {
-            n.attr
+        inner = {id(n.value) for n in ast.walk(node.value) if isinstance(n, ast.Attribute)}
+        paths = {
+            path
             for n in ast.walk(node.value)
-            if isinstance(n, ast.Attribute)
-            and isinstance(n.value, ast.Name)
-            and n.value.id == "self"
+            if isinstance(n, ast.Attribute) and id(n) not in inner
+            for path in [_self_path(n)]
+            if path is not None
         }
-        if len(attributes) != 1:
+        if len(paths) != 1:
             return None
-        found |= attributes
+        found |= paths
     return found.pop() if len(found) == 1 else None
 
 
+def _self_path(node: ast.Attribute) -> str | None:
+    """``goal.x`` for the expression ``self.goal.x``."""
+    parts: list[str] = []
+    current: ast.expr = node
+    while isinstance(current, ast.Attribute):
+        parts.append(current.attr)
+        current = current.value
+    if isinstance(current, ast.Name) and current.id == "self":
+        return ".".join(reversed(parts))
+    return None
+
+
 def _variable(function: ast.FunctionDef, call: ast.Call) -> Variable:
+    path = _returned_path(function)
     name_node = _keyword(call, "name")
     name = (
         name_node.value
@@ -117,7 +136,8 @@ def _variable(function: ast.FunctionDef, call: ast.Call) -> Variable:
     return Variable(
         name=name,
         getter=function.name,
-        attr=_returned_attribute(function),
+        attr=path.split(".")[0] if path is not None else None,
+        path=path,
         annotation=ast.unparse(function.returns) if function.returns is not None else None,
         required=required,
         line=function.lineno,

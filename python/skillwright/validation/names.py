@@ -356,9 +356,33 @@ def self_attribute(node: ast.AST) -> str | None:
     return None
 
 
+def _framework_set(cls: ast.ClassDef) -> set[str]:
+    """The attributes pySkillUp sets for each ``@skill_parameter``: the one its getter reads
+    (``return self.a``, or the root of ``return self.goal.x``), where the value it is given
+    goes; a skill that never assigns it itself still reads its input there."""
+    found: set[str] = set()
+    for member in cls.body:
+        if not isinstance(member, ast.FunctionDef) or not any(
+            isinstance(d, ast.Call)
+            and isinstance(d.func, ast.Name)
+            and d.func.id == "skill_parameter"
+            for d in member.decorator_list
+        ):
+            continue
+        for node in ast.walk(member):
+            if isinstance(node, ast.Return) and node.value is not None:
+                root = node.value
+                while isinstance(root, ast.Attribute) and self_attribute(root) is None:
+                    root = root.value
+                returned = self_attribute(root)
+                if returned is not None:
+                    found.add(returned)
+    return found
+
+
 def _class_facts(cls: ast.ClassDef) -> tuple[set[str], dict[str, str]]:
     """Attributes the class defines or sets, and the rclpy kind of handles it makes."""
-    defined = set(_BASE_ATTRIBUTES)
+    defined = set(_BASE_ATTRIBUTES) | _framework_set(cls)
     kinds: dict[str, str] = {"node": "node"}
     for member in cls.body:
         if isinstance(member, ast.FunctionDef | ast.AsyncFunctionDef):

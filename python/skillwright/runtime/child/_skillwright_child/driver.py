@@ -236,9 +236,15 @@ class Driver:
         return self._set_inputs() and self._watch()
 
     def _set_inputs(self) -> bool:
+        """Sets each input where its getter reads it: ``self.x``, or the field of what
+        ``__init__`` made (``self.goal.x``)."""
         for entry in self.config["inputs"]:
             try:
-                setattr(self.instance, entry["attr"], entry["value"])
+                *head, last = (entry.get("path") or entry["attr"]).split(".")
+                target = self.instance
+                for part in head:
+                    target = getattr(target, part)
+                setattr(target, last, entry["value"])
             except BaseException as error:
                 self.report_error("inputs", error)
                 return False
