@@ -180,6 +180,31 @@ def test_a_timeout_that_compares_the_clock_with_a_duration_gets_a_deadline() -> 
     )
 
 
+def test_a_deadline_named_timeout_is_a_deadline_not_a_duration() -> None:
+    """``timeout = time.time() + 3.0`` is a moment, whatever its name says: comparing the
+    clock with it is how a deadline is kept."""
+    found = _waits(
+        """
+        def execute(self):
+            timeout = time.time() + 3.0
+            while time.time() < timeout:
+                self.cmd_vel_publisher.publish(command)
+                time.sleep(0.1)
+        """
+    )
+    assert found == []
+    still = _waits(
+        """
+        def execute(self):
+            timeout = 3.0
+            while time.time() < timeout:
+                self.cmd_vel_publisher.publish(command)
+                time.sleep(0.1)
+        """
+    )
+    assert [f.code for f in still] == ["SW401"]
+
+
 def test_one_fix_takes_each_deadline_and_adds_the_missing_sleep() -> None:
     found = _waits(
         """

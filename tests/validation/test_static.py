@@ -1400,3 +1400,21 @@ def test_a_command_built_and_never_published_is_an_error(
     assert finding.replacement == (
         "command.linear.x = speed\nself.cmd_vel_publisher.publish(command)"
     )
+
+
+def test_a_bound_or_tolerance_the_input_is_held_to_is_no_stand_in_for_it(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    """``min(self.in_linear_velocity, self.MAX_SPEED)`` and a tolerance compared with the
+    input's value limit the input; a number used in its place is still a stand-in."""
+    held = GOOD.replace(
+        "    LINEAR_VELOCITY_MAX = 0.8  # resource requirement: linearVelocity <= 0.8 m/s\n",
+        "    LINEAR_VELOCITY_MAX = 0.5\n",
+    )
+    assert "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)" in held
+    assert [f for f in run(held, move_forward).findings if f.code == "SW501"] == []
+    instead = held.replace(
+        "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)", "self.LINEAR_VELOCITY_MAX"
+    )
+    [stand_in] = [f for f in run(instead, move_forward).findings if f.code == "SW501"]
+    assert stand_in.data["input"] == "inLinearVelocity"

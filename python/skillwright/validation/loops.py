@@ -27,6 +27,7 @@ from __future__ import annotations
 import ast
 import copy
 from collections.abc import Iterable, Iterator
+from collections.abc import Set as AbstractSet
 
 from skillwright.rules.behaviour import CLOCK_COMPARED_WITH_DURATION, LOOP_NEVER_SLEEPS
 from skillwright.rules.finding import Finding
@@ -193,9 +194,11 @@ def _is_reading(node: ast.expr) -> bool:
     )
 
 
-def _is_duration(node: ast.expr) -> bool:
+def _is_duration(node: ast.expr, moments: AbstractSet[str] = frozenset()) -> bool:
     """A number of seconds rather than a moment: a number, or a name that says
-    timeout or duration, or a constant's name that does not say deadline or start."""
+    timeout or duration, or a constant's name that does not say deadline or start; never a
+    name in ``moments`` (one the method gave a clock reading: ``timeout = time.time() + 3.0``
+    is a deadline, whatever its name)."""
     if isinstance(node, ast.Constant):
         return isinstance(node.value, int | float) and not isinstance(node.value, bool)
     name = (
@@ -205,14 +208,14 @@ def _is_duration(node: ast.expr) -> bool:
         if isinstance(node, ast.Attribute)
         else None
     )
-    if name is None:
+    if name is None or ast.unparse(node) in moments:
         return False
     if "timeout" in name.lower() or "duration" in name.lower():
         return True
     return name.isupper() and not any(moment in name for moment in _MOMENTS)
 
 
-def _duration_compare(node: ast.AST) -> ast.Compare | None:
+def _duration_compare(node: ast.AST, moments: AbstractSet[str] = frozenset()) -> ast.Compare | None:
     """``node`` when it compares a clock reading with a duration, alone (``a < b < c``
     chains are left alone)."""
     if not isinstance(node, ast.Compare) or len(node.ops) != 1:
@@ -220,7 +223,9 @@ def _duration_compare(node: ast.AST) -> ast.Compare | None:
     if not isinstance(node.ops[0], ast.Lt | ast.LtE | ast.Gt | ast.GtE):
         return None
     left, right = node.left, node.comparators[0]
-    if (_is_reading(left) and _is_duration(right)) or (_is_reading(right) and _is_duration(left)):
+    if (_is_reading(left) and _is_duration(right, moments)) or (
+        _is_reading(right) and _is_duration(left, moments)
+    ):
         return node
     return None
 
@@ -229,13 +234,28 @@ def _loops_of_durations(method: ast.FunctionDef) -> dict[ast.AST, list[ast.Compa
     """Each clock-against-duration comparison of ``method`` under the innermost loop that
     holds it (the method itself when no loop does)."""
     owners: dict[ast.AST, list[ast.Compare]] = {}
-
+    moments = _moments(method)
     for owner in [method, *(n for n in ast.walk(method) if isinstance(n, ast.While | ast.For))]:
         for node in _own_nodes(owner):
-            compare = _duration_compare(node)
+            compare = _duration_compare(node, moments)
             if compare is not None:
                 owners.setdefault(owner, []).append(compare)
     return owners
+
+
+def _moments(method: ast.FunctionDef) -> set[str]:
+    """Names (``timeout``, ``self.stop_at``) ``method`` assigns a value worked out from a
+    clock reading: moments, to compare a reading with."""
+    found: set[str] = set()
+    for node in ast.walk(method):
+        if (
+            isinstance(node, ast.Assign | ast.AnnAssign)
+            and node.value is not None
+            and any(isinstance(n, ast.expr) and _is_reading(n) for n in ast.walk(node.value))
+        ):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            found |= {ast.unparse(t) for t in targets}
+    return found
 
 
 def _own_nodes(owner: ast.AST) -> Iterator[ast.AST]:

@@ -16,7 +16,7 @@ import copy
 import io
 import re
 import tokenize
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
 from keyword import kwlist
@@ -245,23 +245,25 @@ def _check_skill_decorator(
         )
 
 
+def _member_annotations(node: ast.stmt) -> list[tuple[Annotation, ast.AST]]:
+    """The @skill_parameter and @skill_output annotations of one member of the class."""
+    if not isinstance(node, ast.FunctionDef):
+        return []
+    found: list[tuple[Annotation, ast.AST]] = []
+    for dec in node.decorator_list:
+        kind = _decorator_name(dec) if isinstance(dec, ast.Call) else None
+        if kind not in {"skill_parameter", "skill_output"} or not isinstance(dec, ast.Call):
+            continue
+        name = _constant_text(_keyword(dec, "name")) or node.name
+        described = _constant_text(_keyword(dec, "description")) or ""
+        direction: Literal["input", "output"] = "input" if kind == "skill_parameter" else "output"
+        found.append((Annotation(name, direction, described, dec.lineno), dec))
+    return found
+
+
 def _annotations(cls: ast.ClassDef) -> list[tuple[Annotation, ast.AST]]:
     """The class's @skill_parameter and @skill_output annotations, with their decorators."""
-    found: list[tuple[Annotation, ast.AST]] = []
-    for node in cls.body:
-        if not isinstance(node, ast.FunctionDef):
-            continue
-        for dec in node.decorator_list:
-            kind = _decorator_name(dec) if isinstance(dec, ast.Call) else None
-            if kind not in {"skill_parameter", "skill_output"} or not isinstance(dec, ast.Call):
-                continue
-            name = _constant_text(_keyword(dec, "name")) or node.name
-            described = _constant_text(_keyword(dec, "description")) or ""
-            direction: Literal["input", "output"] = (
-                "input" if kind == "skill_parameter" else "output"
-            )
-            found.append((Annotation(name, direction, described, dec.lineno), dec))
-    return found
+    return [found for node in cls.body for found in _member_annotations(node)]
 
 
 def _check_parameters(
@@ -469,6 +471,38 @@ def _is_number(node: ast.expr | None) -> bool:
     )
 
 
+def _bounding_names(
+    tree: ast.Module, matching: Callable[[str], str | None]
+) -> set[tuple[str, str]]:
+    """(name, input) for each name compared with, or clamped against (``min``, ``max``), a
+    value named for the same input that is not a constant itself: ``min(self.in_velocity,
+    self.MAX_VELOCITY)`` or ``abs(velocity - self.velocity_cmd.linear.x) <= tolerance`` hold
+    the input's value to the number, so the number is a bound or a tolerance, not a stand-in
+    for the input."""
+    found: set[tuple[str, str]] = set()
+    for node in ast.walk(tree):
+        is_clamp = (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Name)
+            and node.func.id in {"min", "max"}
+        )
+        if not (isinstance(node, ast.Compare) or is_clamp):
+            continue
+        names = [
+            name
+            for part in ast.walk(node)
+            if isinstance(part, ast.Name | ast.Attribute)
+            for name in [_target_name(part)]
+            if name is not None
+        ]
+        variables = {matching(n) for n in names if not n.isupper()} - {None}
+        for name in names:
+            meant = matching(name)
+            if meant is not None and meant in variables and (name.isupper() or "tol" in name):
+                found.add((name, meant))
+    return found
+
+
 def _resource_limits(capability: Capability) -> list[tuple[set[str], float]]:
     """(name tokens, value) of each numeric requirement of the resource."""
     out: list[tuple[set[str], float]] = []
@@ -513,8 +547,31 @@ def _spec_numbers(spec: SkillSpec) -> set[float]:
     return {float(m) for text in texts for m in re.findall(r"(?<![\w.])\d+(?:\.\d+)?", text)}
 
 
+def _input_attributes(cls: ast.ClassDef, binding: Binding) -> dict[str, str]:
+    """Attribute -> the capability input whose value the skill keeps in it: what the getter
+    of each bound @skill_parameter returns (``self.target_angular_speed`` for inVelocity)."""
+    held: dict[str, str] = {}
+    for node in cls.body:
+        for annotation, _ in _member_annotations(node):
+            meant = binding.target_of(annotation.name)
+            returned = [s.value for s in ast.walk(node) if isinstance(s, ast.Return)]
+            if meant is None or annotation.direction != "input" or len(returned) != 1:
+                continue
+            value = returned[0]
+            while isinstance(value, ast.Attribute) and self_attribute(value) is None:
+                value = value.value
+            attr = self_attribute(value) if value is not None else None
+            if attr is not None:
+                held[attr] = meant
+    return held
+
+
 def _check_input_constants(
-    ctx: _Context, tree: ast.Module, capability: Capability, spec: SkillSpec
+    ctx: _Context,
+    tree: ast.Module,
+    capability: Capability,
+    spec: SkillSpec,
+    held: Mapping[str, str],
 ) -> None:
     sanctioned = _spec_numbers(spec) | {0.0}
     inputs = [
@@ -540,6 +597,11 @@ def _check_input_constants(
                 return input_name
         return None
 
+    def meaning(name: str) -> str | None:
+        return held.get(name) or matching(name)
+
+    bounding = _bounding_names(tree, meaning)
+
     for statement, target, value, in_init in _assignments(tree):
         name = _target_name(target)
         if name is None or not _is_number(value):
@@ -553,6 +615,8 @@ def _check_input_constants(
         if any(tokens and tokens <= words and number == limit for tokens, limit in limits):
             continue  # the resource's own limit, taken from the capability model
         input_name = matching(name)
+        if input_name is not None and (name, input_name) in bounding:
+            continue  # a bound or tolerance the input's own value is held to
         if input_name is not None:
             ctx.add(
                 CONSTANT_FOR_INPUT,
@@ -2319,15 +2383,20 @@ def check_skill(
 
     imports = _imports(tree)
     uses = _uses(tree, imports, ctx)
-    _check_input_constants(ctx, tree, capability, spec)
     found = _skill_class(tree)
+    binding = bind(
+        [a for a, _ in _annotations(found[0])] if found is not None else [],
+        capability,
+        bindings or {},
+    )
+    held = _input_attributes(found[0], binding) if found is not None else {}
+    _check_input_constants(ctx, tree, capability, spec, held)
     if found is None:
         ctx.add(NO_SKILL_CLASS, None, "no class decorated with @skill(...)")
         ctx.findings += check_names(source, tree, None, imports)
     else:
         cls, decorator = found
         _check_skill_decorator(ctx, cls, decorator, capability, spec)
-        binding = bind([a for a, _ in _annotations(cls)], capability, bindings or {})
         _check_parameters(ctx, cls, capability, binding)
         methods = _check_states(ctx, cls, spec)
         _check_placeholders(ctx, tree, source, methods)
