@@ -348,3 +348,25 @@ def test_an_input_is_set_where_its_getter_reads_it(
     )
     assert report.passed, report.findings
     assert abs(report.trace.episodes[0].outputs["outDistance"] - 0.3) < 0.05
+
+
+@pytest.mark.parametrize(
+    ("command", "after"),
+    [("stop", ["stopping", "resetting"]), ("abort", ["aborting", "clearing", "resetting"])],
+)
+def test_a_state_asks_pyskillups_state_machine_for_stop_or_abort(
+    tmp_path: Path, mr1_inventory: Inventory, command: str, after: list[str]
+) -> None:
+    """``self.state_machine.stop()`` in execute (as the paper authors' collision avoidance
+    does) takes the run to stopping once execute returns; ``abort()`` to aborting."""
+    text = (SKILLS / "move_forward.py").read_text(encoding="utf-8")
+    start = "        position = self.odom_msg.pose.pose.position\n        self.start_position"
+    assert start in text
+    text = text.replace(start, f"        self.state_machine.{command}()\n        return\n{start}")
+    skill = tmp_path / "move_forward.py"
+    skill.write_text(text, encoding="utf-8")
+    report = run_skill(
+        skill, mr1_inventory, inputs={"inDistance": 0.3, "inLinearVelocity": 0.3}, world="kinematic"
+    )
+    ran = [s.name for s in report.trace.episodes[0].states]
+    assert ran == ["starting", "execute", *after]  # the skill has no aborting: it is absent

@@ -353,6 +353,12 @@ class Driver:
         self.core.notify("state", name=name, phase="end", outcome="done")
         return "done", None
 
+    def _commanded(self) -> str | None:
+        """The transition the state that just returned asked of ``self.state_machine``."""
+        machine = getattr(self.instance, "state_machine", None)
+        requested = getattr(machine, "_requested", None)
+        return requested if requested in {"stop", "abort"} else None
+
     def read_outputs(self) -> None:
         values: dict[str, Any] = {}
         getters = {}
@@ -394,10 +400,10 @@ class Driver:
         stop_at_complete = bool(self.config.get("stop_at_complete"))
         for state in ("starting", "execute", "completing"):
             outcome, _ = self.run_state(state)
-            if outcome == "raised":
+            if outcome == "raised" or self._commanded() == "abort":
                 self._path(ERROR_PATH)
                 return
-            if outcome == "interrupted":
+            if outcome == "interrupted" or self._commanded() == "stop":
                 self._path(STOP_PATH)
                 return
         self.read_outputs()

@@ -5,6 +5,24 @@ from __future__ import annotations
 import rclpy
 
 
+class StateMachine:
+    """The skill's PackML state machine, as ``self.state_machine``: a state asks for the
+    Stop or Abort transition from inside it (``self.state_machine.stop()`` when execute
+    sees it must halt). The transition follows once the state that asked returns: stopping
+    -> resetting for Stop, aborting -> clearing -> resetting for Abort."""
+
+    def __init__(self) -> None:
+        self._requested: str | None = None
+
+    def stop(self) -> None:
+        """The Stop command: stopping, then resetting."""
+        self._requested = self._requested or "stop"
+
+    def abort(self) -> None:
+        """The Abort command: aborting, clearing, then resetting (it overrides a Stop)."""
+        self._requested = "abort"
+
+
 class ROS2Skill:
     """Base class of ROS 2 skills: owns ``self.node``.
 
@@ -17,3 +35,4 @@ class ROS2Skill:
         if not rclpy.ok():
             rclpy.init()
         self.node = rclpy.create_node(node_name)
+        self.state_machine = StateMachine()
