@@ -264,6 +264,13 @@ ATTACKS: dict[str, str] = {
         fd = libc.open(b"{tmp}/ctypes-{token}", 0o101, 0o644)
         self.say(fd)
     """,
+    "ctypes through numpy": """
+        import numpy
+        ctypes = numpy.ctypeslib.ctypes
+        libc = ctypes.CDLL(None, use_errno=True)
+        fd = libc.open(b"{tmp}/numpy-ctypes-{token}", 0o101, 0o644)
+        self.say(fd)
+    """,
     "guard through gc": """
         import gc
         for thing in gc.get_objects():

@@ -370,3 +370,51 @@ def test_a_state_asks_pyskillups_state_machine_for_stop_or_abort(
     )
     ran = [s.name for s in report.trace.episodes[0].states]
     assert ran == ["starting", "execute", *after]  # the skill has no aborting: it is absent
+
+
+@pytest.mark.parametrize("isolated", [True, False], ids=["sandbox", "unisolated"])
+def test_a_skill_may_compute_with_numpy(
+    tmp_path: Path, mr1_inventory: Inventory, isolated: bool
+) -> None:
+    """numpy is one of the packages a skill may import (the paper's gpt-4o skills do): it
+    is imported in the sandbox, with its native code, while ``import ctypes`` stays refused."""
+    text = (SKILLS / "move_forward.py").read_text(encoding="utf-8")
+    stored = "        self.out_distance = self._travelled()\n"
+    assert stored in text
+    text = text.replace(
+        stored,
+        "        import numpy\n        self.out_distance = float(numpy.hypot(*numpy.array([0.3, 0.4])))\n",
+    )
+    skill = tmp_path / "move_forward.py"
+    skill.write_text(text, encoding="utf-8")
+    report = run_skill(
+        skill,
+        mr1_inventory,
+        inputs={"inDistance": 0.3, "inLinearVelocity": 0.3},
+        world="kinematic",
+        isolated=isolated,
+    )
+    assert report.passed, report.findings
+    assert report.trace.episodes[0].outputs["outDistance"] == pytest.approx(0.5)
+
+
+def test_tf_transformations_turns_a_quaternion_into_roll_pitch_and_yaw(
+    tmp_path: Path, mr1_inventory: Inventory
+) -> None:
+    """The package ROS 2 skills take a heading with (the paper authors' rotate does)."""
+    text = (SKILLS / "move_forward.py").read_text(encoding="utf-8")
+    stored = "        self.out_distance = self._travelled()\n"
+    text = text.replace(
+        stored,
+        "        from tf_transformations import euler_from_quaternion, quaternion_from_euler\n"
+        "        q = quaternion_from_euler(0.1, -0.2, 2.5)\n"
+        "        roll, pitch, yaw = euler_from_quaternion(q)\n"
+        "        self.out_distance = yaw + 10 * pitch + 100 * roll\n",
+    )
+    skill = tmp_path / "move_forward.py"
+    skill.write_text(text, encoding="utf-8")
+    report = run_skill(
+        skill, mr1_inventory, inputs={"inDistance": 0.3, "inLinearVelocity": 0.3}, world="kinematic"
+    )
+    assert report.passed, report.findings
+    assert report.trace.episodes[0].outputs["outDistance"] == pytest.approx(2.5 - 2.0 + 10.0)

@@ -293,6 +293,7 @@ class ForkServer:
             "readable": root.readable(),
             "isolated": isolated,
             "drop_to": isolation.NOBODY if isolated and as_root else None,
+            "packages": dict(root.packages),
         }
         host_end, server_end = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         host_end.setsockopt(socket.SOL_SOCKET, socket.SO_PASSCRED, 1)

@@ -454,7 +454,6 @@ class Episode:
             "epoch_ns": self._epoch_ns,
             "limits": limits,
             "read_roots": layout().readable(),
-            "packages": dict(layout().packages),
             "message_packages": self._registry.packages(),
             "settle": self._scenario.settle,
             "stop_at_complete": self._plan.stop_at_complete,
@@ -754,8 +753,8 @@ class Episode:
             package = missing["module"].split(".")[0]
             return (
                 f"{message}: the robot has no ROS 2 package {package}, and a skill may use only "
-                "rclpy, tf2_ros, pySkillUp, the robot's message packages, the Python standard "
-                "library and numpy"
+                "rclpy, tf2_ros, tf2_geometry_msgs, tf_transformations, pySkillUp, the robot's "
+                "message packages, the Python standard library and numpy"
             )
         return message
 

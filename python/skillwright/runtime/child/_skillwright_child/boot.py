@@ -99,17 +99,36 @@ def _limit(limits: dict) -> None:
 
 
 def _allow_packages(allowed: dict) -> None:
-    """Makes the few third-party packages a skill may use importable (e.g. numpy)."""
-    import importlib.machinery
+    """Makes the few third-party packages a skill may use importable (e.g. numpy), and
+    imports them once in the fork server, so each child has them at no cost.
+
+    Each is found at its own folder, never by listing the folder that holds it (the
+    virtual environment's site-packages): the sandbox shows only the package, and lets no
+    one list the rest. They are imported before a child's guard is installed: numpy
+    loads its own native code (and ctypes, for ``ndarray.ctypes``) as it is imported,
+    which a skill's own ``import ctypes`` may not do; what a skill then calls through
+    them is still refused by the guard's ctypes events, and by the kernel below it."""
+    import importlib
+    import importlib.util
 
     class AllowedPackages:
         def find_spec(self, fullname: str, path: object = None, target: object = None) -> object:
             folder = allowed.get(fullname)
             if folder is None:
                 return None
-            return importlib.machinery.PathFinder.find_spec(fullname, [folder])
+            package = os.path.join(folder, fullname)
+            return importlib.util.spec_from_file_location(
+                fullname,
+                os.path.join(package, "__init__.py"),
+                submodule_search_locations=[package],
+            )
 
     sys.meta_path.append(AllowedPackages())
+    for name in allowed:
+        try:
+            importlib.import_module(name)
+        except ImportError:
+            continue  # the skill that imports it gets the error, at its line
 
 
 def main() -> None:
@@ -145,7 +164,6 @@ def _child(sock: socket.socket, scratch: str, isolation: dict) -> None:
     if isinstance(config.get("message_packages"), list):
         core.catalog.know_packages(config["message_packages"])
     messages.install(core.catalog)
-    _allow_packages(config.get("packages", {}))
     patches.install(core)
 
     interrupted = _interrupt_handler(core, core_module)
@@ -257,6 +275,7 @@ def _zygote(control_fd: int, setup: dict) -> None:
     core = _load_core(str(setup["core"]))
     for name in _PRELOAD:
         importlib.import_module(name)
+    _allow_packages(setup.get("packages", {}))
     control = socket.socket(fileno=control_fd)
     _send_credentials(control, b"ready")
     while True:
