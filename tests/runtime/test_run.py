@@ -11,7 +11,7 @@ import pytest
 from skillwright.errors import GenerationCancelledError, InvalidArgumentError
 from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime import sandbox
-from skillwright.runtime.report import RunProgress
+from skillwright.runtime.report import RunProgress, RunReport
 from skillwright.runtime.run import run_skill
 from skillwright.runtime.sandbox import SandboxProcess
 from skillwright.runtime.scenario import ActionScript, load_scenario
@@ -209,6 +209,19 @@ def test_inputs_never_read_are_found_whatever_the_class_does_with_attributes(
     assert careless.trace.episodes[0].outputs["outDistance"] > 0.4
 
 
+def _run_edited(tmp_path: Path, inventory: Inventory, text: str, **options: object) -> RunReport:
+    """``text`` (an edit of the shipped move forward) run as move_forward.py."""
+    skill = tmp_path / "move_forward.py"
+    skill.write_text(text, encoding="utf-8")
+    return run_skill(
+        skill,
+        inventory,
+        inputs={"inDistance": 0.3, "inLinearVelocity": 0.3},
+        world="kinematic",
+        **options,  # type: ignore[arg-type]
+    )
+
+
 def _renamed(tmp_path: Path) -> Path:
     """The shipped move forward with its parameters and outputs named as its author liked."""
     text = (SKILLS / "move_forward.py").read_text(encoding="utf-8")
@@ -341,11 +354,7 @@ def test_an_input_is_set_where_its_getter_reads_it(
         "        self.request = Twist()\n",
     ).replace("        return self.in_distance\n", "        return self.request.linear.x\n")
     text = text.replace("self.in_distance", "self.request.linear.x")
-    skill = tmp_path / "move_forward.py"
-    skill.write_text(text, encoding="utf-8")
-    report = run_skill(
-        skill, mr1_inventory, inputs={"inDistance": 0.3, "inLinearVelocity": 0.3}, world="kinematic"
-    )
+    report = _run_edited(tmp_path, mr1_inventory, text)
     assert report.passed, report.findings
     assert abs(report.trace.episodes[0].outputs["outDistance"] - 0.3) < 0.05
 
@@ -363,11 +372,7 @@ def test_a_state_asks_pyskillups_state_machine_for_stop_or_abort(
     start = "        position = self.odom_msg.pose.pose.position\n        self.start_position"
     assert start in text
     text = text.replace(start, f"        self.state_machine.{command}()\n        return\n{start}")
-    skill = tmp_path / "move_forward.py"
-    skill.write_text(text, encoding="utf-8")
-    report = run_skill(
-        skill, mr1_inventory, inputs={"inDistance": 0.3, "inLinearVelocity": 0.3}, world="kinematic"
-    )
+    report = _run_edited(tmp_path, mr1_inventory, text)
     ran = [s.name for s in report.trace.episodes[0].states]
     assert ran == ["starting", "execute", *after]  # the skill has no aborting: it is absent
 
@@ -385,15 +390,7 @@ def test_a_skill_may_compute_with_numpy(
         stored,
         "        import numpy\n        self.out_distance = float(numpy.hypot(*numpy.array([0.3, 0.4])))\n",
     )
-    skill = tmp_path / "move_forward.py"
-    skill.write_text(text, encoding="utf-8")
-    report = run_skill(
-        skill,
-        mr1_inventory,
-        inputs={"inDistance": 0.3, "inLinearVelocity": 0.3},
-        world="kinematic",
-        isolated=isolated,
-    )
+    report = _run_edited(tmp_path, mr1_inventory, text, isolated=isolated)
     assert report.passed, report.findings
     assert report.trace.episodes[0].outputs["outDistance"] == pytest.approx(0.5)
 
@@ -411,10 +408,6 @@ def test_tf_transformations_turns_a_quaternion_into_roll_pitch_and_yaw(
         "        roll, pitch, yaw = euler_from_quaternion(q)\n"
         "        self.out_distance = yaw + 10 * pitch + 100 * roll\n",
     )
-    skill = tmp_path / "move_forward.py"
-    skill.write_text(text, encoding="utf-8")
-    report = run_skill(
-        skill, mr1_inventory, inputs={"inDistance": 0.3, "inLinearVelocity": 0.3}, world="kinematic"
-    )
+    report = _run_edited(tmp_path, mr1_inventory, text)
     assert report.passed, report.findings
     assert report.trace.episodes[0].outputs["outDistance"] == pytest.approx(2.5 - 2.0 + 10.0)

@@ -41,7 +41,14 @@ from skillwright.runtime.session import Episode, EpisodePlan, EpisodeResult
 from skillwright.runtime.skillinfo import SkillInfo, SkillSourceError, read_skill
 from skillwright.runtime.typesys import MOTION_TYPES, is_zero_motion, registry_for
 
-__all__ = ["MOTION_TYPES", "WorldSpec", "recording_files", "run_skill", "skill_binding"]
+__all__ = [
+    "MOTION_TYPES",
+    "WorldSpec",
+    "read_skill_file",
+    "recording_files",
+    "run_skill",
+    "skill_binding",
+]
 
 """Message types whose non-zero values command a base to move."""
 
@@ -159,7 +166,7 @@ def _skill_inputs(
     return named
 
 
-def _read_skill_file(path: Path) -> str:
+def read_skill_file(path: Path) -> str:
     """The text of the skill file ``path``; the input-file errors when it cannot be read."""
     if path.is_dir():
         raise InputFileError(
@@ -278,7 +285,7 @@ def run_skill(
     """
     path = Path(skill)
     if source is None:
-        source = _read_skill_file(path)
+        source = read_skill_file(path)
     scenario = scenario or RunScenario()
     given = {**scenario.inputs, **dict(inputs or {})}
     world_factory = _world_factory(world, scenario)

@@ -206,19 +206,14 @@ def validate(
     """
     from skillwright.capability.reader import load_capability
     from skillwright.console import err_console, out_console
-    from skillwright.errors import GenerationCancelledError, InputFileError, InputFileNotFoundError
+    from skillwright.errors import GenerationCancelledError
     from skillwright.interfaces.load import discover_path, is_json_file
     from skillwright.rules.settings import project_selection
+    from skillwright.runtime.run import read_skill_file
     from skillwright.sim.scenario import scenarios_for
     from skillwright.sim.validate import validate_skill
 
-    if skill_file.is_dir():
-        raise InputFileError(
-            f"skill file {skill_file}: is a folder; give the skill's .py file (the folder "
-            "`skillwright generate` writes holds it as skill.py)"
-        )
-    if not skill_file.is_file():
-        raise InputFileNotFoundError(f"skill file {skill_file}: no such file; check the path")
+    read_skill_file(skill_file)  # a folder, a missing or unreadable file: said before anything
     if unisolated:
         warn_unisolated()
     selection = project_selection(skill_file).narrowed(select, ignore)
