@@ -67,6 +67,14 @@ def warn_unisolated() -> None:
 def _capability(*, required: bool) -> Callable[[F], F]:
     def decorate(function: F) -> F:
         function = click.option(
+            "--ontology",
+            "ontology_files",
+            multiple=True,
+            type=click.Path(path_type=Path),
+            help="A local copy of an ontology the model imports (repeatable): its classes "
+            "and properties let domain-specific capabilities, inputs and outputs be read.",
+        )(function)
+        function = click.option(
             "--capability-iri",
             metavar="IRI",
             help="Which capability, when the file holds several.",
@@ -84,12 +92,14 @@ def _capability(*, required: bool) -> Callable[[F], F]:
 
 
 def capability_options(function: F) -> F:
-    """``--capability FILE`` (required, as ``capability_file``) and ``--capability-iri IRI``."""
+    """``--capability FILE`` (required, as ``capability_file``), ``--capability-iri IRI`` and
+    ``--ontology FILE ...`` (as ``ontology_files``)."""
     return _capability(required=True)(function)
 
 
 def optional_capability_options(function: F) -> F:
-    """``--capability FILE`` (optional, as ``capability_file``) and ``--capability-iri IRI``."""
+    """``--capability FILE`` (optional, as ``capability_file``), ``--capability-iri IRI`` and
+    ``--ontology FILE ...`` (as ``ontology_files``)."""
     return _capability(required=False)(function)
 
 

@@ -409,3 +409,17 @@ def test_a_file_with_several_capabilities_offers_them_to_choose_from(tmp_path: P
 def test_a_file_with_one_capability_offers_just_that_one(tmp_path: Path) -> None:
     load = load_capability(SHIPPED_CAPABILITIES / "rotate.ttl")
     assert [(c.name, c.label) for c in load.choices] == [("rotate", load.capability.label)]
+
+
+def test_the_messages_say_how_the_caller_gives_an_ontology(tmp_path: Path) -> None:
+    """The CLI gives a local ontology with --ontology FILE, the TUI from its ontologies
+    folder: each message says it the caller's way."""
+    body = """
+<http://example.org/robot/model> a owl:Ontology ; owl:imports <http://example.org/robot-ontology> .
+ex:weld a ex:WeldingCapability .
+"""
+    path = write(tmp_path, body)
+    with pytest.raises(CapabilityError, match=r"in an ontology, given as --ontology FILE"):
+        load_capability(path)
+    with pytest.raises(CapabilityError, match=r"given as a file in /w/ontologies"):
+        load_capability(path, ontology_hint="a file in /w/ontologies")

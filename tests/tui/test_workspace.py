@@ -104,3 +104,15 @@ def test_the_workspace_defaults_to_the_capabilities_folder_then_the_current_one(
         (tmp_path / "capabilities").mkdir()
     chosen = resolve_workspace(tmp_path / explicit if explicit else None, tmp_path)
     assert chosen == (tmp_path / expected).resolve()
+
+
+def test_the_ontologies_folder_is_read_with_every_model_and_not_listed(tmp_path: Path) -> None:
+    (tmp_path / "ontologies").mkdir()
+    (tmp_path / "ontologies" / "robot.ttl").write_text("", encoding="utf-8")
+    (tmp_path / "ontologies" / "notes.txt").write_text("", encoding="utf-8")
+    (tmp_path / "weld.ttl").write_text("", encoding="utf-8")
+    workspace = Workspace(tmp_path)
+    assert workspace.ontologies() == (tmp_path / "ontologies" / "robot.ttl",)
+    assert workspace.capabilities() == [tmp_path / "weld.ttl"]
+    assert str(tmp_path / "ontologies") in workspace.ontology_hint()
+    assert Workspace(tmp_path / "empty").ontologies() == ()

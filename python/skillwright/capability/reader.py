@@ -99,11 +99,13 @@ def _operator(iri: str) -> tuple[str, bool]:
 class _Reader:
     """Walks one graph; holds the namespaces and the warnings collected on the way."""
 
-    def __init__(self, graph: Graph, source: Path) -> None:
+    def __init__(self, graph: Graph, source: Path, ontology_hint: str) -> None:
         from rdflib import URIRef
 
         self.graph = graph
         self.source = source
+        self.ontology_hint = ontology_hint
+        """How the user gives a local ontology, as the messages say it."""
         self.warnings: list[str] = []
         self.uri = URIRef
 
@@ -401,7 +403,8 @@ def _nothing_linked(
     names = ", ".join(_named(p) for p in (*listed, *extra))
     message = (
         f"capability <{capability}> has no {direction}s: none is linked by {names} "
-        "(nor by a sub-property or equivalent the file or an --ontology declares)"
+        f"(nor by a sub-property or equivalent the file or an ontology declares; give one as "
+        f"{reader.ontology_hint})"
     )
     unknown = sorted(
         {
@@ -461,6 +464,7 @@ def load_capability(
     capability_iri: str | None = None,
     ontologies: Iterable[str | Path] = (),
     cancel: threading.Event | None = None,
+    ontology_hint: str = "--ontology FILE",
 ) -> CapabilityLoad:
     """Reads the capability model at ``path``.
 
@@ -468,6 +472,8 @@ def load_capability(
     or its local name). ``ontologies`` are local copies of imported ontologies; their
     class hierarchy lets domain-specific capability classes be recognised. ``cancel`` is
     looked at before and after each file is parsed (see :mod:`skillwright.cancel`).
+    ``ontology_hint`` is how the caller's user gives such a copy, as the messages say it
+    (the CLI's ``--ontology FILE``, the TUI's ontologies folder).
     """
     from rdflib import RDFS, URIRef
 
@@ -481,7 +487,7 @@ def load_capability(
     ontology_paths = [Path(p) for p in ontologies]
     vocabulary = load_vocabulary(ontology_paths, cancel=cancel) if ontology_paths else None
     raise_if_cancelled(cancel, what)
-    reader = _Reader(graph, source)
+    reader = _Reader(graph, source, ontology_hint)
     reader.warnings += parsed.warnings
     if vocabulary is not None:
         reader.warnings += vocabulary.warnings
@@ -496,7 +502,8 @@ def load_capability(
         reader.warnings.append(
             "owl:imports "
             + ", ".join(f"<{i}>" for i in missing)
-            + " not fetched (skillwright works offline); --ontology FILE reads a local copy"
+            + " not fetched (skillwright works offline); give a local copy as "
+            + reader.ontology_hint
         )
 
     found = _find_capabilities(graph, closure(CAPABILITY_CLASSES, _axioms(graphs, "class")))
@@ -504,7 +511,8 @@ def load_capability(
         raise CapabilityError(
             f"{source}: no capability found; expected an individual typed "
             + ", ".join(_named(c) for c in CAPABILITY_CLASSES)
-            + " (or a subclass declared in the file or an --ontology)"
+            + " (or a subclass declared in the file or in an ontology, given as "
+            + f"{reader.ontology_hint})"
         )
     choices = [
         CapabilityChoice(

@@ -262,6 +262,7 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
 def generate(
     capability_file: Path,
     capability_iri: str | None,
+    ontology_files: tuple[Path, ...],
     spec_file: Path,
     source: Path,
     model_id: str | None,
@@ -315,6 +316,7 @@ def generate(
             interfaces=source,
             out_dir=out_dir,
             capability_iri=capability_iri,
+            ontologies=ontology_files,
             model=model_id,
             skeleton=skeleton,
             k=k,

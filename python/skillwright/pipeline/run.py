@@ -92,6 +92,8 @@ class GenerationRequest:
     interfaces: Path
     out_dir: Path
     capability_iri: str | None = None
+    ontologies: tuple[Path, ...] = ()
+    """Local copies of ontologies the capability model imports (``--ontology``)."""
     model: str | None = None
     """A ``models.toml`` id or alias; ``None``: the default model, or the skeleton when its
     file is not installed."""
@@ -297,6 +299,7 @@ def retrieve(
     interfaces: Path,
     *,
     capability_iri: str | None = None,
+    ontologies: Sequence[Path] = (),
     k: int = 4,
     include_infrastructure: bool = False,
     dense: bool = False,
@@ -306,7 +309,8 @@ def retrieve(
     rerank: bool = False,
     model: str | None = None,
 ) -> RetrievalResult:
-    """Loads the inputs and ranks the interfaces (what the TUI's retrieval view shows).
+    """Loads the inputs and ranks the interfaces (what the TUI's retrieval view shows);
+    ``ontologies`` are local copies of ontologies the capability model imports.
 
     With ``rerank``, the generation model ``model`` (default: the default one) judges the
     best candidates (see :mod:`skillwright.retrieval.rerank`).
@@ -320,7 +324,9 @@ def retrieve(
     from skillwright.interfaces.load import load_inventory
     from skillwright.spec.loader import load_spec
 
-    load = load_capability(capability, capability_iri=capability_iri, cancel=cancel)
+    load = load_capability(
+        capability, capability_iri=capability_iri, ontologies=ontologies, cancel=cancel
+    )
     skill_spec = load_spec(spec) if spec is not None else None
     inventory = load_inventory(interfaces, cancel=cancel)
     _known_names(inventory, dropped, "dropped")
@@ -928,7 +934,11 @@ def _run_stages(
     with stages.stage(
         "inputs", "reading the capability, the specification and the interfaces"
     ) as s:
-        load = load_capability(request.capability, capability_iri=request.capability_iri)
+        load = load_capability(
+            request.capability,
+            capability_iri=request.capability_iri,
+            ontologies=request.ontologies,
+        )
         spec = load_spec(request.spec)
         inventory = load_inventory(request.interfaces)
         _known_names(inventory, request.pinned, "pinned")

@@ -73,6 +73,7 @@ __all__ = ["retrieve"]
 def retrieve(
     capability_file: Path,
     capability_iri: str | None,
+    ontology_files: tuple[Path, ...],
     spec_file: Path | None,
     source: Path,
     k: int,
@@ -99,7 +100,9 @@ def retrieve(
     from skillwright.retrieval.retrieve import candidates, rank_interfaces, twin_notes
     from skillwright.spec.loader import load_spec
 
-    capability = load_capability(capability_file, capability_iri=capability_iri).capability
+    capability = load_capability(
+        capability_file, capability_iri=capability_iri, ontologies=ontology_files
+    ).capability
     spec = load_spec(spec_file) if spec_file is not None else None
     inventory = load_inventory(source)
     warn(read_warnings(inventory))

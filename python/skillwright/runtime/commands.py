@@ -163,6 +163,7 @@ def run(
     input_values: tuple[str, ...],
     capability_file: Path | None,
     capability_iri: str | None,
+    ontology_files: tuple[Path, ...],
     bind: dict[str, str],
     scenario_file: Path | None,
     world: str | None,
@@ -208,7 +209,9 @@ def run(
     if capability_file is not None:
         from skillwright.capability.reader import load_capability
 
-        capability = load_capability(capability_file, capability_iri=capability_iri).capability
+        capability = load_capability(
+            capability_file, capability_iri=capability_iri, ontologies=ontology_files
+        ).capability
     try:
 
         def run_once(source_text: str | None, progress: _Progress | None = None) -> RunReport:

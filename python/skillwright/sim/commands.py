@@ -182,6 +182,7 @@ def validate(
     skill_file: Path,
     capability_file: Path,
     capability_iri: str | None,
+    ontology_files: tuple[Path, ...],
     spec_file: Path | None,
     source: Path,
     scenario_file: Path | None,
@@ -217,7 +218,9 @@ def validate(
     if unisolated:
         warn_unisolated()
     selection = project_selection(skill_file).narrowed(select, ignore)
-    capability = load_capability(capability_file, capability_iri=capability_iri).capability
+    capability = load_capability(
+        capability_file, capability_iri=capability_iri, ontologies=ontology_files
+    ).capability
     inventory = discover_path(source)
     chosen = scenarios_for(capability, scenario_file)
     unknown = [name for name in only if name not in {s.name for s in chosen.scenarios}]

@@ -35,9 +35,21 @@ INVENTORY_SUFFIX = ".inventory.json"
 
 STATE_DIR = ".skillwright"
 GENERATED_DIR = "generated"
+ONTOLOGY_DIR = "ontologies"
+"""Local copies of ontologies the capability models import, read with every model (the
+TUI's ``--ontology``); not listed as capabilities."""
+ONTOLOGY_SUFFIXES = (".ttl", ".owl", ".rdf", ".xml", ".jsonld", ".nt", ".n3")
 
 # Folders that never hold inputs: our own state and results, tool caches, virtualenvs.
-_SKIPPED_DIRS = {STATE_DIR, GENERATED_DIR, "__pycache__", "node_modules", ".git", ".venv"}
+_SKIPPED_DIRS = {
+    STATE_DIR,
+    GENERATED_DIR,
+    ONTOLOGY_DIR,
+    "__pycache__",
+    "node_modules",
+    ".git",
+    ".venv",
+}
 # A workspace is browsed on start-up; a deep tree (a user pointing at $HOME) must not stall it.
 _MAX_DEPTH = 6
 
@@ -94,6 +106,27 @@ class Workspace:
             if len(folder.parts) - base_depth >= _MAX_DEPTH:
                 dirs[:] = []
             yield folder, dirs, sorted(files)
+
+    @property
+    def ontology_dir(self) -> Path:
+        """Where local copies of imported ontologies go (``ontologies/``)."""
+        return self.root / ONTOLOGY_DIR
+
+    def ontologies(self) -> tuple[Path, ...]:
+        """The ontology files of :attr:`ontology_dir`, sorted (none when it is missing)."""
+        if not self.ontology_dir.is_dir():
+            return ()
+        return tuple(
+            sorted(
+                p
+                for p in self.ontology_dir.iterdir()
+                if p.is_file() and p.name.lower().endswith(ONTOLOGY_SUFFIXES)
+            )
+        )
+
+    def ontology_hint(self) -> str:
+        """How a TUI user gives a local copy of an ontology, as messages say it."""
+        return f"a file in {self.ontology_dir}, which the TUI reads with every model"
 
     def capabilities(self) -> list[Path]:
         """Capability model files, sorted by path."""

@@ -119,6 +119,7 @@ def check(
     skill_file: Path,
     capability_file: Path,
     capability_iri: str | None,
+    ontology_files: tuple[Path, ...],
     spec_file: Path,
     source: Path | None,
     retrieved: tuple[str, ...],
@@ -153,7 +154,9 @@ def check(
     except (OSError, UnicodeDecodeError) as error:
         raise InputFileError(f"skill file {skill_file}: cannot be read as UTF-8 text") from error
     selection = project_selection(skill_file).narrowed(select, ignore)
-    capability = load_capability(capability_file, capability_iri=capability_iri).capability
+    capability = load_capability(
+        capability_file, capability_iri=capability_iri, ontologies=ontology_files
+    ).capability
     skill_spec = load_spec(spec_file)
     catalog = None
     if source is not None:

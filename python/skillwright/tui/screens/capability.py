@@ -153,7 +153,13 @@ class CapabilityPane(Pane):
         from skillwright.capability.render import render_capability
 
         try:
-            load = load_capability(path, capability_iri=iri, cancel=cancel)
+            load = load_capability(
+                path,
+                capability_iri=iri,
+                ontologies=self.sw.workspace.ontologies(),
+                cancel=cancel,
+                ontology_hint=self.sw.workspace.ontology_hint(),
+            )
         except OperationCancelledError:
             return  # the pane already says so, or a newer read replaced this one
         except CapabilitySelectionError as error:

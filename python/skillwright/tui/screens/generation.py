@@ -281,6 +281,7 @@ class GenerationPane(Pane):
             "interfaces": loaded.inventory_source,
             "out_dir": out_dir,
             "capability_iri": session.capability_iri,
+            "ontologies": self.sw.workspace.ontologies(),
             "model": None if session.skeleton else session.model,
             "skeleton": session.skeleton,
             "k": session.k,

@@ -110,6 +110,7 @@ class RetrievalPane(Pane):
             "spec": spec_path,
             "interfaces": loaded.inventory_source,
             "capability_iri": session.capability_iri,
+            "ontologies": self.sw.workspace.ontologies(),
             "k": session.k,
             "include_infrastructure": session.show_infrastructure,
             "dense": session.dense,
