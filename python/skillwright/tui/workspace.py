@@ -126,7 +126,10 @@ class Workspace:
 
     def ontology_hint(self) -> str:
         """How a TUI user gives a local copy of an ontology, as messages say it."""
-        return f"a file in {self.ontology_dir}, which the TUI reads with every model"
+        return (
+            f"a file in the workspace's {ONTOLOGY_DIR}/ folder, which the TUI reads with every "
+            "model"
+        )
 
     def capabilities(self) -> list[Path]:
         """Capability model files, sorted by path."""
