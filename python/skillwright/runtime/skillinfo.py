@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 from skillwright.rules.run import RUN_STRUCTURE, RUN_SYNTAX
 
-__all__ = ["SkillInfo", "SkillSourceError", "Variable", "read_skill"]
+__all__ = ["SkillInfo", "SkillSourceError", "Variable", "read_skill", "returned_path"]
 
 _STATES = frozenset(
     {
@@ -86,7 +86,7 @@ def _keyword(call: ast.Call, name: str) -> ast.expr | None:
     return next((k.value for k in call.keywords if k.arg == name), None)
 
 
-def _returned_path(function: ast.FunctionDef) -> str | None:
+def returned_path(function: ast.FunctionDef) -> str | None:
     """``x`` (or ``goal.x``) when every ``return`` of the getter gives ``self.x``
     (``self.goal.x``), possibly converted (``float(self.x)``)."""
     found: set[str] = set()
@@ -123,7 +123,7 @@ def _self_path(node: ast.Attribute) -> str | None:
 
 
 def _variable(function: ast.FunctionDef, call: ast.Call) -> Variable:
-    path = _returned_path(function)
+    path = returned_path(function)
     name_node = _keyword(call, "name")
     name = (
         name_node.value

@@ -51,6 +51,7 @@ from skillwright.rules.api import (
 from skillwright.rules.finding import Finding
 from skillwright.rules.registry import Rule
 from skillwright.runtime import standin_api
+from skillwright.runtime.skillinfo import returned_path
 from skillwright.validation.syntax import (
     self_method,
     statement_holding,
@@ -369,14 +370,9 @@ def _framework_set(cls: ast.ClassDef) -> set[str]:
             for d in member.decorator_list
         ):
             continue
-        for node in ast.walk(member):
-            if isinstance(node, ast.Return) and node.value is not None:
-                root = node.value
-                while isinstance(root, ast.Attribute) and self_attribute(root) is None:
-                    root = root.value
-                returned = self_attribute(root)
-                if returned is not None:
-                    found.add(returned)
+        path = returned_path(member)
+        if path is not None:
+            found.add(path.split(".")[0])
     return found
 
 

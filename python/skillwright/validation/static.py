@@ -75,6 +75,7 @@ from skillwright.rules.structure import (
     STATE_NOT_SPECIFIED,
     SYNTAX_ERROR,
 )
+from skillwright.runtime.skillinfo import returned_path
 from skillwright.spec.model import PACKML_STATES, SkillSpec
 from skillwright.validation.bearings import check_bearings
 from skillwright.validation.equality import check_equality
@@ -554,15 +555,9 @@ def _input_attributes(cls: ast.ClassDef, binding: Binding) -> dict[str, str]:
     for node in cls.body:
         for annotation, _ in _member_annotations(node):
             meant = binding.target_of(annotation.name)
-            returned = [s.value for s in ast.walk(node) if isinstance(s, ast.Return)]
-            if meant is None or annotation.direction != "input" or len(returned) != 1:
-                continue
-            value = returned[0]
-            while isinstance(value, ast.Attribute) and self_attribute(value) is None:
-                value = value.value
-            attr = self_attribute(value) if value is not None else None
-            if attr is not None:
-                held[attr] = meant
+            path = returned_path(node) if isinstance(node, ast.FunctionDef) else None
+            if meant is not None and annotation.direction == "input" and path is not None:
+                held[path.split(".")[0]] = meant
     return held
 
 
