@@ -38,7 +38,6 @@ def test_the_capability_s_own_names_bind_by_name() -> None:
     }
     assert {b.how for b in binding.bound} == {"name"}
     assert binding.unbound == ["outLinearVelocity"]
-    assert binding.describe() == []
 
 
 def test_other_names_bind_by_the_quantity_unit_and_axis_they_speak_of() -> None:
@@ -59,7 +58,6 @@ def test_other_names_bind_by_the_quantity_unit_and_axis_they_speak_of() -> None:
         "goal_z": "inPositionZ",
     }
     assert {b.how for b in binding.bound} == {"meaning"}
-    assert binding.describe()[0] == "goal_z is inPositionZ (by its meaning)"
 
 
 def test_a_parameter_binds_to_an_input_never_to_an_output() -> None:
@@ -74,7 +72,6 @@ def test_what_the_words_cannot_settle_is_left_unbound_with_its_candidates() -> N
     binding = bind([Annotation("velocity", "input", "the speed to drive at")], capability)
     assert binding.bound == []
     assert binding.ambiguous["velocity"] == ["inLinearVelocityX", "inLinearVelocityY"]
-    assert "say which with --bind velocity=NAME" in binding.describe()[0]
     told = bind(
         [Annotation("velocity", "input", "the speed to drive at")],
         capability,

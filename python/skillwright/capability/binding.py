@@ -120,19 +120,6 @@ class Binding:
         """The annotation bound to the capability name ``target``."""
         return next((b.annotation for b in self.bound if b.target == target), None)
 
-    def describe(self) -> list[str]:
-        """One line per binding that is not by name, and per problem, for the user."""
-        lines = [
-            f"{b.annotation} is {b.target} ({'by its meaning' if b.how == 'meaning' else '--bind'})"
-            for b in self.bound
-            if b.how != "name"
-        ]
-        lines += [
-            f"{name} could be {' or '.join(candidates)}; say which with --bind {name}=NAME"
-            for name, candidates in self.ambiguous.items()
-        ]
-        return lines
-
 
 def targets(capability: Capability) -> list[Target]:
     """The names a skill of ``capability`` is given and read values by."""
