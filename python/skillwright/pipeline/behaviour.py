@@ -171,8 +171,12 @@ class Behaviour:
         cancel: threading.Event | None = None,
         isolated: bool = True,
         selection: Selection | None = None,
+        scenario_file: Path | None = None,
     ) -> None:
         self.capability = capability
+        self.scenario_file = scenario_file
+        """The scenario file to read the scenarios from; ``None``: the shipped one for the
+        capability, else scenarios derived from the model (:func:`scenarios_for`)."""
         self.isolated = isolated
         self.selection = selection or Selection()
         """The rules the run's findings are reported and repaired by (the simulation's
@@ -197,11 +201,12 @@ class Behaviour:
         return self.run_enabled or self.sim_enabled
 
     def scenarios(self) -> ScenarioSet:
-        """The capability's scenarios; the first is the default one both stages use."""
+        """The capability's scenarios (those of :attr:`scenario_file` when given); the first is
+        the default one both stages use."""
         if self._scenarios is None:
             from skillwright.sim.scenario import scenarios_for
 
-            self._scenarios = scenarios_for(self.capability)
+            self._scenarios = scenarios_for(self.capability, self.scenario_file)
         return self._scenarios
 
     def default_scenario(self) -> Scenario:

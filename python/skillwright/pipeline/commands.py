@@ -244,6 +244,14 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
     help="Do not validate the skill in MuJoCo after the static checks (stage `simulate`).",
 )
 @click.option(
+    "--scenario",
+    "scenario_file",
+    type=click.Path(path_type=Path),
+    help="A scenario file (YAML) for the run and the simulation (the run takes its first "
+    "scenario). Default: the shipped one for the capability, else scenarios derived from the "
+    "capability model.",
+)
+@click.option(
     "-o",
     "--output",
     "out_dir",
@@ -277,6 +285,7 @@ def generate(
     attempts: int,
     no_run: bool,
     no_sim: bool,
+    scenario_file: Path | None,
     out_dir: Path | None,
     models_file: Path | None,
     as_json: bool,
@@ -330,6 +339,7 @@ def generate(
             attempts=attempts,
             run=not no_run,
             simulate=not no_sim,
+            scenario=scenario_file,
             isolated=not unisolated,
             select=select,
             ignore=ignore,

@@ -124,6 +124,9 @@ class GenerationRequest:
     """Wall-clock budget of one simulation."""
     isolated: bool = True
     """Run and simulate inside the kernel sandbox; ``False`` is ``--unsafe-no-isolation``."""
+    scenario: Path | None = None
+    """The scenario file the run and the simulation take their scenarios from (the first is the
+    run's); ``None``: the shipped file for the capability, else scenarios derived from it."""
     select: tuple[str, ...] = ()
     """Rules to report and repair (codes, blocks, groups, names); the project's by default."""
     ignore: tuple[str, ...] = ()
@@ -977,6 +980,7 @@ def _run_stages(
             cancel=cancel,
             isolated=request.isolated,
             selection=selection,
+            scenario_file=request.scenario,
         )
         model_result = _model_stages(
             request, stages, load, spec, inventory, chosen, behaviour, loaded
