@@ -180,3 +180,43 @@ def test_a_wait_that_gives_up_on_the_moving_base_gets_a_measured_timeout_without
     assert float(allowed[1]) >= 1.0  # the lambda's tolerance 0.01 is not a timeout
     assert f"allows {float(allowed[1]):g} s" in tries[1].problems[0]
     assert len(_asks(model, "execute")) == 1
+
+
+def test_the_scenarios_come_from_the_file_the_request_names_else_the_shipped_one(
+    tmp_path: Path,
+) -> None:
+    from skillwright.capability.reader import load_capability
+    from skillwright.errors import FileFormatError
+    from skillwright.interfaces.inventory import Inventory, Resource
+    from skillwright.pipeline.behaviour import Behaviour
+    from skillwright.sim.assets import sim_dir
+    from tests.conftest import SHIPPED_CAPABILITIES
+
+    capability = load_capability(SHIPPED_CAPABILITIES / "set-velocity.ttl").capability
+    inventory = Inventory(resource=Resource(name="mr1"))
+    own = tmp_path / "own.scenario.yaml"
+    own.write_text(
+        f"capability: {capability.iri}\n"
+        "scenarios:\n"
+        "  - name: slow\n"
+        "    inputs: {inLinearVelocity: 0.1, inAngularVelocity: 0.0}\n",
+        encoding="utf-8",
+    )
+
+    def behaviour(scenario_file: Path | None) -> Behaviour:
+        return Behaviour(
+            capability, inventory, tmp_path / "skill.py", tmp_path, scenario_file=scenario_file
+        )
+
+    chosen = behaviour(own).scenarios()
+    assert chosen.source == str(own)
+    assert [s.name for s in chosen.scenarios] == ["slow"]
+    assert behaviour(own).default_scenario().inputs["inLinearVelocity"] == 0.1
+    shipped = behaviour(None).scenarios()
+    assert shipped.source == str(sim_dir() / "scenarios" / "set-velocity.yaml")
+    other = tmp_path / "other.scenario.yaml"
+    other.write_text(
+        "capability: http://example.org/other\nscenarios:\n  - name: x\n", encoding="utf-8"
+    )
+    with pytest.raises(FileFormatError, match="not for"):
+        behaviour(other).scenarios()

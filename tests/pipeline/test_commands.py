@@ -193,3 +193,23 @@ def test_ctrl_c_after_the_files_are_written_says_they_are_complete(
         f"error: generation interrupted after writing {out}: its files are complete"
     )
     assert (out / "skill.py").is_file()
+
+
+def test_a_scenario_file_given_to_generate_reaches_the_request(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.errors import InvalidArgumentError
+    from skillwright.pipeline import run as pipeline_run
+
+    seen = []
+
+    def capture(request: pipeline_run.GenerationRequest, **_: object) -> None:
+        seen.append(request.scenario)
+        raise InvalidArgumentError("stopped by the test")
+
+    monkeypatch.setattr(pipeline_run, "run_generation", capture)
+    scenario = tmp_path / "own.scenario.yaml"
+    result = CliRunner().invoke(main, args(tmp_path / "out", "--scenario", str(scenario)))
+    assert result.exit_code == 2, result.output
+    result = CliRunner().invoke(main, args(tmp_path / "out"))
+    assert seen == [scenario, None]
