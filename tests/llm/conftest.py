@@ -76,3 +76,12 @@ def cache(tmp_path: Path) -> Iterator[Path]:
     folder = tmp_path / "cache"
     folder.mkdir()
     return folder
+
+
+@pytest.fixture(scope="session")
+def echo_gguf(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The wordy model with blocks that add little to the residual stream: its next token
+    depends mostly on the last one, so greedy answers soon repeat themselves and prompt-lookup
+    drafts are often right (and, as context still matters a little, often wrong)."""
+    spec = TinyLlamaSpec(words=GENERATION_WORDS, residual_scale=0.003)
+    return write_tiny_llama(tmp_path_factory.mktemp("models") / "echo.gguf", spec)

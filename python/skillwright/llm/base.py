@@ -100,6 +100,10 @@ class GenerationOptions(BaseModel):
     """Save a newly evaluated prompt prefix to the disk prefix cache. ``False`` for prefixes
     used within one run only (re-ranking's per-capability prefix), which would otherwise push
     the long, costly prefixes of skill generation out of the cache."""
+    prompt_lookup: bool | None = None
+    """Draft tokens copied from the prompt and verify them in batches (greedy answers of a
+    local model only; the answer is the same); ``None``: the model's ``models.toml``
+    setting."""
 
 
 @dataclass
@@ -123,6 +127,10 @@ class TextStream:
     """Text chunks produced so far."""
     completion_tokens: int | None = None
     """Tokens generated so far, when the backend reports them."""
+    drafted_tokens: int | None = None
+    """Tokens drafted by prompt lookup and evaluated (``None``: no drafting)."""
+    accepted_tokens: int | None = None
+    """Drafted tokens that greedy decoding confirmed (``None``: no drafting)."""
     started: float = field(default_factory=time.perf_counter)
     """``time.perf_counter()`` when the stream was created."""
     first_chunk_at: float | None = None

@@ -42,6 +42,7 @@ __all__ = [
     "ModelsFile",
     "OpenAIModel",
     "PackagedFile",
+    "PromptLookup",
     "Registry",
     "Sampling",
     "cache_dir",
@@ -122,6 +123,31 @@ class PackagedFile(BaseModel):
         return self.member.format(part=part)
 
 
+class PromptLookup(BaseModel):
+    """Prompt-lookup decoding of a llama.cpp model (see :mod:`skillwright.llm.lookup`): draft
+    tokens copied from where the last few tokens occurred before, verified in one batch.
+    Greedy answers only, and the same answer as without it."""
+
+    model_config = _STRICT
+
+    enabled: bool = False
+    """Draft and verify; off until measured on the machine that runs the model
+    (``bench/bench_lookup.py``)."""
+    max_ngram: int = Field(default=3, ge=1)
+    """Longest run of last tokens looked up in the text so far."""
+    min_ngram: int = Field(default=2, ge=1)
+    """Shortest run looked up; 1 drafts after any recurring token (more guesses, fewer
+    right)."""
+    draft_tokens: int = Field(default=8, ge=1)
+    """Tokens copied per draft."""
+
+    @model_validator(mode="after")
+    def _ngram_range(self) -> PromptLookup:
+        if self.min_ngram > self.max_ngram:
+            raise ValueError("min_ngram must not exceed max_ngram")
+        return self
+
+
 class LlamaCppModel(_ModelBase):
     """A local GGUF model run in-process by llama.cpp (llama-cpp-python)."""
 
@@ -142,6 +168,8 @@ class LlamaCppModel(_ModelBase):
     """Prompt tokens evaluated per llama.cpp batch."""
     sampling: Sampling = Sampling()
     """Sampling defaults for this model."""
+    prompt_lookup: PromptLookup = PromptLookup()
+    """Prompt-lookup decoding for greedy answers."""
     source: str | None = None
     """Where to obtain the file (shown when it is missing); skillwright never downloads it."""
     packages: PackagedFile | None = None

@@ -35,6 +35,7 @@ from skillwright.llm.files import (
     check_model_file,
     inspect_model_file,
 )
+from skillwright.llm.lookup import LookupCounts, lookup_tokens
 from skillwright.llm.prefix_cache import PrefixCache, PrefixState, prefix_key
 
 if TYPE_CHECKING:
@@ -328,14 +329,29 @@ class LlamaCppGenerator:
         llama.set_seed(sampling.seed if options.seed is None else options.seed)
         decoder = codecs.getincrementaldecoder("utf-8")(errors="replace")
         splitter = _StopSplitter(options.stop)
-        tokens = llama.generate(
-            prompt,
-            top_k=sampling.top_k,
-            top_p=sampling.top_p if options.top_p is None else options.top_p,
-            min_p=sampling.min_p,
-            temp=sampling.temperature if options.temperature is None else options.temperature,
-            repeat_penalty=sampling.repeat_penalty,
-            grammar=grammar,
+        temperature = sampling.temperature if options.temperature is None else options.temperature
+        drafting = _lookup_applies(self.entry, options, temperature, grammar)
+        counts = LookupCounts()
+        tokens = (
+            lookup_tokens(
+                llama,
+                prompt,
+                max_ngram=self.entry.prompt_lookup.max_ngram,
+                min_ngram=self.entry.prompt_lookup.min_ngram,
+                draft_size=self.entry.prompt_lookup.draft_tokens,
+                max_tokens=max_tokens,
+                counts=counts,
+            )
+            if drafting
+            else llama.generate(
+                prompt,
+                top_k=sampling.top_k,
+                top_p=sampling.top_p if options.top_p is None else options.top_p,
+                min_p=sampling.min_p,
+                temp=temperature,
+                repeat_penalty=sampling.repeat_penalty,
+                grammar=grammar,
+            )
         )
         written = 0
         finish: Literal["stop", "length", "cancelled"] = "length"
@@ -365,6 +381,8 @@ class LlamaCppGenerator:
         finally:
             tokens.close()
         stream.completion_tokens = written
+        if drafting:
+            stream.drafted_tokens, stream.accepted_tokens = counts.drafted, counts.accepted
         if finish != "cancelled":
             tail, _ = splitter.feed(decoder.decode(b"", final=True), final=True)
             if tail:
@@ -486,6 +504,21 @@ class _StopSplitter:
                     longest = size
                     break
         return longest
+
+
+def _lookup_applies(
+    entry: LlamaCppModel,
+    options: GenerationOptions,
+    temperature: float,
+    grammar: LlamaGrammar | None,
+) -> bool:
+    """Whether this answer is decoded with prompt lookup: asked for (by the options, else
+    the model's setting) and verifiable, that is greedy (temperature 0), unconstrained by
+    a grammar and without a repeat penalty (see :mod:`skillwright.llm.lookup`)."""
+    wanted = entry.prompt_lookup.enabled if options.prompt_lookup is None else options.prompt_lookup
+    return (
+        wanted and temperature == 0.0 and grammar is None and entry.sampling.repeat_penalty == 1.0
+    )
 
 
 def _shared_length(tokens: Sequence[int] | Any, other: Sequence[int]) -> int:
