@@ -147,15 +147,21 @@ def pairs(only: set[str], split: str = "all") -> list[Pair]:
     return found
 
 
-def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
-    from skillwright.errors import SkillwrightError
-    from skillwright.pipeline import GenerationRequest, run_generation
-    from skillwright.pipeline.events import AttemptFinished, Event
+class Progress:
+    """Prints each answer of a pair's generation on stderr, and a wait for the model (another
+    generation holds it) whenever the place in line changes."""
 
-    row = Row(pair.split, pair.robot, pair.name)
+    def __init__(self) -> None:
+        self.place: int | None = None
 
-    def on_event(event: Event) -> None:
-        if isinstance(event, AttemptFinished):
+    def __call__(self, event: object) -> None:
+        from skillwright.pipeline.events import AttemptFinished, ModelWaiting
+
+        if isinstance(event, ModelWaiting):
+            if event.place != self.place:
+                self.place = event.place
+                print(f"    {event.message}", file=sys.stderr, flush=True)
+        elif isinstance(event, AttemptFinished):
             attempt = event.attempt
             print(
                 f"    {attempt.target} #{attempt.number}: {attempt.finish}, "
@@ -163,6 +169,14 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
                 file=sys.stderr,
                 flush=True,
             )
+
+
+def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
+    from skillwright.errors import SkillwrightError
+    from skillwright.pipeline import GenerationRequest, run_generation
+
+    row = Row(pair.split, pair.robot, pair.name)
+    on_event = Progress()
 
     request = GenerationRequest(
         capability=pair.capability,

@@ -213,3 +213,100 @@ def test_a_scenario_file_given_to_generate_reaches_the_request(
     assert result.exit_code == 2, result.output
     result = CliRunner().invoke(main, args(tmp_path / "out"))
     assert seen == [scenario, None]
+
+
+def test_generate_waits_for_a_model_in_use_and_ctrl_c_ends_the_wait_with_130(
+    tmp_path: Path, models_file: Path, wordy_gguf: Path
+) -> None:
+    """A real second process: it says on stderr whom it waits for, and a SIGINT while it
+    waits ends it with one line."""
+    from skillwright.llm.model_lock import acquire_model_lock, note_activity
+
+    note_activity(skill="patrol", stage="generation")
+    lock = acquire_model_lock("tiny", wordy_gguf)
+    out = tmp_path / "out"
+    command = [
+        sys.executable,
+        "-m",
+        "skillwright",
+        *args(out, "--models", str(models_file), "--no-run", "--no-sim"),
+    ]
+    try:
+        process = subprocess.Popen(
+            command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        )
+        assert process.stderr is not None
+        deadline = time.monotonic() + 120
+        seen = ""
+        while "waiting for model tiny" not in seen and time.monotonic() < deadline:
+            ready, _, _ = select.select([process.stderr], [], [], 1.0)
+            if ready:
+                seen += process.stderr.readline()
+        process.send_signal(signal.SIGINT)
+        _, rest = process.communicate(timeout=60)
+    finally:
+        lock.release()
+        note_activity(skill=None, stage=None)
+    stderr = seen + rest
+    assert process.returncode == 130, stderr
+    waiting = next(line for line in stderr.splitlines() if "waiting for model" in line)
+    assert waiting.strip().startswith(
+        f"waiting for model tiny (wordy.gguf), in use by pid {os.getpid()} ("
+    )
+    assert "skill patrol, stage generation; next in line" in waiting
+    assert stderr.splitlines()[-1] == (
+        "error: generation stopped: interrupted while waiting for model tiny; nothing was "
+        f"written ({out} is as it was)"
+    )
+    assert "Traceback" not in stderr
+    assert not out.exists()
+
+
+def _wait_event(place: int, seconds: float) -> object:
+    from skillwright.pipeline.events import ModelWaiting
+
+    message = f"waiting for model tiny (tiny.gguf), in use by pid 7; place {place} in line"
+    return ModelWaiting("tiny", place, seconds, "pid 7", message)
+
+
+def test_waiting_is_printed_when_the_place_changes_and_once_a_minute_off_a_terminal() -> None:
+    import io
+
+    from rich.console import Console
+
+    from skillwright.pipeline.commands import _Progress
+    from skillwright.pipeline.events import StageFinished
+
+    stream = io.StringIO()
+    progress = _Progress(Console(file=stream, force_terminal=False, width=40))
+    for place, seconds in [(2, 0.0), (2, 0.5), (1, 1.0), (1, 30.0), (1, 61.0), (1, 61.5)]:
+        progress(_wait_event(place, seconds))  # type: ignore[arg-type]
+    progress(StageFinished("model", 62.0, "tiny"))
+    lines = stream.getvalue().splitlines()
+    assert [line.split("; ")[-1] for line in lines[:3]] == [
+        "place 2 in line",
+        "place 1 in line",
+        "place 1 in line",
+    ]
+    assert len(lines) == 4  # not wrapped at 40 columns; then the stage's end
+    assert lines[3].startswith("  done in 62.00 s")
+
+
+def test_waiting_on_a_terminal_is_one_line_rewritten_and_kept_when_the_wait_ends() -> None:
+    import io
+
+    from rich.console import Console
+
+    from skillwright.pipeline.commands import _Progress
+    from skillwright.pipeline.events import StageFinished
+
+    stream = io.StringIO()
+    progress = _Progress(Console(file=stream, force_terminal=True, width=60, color_system=None))
+    for seconds in (0.0, 0.5, 1.0):
+        progress(_wait_event(1, seconds))  # type: ignore[arg-type]
+    progress(StageFinished("model", 1.2, "tiny"))
+    text = stream.getvalue()
+    assert text.count("\r") == 3
+    rewritten, rest = text.rsplit("\r", 1)
+    assert all(len(part) <= 60 for part in rewritten.split("\r"))
+    assert rest.startswith("\n  done in 1.20 s")

@@ -568,3 +568,93 @@ def test_a_recording_cut_short_is_a_note_of_the_run(tmp_path: Path) -> None:
     record = run_generation(request(tmp_path / "out", interfaces=cut, skeleton=True)).record
     [note] = [n for n in record.notes if "read only up to byte" in n]
     assert note.startswith(f"{cut}: ")
+
+
+class _Holder:
+    """Another generation holding the model, in a thread of its own (a thread's own loads
+    share the lock it holds)."""
+
+    def __init__(self, model_file: Path) -> None:
+        from skillwright.llm.model_lock import acquire_model_lock, note_activity
+
+        self.taken = threading.Event()
+        self.done = threading.Event()
+
+        def hold() -> None:
+            note_activity(skill="drive_square", stage="generation")
+            lock = acquire_model_lock("tiny", model_file)
+            self.taken.set()
+            self.done.wait(60)
+            lock.release()
+
+        self.thread = threading.Thread(target=hold)
+        self.thread.start()
+        assert self.taken.wait(30)
+
+    def release(self) -> None:
+        self.done.set()
+        self.thread.join(30)
+
+
+def test_a_generation_waits_for_the_model_another_holds_and_says_so(
+    tmp_path: Path, models_file: Path, wordy_gguf: Path
+) -> None:
+    from skillwright.pipeline.events import ModelWaiting
+
+    holder = _Holder(wordy_gguf)
+    cancel = threading.Event()
+    events: list[Event] = []
+
+    def on_event(event: Event) -> None:
+        events.append(event)
+        if (
+            isinstance(event, ModelWaiting)
+            and sum(isinstance(e, ModelWaiting) for e in events) == 2
+        ):
+            holder.release()
+        if isinstance(event, TokenChunk):
+            cancel.set()  # the model was loaded and writes: enough
+
+    try:
+        with pytest.raises(GenerationCancelledError):
+            run_generation(
+                request(tmp_path / "out", models_file=models_file), on_event=on_event, cancel=cancel
+            )
+    finally:
+        holder.release()
+    waits = [e for e in events if isinstance(e, ModelWaiting)]
+    assert len(waits) >= 2
+    assert waits[0].model == "tiny"
+    assert waits[0].place == 1
+    assert waits[0].holder is not None
+    assert "skill drive_square, stage generation" in waits[0].holder
+    assert waits[0].message.startswith("waiting for model tiny (wordy.gguf), in use by pid ")
+    # It waited in the model stage, then went on to generate.
+    started = [e.stage for e in events if isinstance(e, StageStarted)]
+    assert started[-2:] == ["model", "generation"]
+    assert any(isinstance(e, TokenChunk) for e in events)
+
+
+def test_cancel_while_waiting_for_the_model_writes_nothing(
+    tmp_path: Path, models_file: Path, wordy_gguf: Path
+) -> None:
+    from skillwright.pipeline.events import ModelWaiting
+
+    holder = _Holder(wordy_gguf)
+    cancel = threading.Event()
+
+    def on_event(event: Event) -> None:
+        if isinstance(event, ModelWaiting):
+            cancel.set()  # Esc in the TUI
+
+    out = tmp_path / "out"
+    try:
+        with pytest.raises(GenerationCancelledError) as info:
+            run_generation(request(out, models_file=models_file), on_event=on_event, cancel=cancel)
+    finally:
+        holder.release()
+    assert str(info.value) == (
+        "generation stopped: waiting for model tiny cancelled; nothing was written "
+        f"({out} is as it was)"
+    )
+    assert not out.exists()

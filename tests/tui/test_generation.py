@@ -318,6 +318,44 @@ async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
         assert not app.query_one("#generation-start").disabled
 
 
+async def test_a_model_in_use_elsewhere_is_waited_for_on_the_status_line_and_esc_ends_it(
+    workspace: Path, models_file: Path, wordy_gguf: Path
+) -> None:
+    import threading
+
+    from skillwright.llm.model_lock import acquire_model_lock, note_activity
+
+    taken, done = threading.Event(), threading.Event()
+
+    def hold() -> None:  # another generation (a CLI run) holds the model
+        note_activity(skill="patrol", stage="generation")
+        lock = acquire_model_lock("tiny", wordy_gguf)
+        taken.set()
+        done.wait(120)
+        lock.release()
+
+    holder = threading.Thread(target=hold)
+    holder.start()
+    assert taken.wait(30)
+    preset_session(workspace, **INPUTS)
+    app = app_for(workspace, models_file)
+    try:
+        async with running(app, (160, 48)) as pilot:
+            pane = await _ready(pilot, app)
+            await pilot.press("ctrl+g")
+            await wait_until(pilot, lambda: "waiting for model tiny" in _status(app))
+            status = _status(app)
+            assert "skill patrol, stage generation; next in line" in status
+            assert status.endswith("Esc cancels; nothing is written then")
+            await pilot.press("escape")
+            await wait_until(pilot, lambda: not pane.running)
+            assert "cancelled: nothing was written" in _status(app)
+            assert _results(workspace) == []
+    finally:
+        done.set()
+        holder.join(30)
+
+
 async def test_a_missing_model_is_named_and_nothing_is_written(
     workspace: Path, models_file: Path
 ) -> None:

@@ -18,6 +18,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    import threading
+    from collections.abc import Callable
+
     from skillwright.llm.base import (
         ChatMessage,
         GenerationOptions,
@@ -26,6 +29,7 @@ if TYPE_CHECKING:
         TextStream,
     )
     from skillwright.llm.config import Registry, load_registry
+    from skillwright.llm.model_lock import ModelWait
 
 __all__ = [
     "ChatMessage",
@@ -58,11 +62,18 @@ def __getattr__(name: str) -> Any:
 
 
 def load_generator(
-    registry: Registry, model_id: str | None = None, *, cache: Path | None = None
+    registry: Registry,
+    model_id: str | None = None,
+    *,
+    cache: Path | None = None,
+    on_wait: Callable[[ModelWait], None] | None = None,
+    cancel: threading.Event | None = None,
 ) -> TextGenerator:
     """The generation model ``model_id`` (default: the registry's), ready to stream.
 
-    A local model is checked and loaded now; a server model is not contacted until it is used.
+    A local model is checked and loaded now, once no other generation holds it (see
+    :mod:`skillwright.llm.model_lock`; ``on_wait`` hears about the wait, ``cancel`` ends it);
+    a server model is not contacted until it is used.
     """
     entry = registry.generation_model(model_id)
     if entry.backend == "openai":
@@ -71,4 +82,4 @@ def load_generator(
         return OpenAIGenerator(entry)
     from skillwright.llm.llamacpp import load_llamacpp
 
-    return load_llamacpp(entry, registry, cache=cache)
+    return load_llamacpp(entry, registry, cache=cache, on_wait=on_wait, cancel=cancel)

@@ -22,7 +22,8 @@ import logging
 import os
 import threading
 import time
-from collections.abc import Iterator, Sequence
+import weakref
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -36,6 +37,7 @@ from skillwright.llm.files import (
     inspect_model_file,
 )
 from skillwright.llm.lookup import LookupCounts, lookup_tokens
+from skillwright.llm.model_lock import ModelLock, ModelWait, acquire_model_lock
 from skillwright.llm.prefix_cache import PrefixCache, PrefixState, prefix_key
 
 if TYPE_CHECKING:
@@ -140,6 +142,7 @@ class LlamaCppGenerator:
         prefix_cache: PrefixCache | None,
         origin: Path,
         kept_state_bytes: int = 2 << 30,
+        lock: ModelLock | None = None,
     ) -> None:
         self.entry = entry
         """The model's ``models.toml`` entry."""
@@ -154,6 +157,11 @@ class LlamaCppGenerator:
         self._origin = origin
         self._busy = threading.Lock()
         self._closed = False
+        self._lock = lock
+        self._written = 0
+        if lock is not None:
+            # A generator dropped without close() still gives the model up when collected.
+            weakref.finalize(self, lock.release)
         template = entry.chat_template or model_file.info.chat_template
         if template is None:
             raise ModelError(
@@ -295,7 +303,13 @@ class LlamaCppGenerator:
             if cancel is not None and cancel.is_set():
                 stream.finish_reason = "cancelled"
                 return
-            yield from self._decode(stream, whole, max_tokens, options, grammar, cancel)
+            for text in self._decode(stream, whole, max_tokens, options, grammar, cancel):
+                if self._lock is not None:
+                    self._lock.progress(self._written + (stream.completion_tokens or 0))
+                yield text
+            self._written += stream.completion_tokens or 0
+            if self._lock is not None:
+                self._lock.progress(self._written, at_once=True)
             if stream.finish_reason != "cancelled":
                 self._kept.keep(
                     PrefixState(
@@ -467,6 +481,8 @@ class LlamaCppGenerator:
             self._closed = True
             self._kept = _KeptStates(0)
             self.llama.close()
+            if self._lock is not None:
+                self._lock.release()
 
     def _check_open(self) -> None:
         # llama.cpp would crash the process on a freed model; refuse instead.
@@ -600,11 +616,17 @@ def load_llamacpp(
     *,
     cache: Path | None = None,
     prefix_cache: bool = True,
+    on_wait: Callable[[ModelWait], None] | None = None,
+    cancel: threading.Event | None = None,
 ) -> LlamaCppGenerator:
     """Checks a model's file (presence, GGUF header, checksum) and loads it with llama.cpp.
 
     ``cache`` defaults to :func:`~skillwright.llm.config.cache_dir`; saved prefix states go to
     its ``prefix`` folder unless ``prefix_cache`` is false.
+
+    The model file's lock (:mod:`skillwright.llm.model_lock`) is taken before llama.cpp loads
+    it and held until the generator is closed: while another generation holds it, this waits,
+    calling ``on_wait`` with its place and the holder's status; ``cancel`` ends the wait.
     """
     folder = cache or cache_dir()
     checksums = ChecksumCache(folder / "checksums.json")
@@ -620,10 +642,27 @@ def load_llamacpp(
             entry.context_length,
             trained,
         )
-    from llama_cpp import Llama
-
     _close_null_files_at_exit()
     route_native_logs()
+    lock = acquire_model_lock(entry.id, model_file.path, on_wait=on_wait, cancel=cancel)
+    try:
+        return _load(entry, registry, model_file, folder, prefix_cache=prefix_cache, lock=lock)
+    except BaseException:
+        lock.release()
+        raise
+
+
+def _load(
+    entry: LlamaCppModel,
+    registry: Registry,
+    model_file: ModelFile,
+    folder: Path,
+    *,
+    prefix_cache: bool,
+    lock: ModelLock,
+) -> LlamaCppGenerator:
+    from llama_cpp import Llama
+
     started = time.perf_counter()
     try:
         llama = Llama(
@@ -649,4 +688,5 @@ def load_llamacpp(
         llama,
         prefix_cache=PrefixCache(folder / "prefix") if prefix_cache else None,
         origin=registry.origin,
+        lock=lock,
     )

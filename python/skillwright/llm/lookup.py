@@ -15,11 +15,11 @@ the logits after it give the one after, and so on. At the first disagreement (or
 whole draft) the arg-max token is the next one chosen, and the cache entries of the rejected
 draft tokens are removed. The arithmetic is the same; its rounding may not be: llama.cpp may
 multiply a batch of several tokens with other matrix kernels than a single token, which sum
-in another order, so a near tie can fall the other way. Measured on the random test model, 20 prompts of 1,000
-greedy tokens each: one answer differed, at its 641st token, where the two best logits (about
-25.6) were 0.0007 apart. Only the greedy case can be verified this way: sampling with a
-temperature, a grammar or a repeat penalty (whose sampler state would have to follow every
-rejected guess) decodes one token at a time.
+in another order, so a near tie can fall the other way. Measured on the random test model,
+20 prompts of 1,000 greedy tokens each: one answer differed, at its 641st token, where the two
+best logits (about 25.6) were 0.0007 apart. Only the greedy case can be verified this way:
+sampling with a temperature, a grammar or a repeat penalty (whose sampler state would have to
+follow every rejected guess) decodes one token at a time.
 
 The drafter looks for the longest recent n-gram (from ``max_ngram`` down to ``min_ngram``
 tokens) that ends the text so far and occurred before, and proposes the tokens after its

@@ -28,7 +28,7 @@ from skillwright.validation.commands import selection_options
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from skillwright.pipeline.events import AttemptFinished, Event
+    from skillwright.pipeline.events import AttemptFinished, Event, ModelWaiting
     from skillwright.pipeline.run import Outcome
 
 __all__ = ["generate"]
@@ -43,6 +43,9 @@ class _Progress:
         self.live = console.is_terminal
         self.open_line = False
         """A line ended in a carriage return (a live count) is on the terminal."""
+        self.waited: tuple[int, int] | None = None
+        """Place in line and minute of waiting of the last wait line printed (on a terminal
+        the wait line is rewritten in place instead)."""
 
     def end_line(self) -> None:
         """Ends a live count's line, so what is printed next starts on a line of its own."""
@@ -51,8 +54,39 @@ class _Progress:
             self.open_line = False
 
     def __call__(self, event: Event) -> None:
+        from skillwright.pipeline.events import ModelWaiting
+
+        if isinstance(event, ModelWaiting):
+            self._waiting(event)
+            return
+        if self.waited is not None:
+            # The wait is over: its last line stays, what comes next starts below it.
+            self.end_line()
+            self.waited = None
         self.open_line = False
         self._show(event)
+
+    def _waiting(self, event: ModelWaiting) -> None:
+        """Another generation holds the model: one line, rewritten on a terminal; elsewhere
+        printed again when the place in line changes and once a minute."""
+        key = (event.place, int(event.seconds // 60))
+        if self.live:
+            self.console.print(
+                # Padded: a shorter line must cover the one it rewrites.
+                f"  {event.message}".ljust(self.console.width - 1),
+                end="\r",
+                style="yellow",
+                highlight=False,
+                markup=False,
+                no_wrap=True,
+                overflow="ellipsis",
+            )
+            self.open_line = True
+        elif key != self.waited:
+            self.console.print(
+                f"  {event.message}", style="yellow", highlight=False, markup=False, soft_wrap=True
+            )
+        self.waited = key
 
     def _show(self, event: Event) -> None:
         from skillwright.pipeline.events import (

@@ -20,6 +20,7 @@ __all__ = [
     "ChunkBatcher",
     "Event",
     "GenerationStats",
+    "ModelWaiting",
     "Notice",
     "PrefixCacheStatus",
     "StageFinished",
@@ -71,6 +72,23 @@ class Notice:
 
 
 @dataclass(frozen=True)
+class ModelWaiting:
+    """The model is in use by another generation (another process or thread) and this one
+    waits for it (:mod:`skillwright.llm.model_lock`); sent every half second while it does."""
+
+    model: str
+    """The model's id."""
+    place: int
+    """1: next to get the model; 2: one more waiter before this one; ..."""
+    seconds: float
+    """How long this generation has waited."""
+    holder: str | None
+    """What the holder said it is doing (pid, command, skill, stage, tokens), if it said."""
+    message: str
+    """All of it in one line."""
+
+
+@dataclass(frozen=True)
 class PrefixCacheStatus:
     """How the prompt's fixed prefix was obtained: ``memory``, ``disk``, ``stored``,
     ``evaluated`` or ``off``."""
@@ -101,6 +119,7 @@ Event = (
     StageStarted
     | StageFinished
     | Notice
+    | ModelWaiting
     | PrefixCacheStatus
     | TokenChunk
     | GenerationStats

@@ -37,11 +37,14 @@ from skillwright.errors import (
     GenerationCancelledError,
     InvalidArgumentError,
     ModelFileMissingError,
+    OperationCancelledError,
 )
+from skillwright.llm.model_lock import note_activity
 from skillwright.pipeline.behaviour import RUN_WORLD, Behaviour
 from skillwright.pipeline.events import (
     Event,
     GenerationStats,
+    ModelWaiting,
     Notice,
     PrefixCacheStatus,
     StageFinished,
@@ -70,6 +73,7 @@ if TYPE_CHECKING:
     from skillwright.interfaces.inventory import Interface, Inventory
     from skillwright.llm.base import TextGenerator
     from skillwright.llm.config import Registry
+    from skillwright.llm.model_lock import ModelWait
     from skillwright.retrieval.policy import Given
     from skillwright.retrieval.rerank import Reranking
     from skillwright.retrieval.retrieve import Embedder, Hit
@@ -174,6 +178,7 @@ class _Stages:
     """Announces and times stages; stops at the next stage once cancelled."""
 
     def __init__(self, on_event: EventSink | None, cancel: threading.Event | None) -> None:
+        note_activity(skill=None, stage=None)  # what a model lock's status says this run does
         self.on_event = on_event
         self.cancel = cancel
         self.timings: dict[str, float] = {}
@@ -208,6 +213,7 @@ class _Stages:
         its verdict (a stage that ends without a check of its own passed)."""
         self.check_cancel()
         self.current = name
+        note_activity(stage=name)
         self.emit(StageStarted(name, detail))
         started = time.perf_counter()
         summary = _Summary()
@@ -419,12 +425,24 @@ class _ModelResult:
 def _load_model(
     request: GenerationRequest, stages: _Stages
 ) -> tuple[TextGenerator | None, Registry | None]:
-    """The generator, or ``None`` when the skeleton is all that can be written."""
+    """The generator, or ``None`` when the skeleton is all that can be written. While another
+    generation holds the model, this one waits and says so (:class:`ModelWaiting`)."""
     from skillwright.llm import load_generator
+
+    def waiting(wait: ModelWait) -> None:
+        holder = None if wait.holder is None else wait.holder.describe()
+        stages.emit(ModelWaiting(wait.model, wait.place, wait.seconds, holder, wait.message()))
 
     registry = _registry(request.models_file)
     try:
-        return load_generator(registry, request.model), registry
+        return (
+            load_generator(registry, request.model, on_wait=waiting, cancel=stages.cancel),
+            registry,
+        )
+    except OperationCancelledError as error:
+        raise GenerationCancelledError(
+            f"generation stopped: {error}; nothing was written ({request.out_dir} is as it was)"
+        ) from None
     except ModelFileMissingError as error:
         if request.model is not None:
             raise
@@ -858,6 +876,8 @@ def _retrieval_stage(
     from skillwright.retrieval.policy import given_interfaces
     from skillwright.retrieval.retrieve import twin_notes
 
+    # A model may be loaded from here on: its lock's status names the skill.
+    note_activity(skill=spec.name)
     method = "hybrid" if request.dense else "lexical"
     loaded: _Loaded | None = None
     detail = f"top {request.k} interfaces ({method}{', re-ranked' if request.rerank else ''})"

@@ -5,7 +5,9 @@ answer the model starts (a first answer, or a repair and the rules of the findin
 and how it ended, the prefix cache, throughput and every streamed token arrive as pipeline
 events, posted from the worker thread; a timer shows the elapsed time, the tokens written
 against the answer's budget and their rate while it runs (:mod:`skillwright.tui.progress`).
-Esc sets the pipeline's cancel event; the pipeline then stops and writes nothing.
+Esc sets the pipeline's cancel event; the pipeline then stops and writes nothing. While
+another generation (a CLI run, ``make eval``) holds the model, the status line says so: the
+model, this run's place in line and what the holder is doing.
 
 A finished result shows a header with its verdict and the verdict of each judging stage,
 its folder as an absolute path (``o`` opens it, ``y`` copies it), the code with the findings,
@@ -61,6 +63,7 @@ JUDGING = ("checks", "run", "simulate")
 """The stages that judge the skill; the result header names their verdicts."""
 
 _IDLE = "Ctrl+G generates a skill from the current inputs."
+_RUNNING_STATUS = "Esc cancels; nothing is written then"
 _PENDING, _RUNNING = "pending", "running"
 _TICK = 0.5
 """Seconds between updates of the live progress."""
@@ -153,6 +156,8 @@ class GenerationPane(Pane):
         """The model's answers of the current run (``Attempt`` documents), in order."""
         self._asking: Any = None
         """The answer being written (its ``AttemptStarted`` event), if one is."""
+        self._waiting = False
+        """The run waits for a model another generation holds (the status line says so)."""
         self.streamed = ""
         """Everything the model wrote in the current run."""
         self.progress = Progress()
@@ -300,7 +305,7 @@ class GenerationPane(Pane):
         self.query_one("#generation-header", Static).update(
             f"generating {spec.name} into {out_dir.resolve()} …"
         )
-        self.query_one("#generation-status", Static).update("Esc cancels; nothing is written then")
+        self.query_one("#generation-status", Static).update(_RUNNING_STATUS)
         self._worker = self._generate(request, self._cancel)
 
     @work(thread=True, exclusive=True, group="generation", exit_on_error=False)
@@ -360,6 +365,16 @@ class GenerationPane(Pane):
         from skillwright.pipeline import events
 
         event = message.event
+        if isinstance(event, events.ModelWaiting):
+            # Every half second while it waits: only the status line changes.
+            self._waiting = True
+            self.query_one("#generation-status", Static).update(
+                f"{event.message} — {_RUNNING_STATUS}"
+            )
+            return
+        if self._waiting:
+            self._waiting = False
+            self.query_one("#generation-status", Static).update(_RUNNING_STATUS)
         if isinstance(event, events.TokenChunk):
             self.streamed += event.text
             self.progress.tokens(event.pieces)

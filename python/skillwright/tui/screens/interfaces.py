@@ -26,6 +26,7 @@ from skillwright.tui.widgets.interface_detail import mark_of, relevance_of, rend
 
 if TYPE_CHECKING:
     from skillwright.interfaces.inventory import Interface, Inventory
+    from skillwright.llm.model_lock import ModelWait
 
 __all__ = ["InterfacesPane", "is_infrastructure", "matches"]
 
@@ -373,8 +374,15 @@ class InterfacesPane(Pane):
                 from skillwright.llm import load_generator
                 from skillwright.llm.config import load_registry
 
-                self.post_message(EnrichProgress(0, len(inventory.interfaces), "loading the model"))
-                generator = load_generator(load_registry(self.sw.models_file), model)
+                total = len(inventory.interfaces)
+                self.post_message(EnrichProgress(0, total, "loading the model"))
+
+                def waiting(wait: ModelWait) -> None:
+                    self.post_message(EnrichProgress(0, total, wait.message()))
+
+                generator = load_generator(
+                    load_registry(self.sw.models_file), model, on_wait=waiting, cancel=cancel
+                )
                 engine = LlmEngine(generator)
             report = enrich(
                 inventory, engine, cache=default_cache(), progress=progress, cancel=cancel
@@ -384,7 +392,7 @@ class InterfacesPane(Pane):
                 return
             write_atomic(target, report.inventory.model_dump_json(indent=2) + "\n")
         except SkillwrightError as error:
-            self.fail(str(error))
+            self.fail(str(error), cancelled=cancel.is_set())
             return
         finally:
             if generator is not None:
