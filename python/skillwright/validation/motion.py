@@ -47,8 +47,7 @@ from skillwright.rules.behaviour import (
     UNMOVED_LOOP,
 )
 from skillwright.rules.finding import Finding
-from skillwright.validation.equality import measurements
-from skillwright.validation.names import self_attribute
+from skillwright.validation.facts import SkillFacts
 from skillwright.validation.stops import loop_publishes, zero_velocity
 from skillwright.validation.syntax import blocks, error_at, self_method
 
@@ -59,16 +58,15 @@ _SENDS = ("send_goal", "call_async", "call")
 _ORDER = frozenset({ast.Lt, ast.Gt, ast.LtE, ast.GtE})
 
 
-def check_motion(
-    cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef], capability: Capability
-) -> list[Finding]:
+def check_motion(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``motion``) for a skill that never commands the velocity its
     capability asks for, and for loops that wait for progress nothing commands."""
-    publishers = _velocity_publishers(cls)
+    publishers = _velocity_publishers(facts)
     if not publishers:
         return []
-    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
-    speeds = _speed_inputs(capability)
+    methods = facts.methods
+    states = facts.states
+    speeds = _speed_inputs(facts.capability)
     execute = states.get("execute")
     if (
         speeds
@@ -88,8 +86,8 @@ def check_motion(
                 "stop the base when done",
             )
         ]
-    findings = _repeated_nowhere(cls, publishers, methods)
-    is_measured = measurements(cls)
+    findings = _repeated_nowhere(facts, publishers)
+    is_measured = facts.is_measured
     for state in ("starting", "execute"):
         method = states.get(state)
         if method is None:
@@ -118,16 +116,17 @@ def check_motion(
     return findings
 
 
-def _repeated_nowhere(
-    cls: ast.ClassDef, publishers: set[str], methods: Mapping[str, ast.FunctionDef]
-) -> list[Finding]:
+def _repeated_nowhere(facts: SkillFacts, publishers: set[str]) -> list[Finding]:
     """Findings for loops that wait while the motion command published once before them
     is never published again (see the module's text); none when a timer of the skill could
     repeat it."""
-    if any(isinstance(n, ast.Attribute) and n.attr == "create_timer" for n in ast.walk(cls)):
+    if facts.skill is None or any(
+        isinstance(n, ast.Attribute) and n.attr == "create_timer" for n in facts.walk(facts.skill)
+    ):
         return []
+    methods = facts.methods
     handles = {f"self.{p}" for p in publishers}
-    is_measured = measurements(cls)
+    is_measured = facts.is_measured
     findings = []
     for method in methods.values():
         looped = {
@@ -294,22 +293,15 @@ def _written(method: ast.FunctionDef) -> bool:
     return False
 
 
-def _velocity_publishers(cls: ast.ClassDef) -> set[str]:
+def _velocity_publishers(facts: SkillFacts) -> set[str]:
     """The attributes the class keeps its velocity publishers in."""
-    out = set()
-    for node in ast.walk(cls):
-        if (
-            isinstance(node, ast.Assign)
-            and len(node.targets) == 1
-            and (name := self_attribute(node.targets[0])) is not None
-            and isinstance(node.value, ast.Call)
-            and isinstance(node.value.func, ast.Attribute)
-            and node.value.func.attr == "create_publisher"
-            and node.value.args
-            and ast.unparse(node.value.args[0]).rsplit(".", 1)[-1] in _VELOCITY
-        ):
-            out.add(name)
-    return out
+    return {
+        h.attribute
+        for h in facts.handles
+        if h.attribute is not None
+        and h.made.maker == "create_publisher"
+        and h.made.type_written in _VELOCITY
+    }
 
 
 def _commands(
