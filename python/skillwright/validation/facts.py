@@ -44,6 +44,7 @@ from skillwright.spec.model import PACKML_STATES, SkillSpec
 from skillwright.validation.model import Catalog
 from skillwright.validation.syntax import (
     COMPOUND_STATEMENTS,
+    called_name,
     keyword_argument,
     self_attribute,
     self_method,
@@ -51,19 +52,9 @@ from skillwright.validation.syntax import (
     written_type,
 )
 
-__all__ = [
-    "MAKERS",
-    "Getter",
-    "Handle",
-    "InterfaceUse",
-    "MadeHandle",
-    "SkillFacts",
-    "decorator_name",
-    "is_clock_now",
-    "skeleton_parameters",
-]
+__all__ = ["Getter", "Handle", "InterfaceUse", "MadeHandle", "SkillFacts", "is_clock_now"]
 
-MAKERS: dict[str, str] = {
+_MAKERS: dict[str, str] = {
     "create_publisher": "publisher",
     "create_subscription": "subscription",
     "create_client": "client",
@@ -96,10 +87,10 @@ _COMPONENTS = frozenset({"x", "y", "z", "w"})
 _READINGS = frozenset({"_yaw", "_closest_reading"})
 """The skeleton's helpers that give a reading of the robot."""
 
-_SKILL_DECORATORS = {"skill_parameter": "input", "skill_output": "output"}
+_SKILL_DECORATORS = frozenset({"skill_parameter", "skill_output"})
 
 
-def decorator_name(node: ast.expr) -> str:
+def _decorator_name(node: ast.expr) -> str:
     """The name a decorator is called by: ``skill`` for ``@skill(...)`` and for
     ``@decorators.skill(...)``."""
     target = node.func if isinstance(node, ast.Call) else node
@@ -107,15 +98,6 @@ def decorator_name(node: ast.expr) -> str:
         return target.id
     if isinstance(target, ast.Attribute):
         return target.attr
-    return ""
-
-
-def _call_name(call: ast.Call) -> str:
-    func = call.func
-    if isinstance(func, ast.Attribute):
-        return func.attr
-    if isinstance(func, ast.Name):
-        return func.id
     return ""
 
 
@@ -127,7 +109,7 @@ def _argument(call: ast.Call, position: int, keyword: str) -> ast.expr | None:
 
 @dataclass(frozen=True)
 class MadeHandle:
-    """A call that makes an rclpy or tf2 object (:data:`MAKERS`), anywhere in the file."""
+    """A call that makes an rclpy or tf2 object (:data:`_MAKERS`), anywhere in the file."""
 
     call: ast.Call
     maker: str
@@ -138,7 +120,7 @@ class MadeHandle:
     @property
     def kind(self) -> str:
         """The kind of object: ``publisher``, ``action_client``, ``tf_listener`` ..."""
-        return MAKERS[self.maker]
+        return _MAKERS[self.maker]
 
     @property
     def interface_kind(self) -> str | None:
@@ -205,7 +187,6 @@ class Handle:
     target: str
     """Where it is kept, as the code writes it: ``self.cmd_vel_publisher``, ``publisher``."""
     made: MadeHandle
-    statement: ast.Assign | ast.AnnAssign | ast.AugAssign
 
     @property
     def attribute(self) -> str | None:
@@ -410,7 +391,7 @@ class SkillFacts:
         found: list[Getter] = []
         for method in self.functions:
             for decorator in method.decorator_list:
-                kind = decorator_name(decorator) if isinstance(decorator, ast.Call) else None
+                kind = _decorator_name(decorator) if isinstance(decorator, ast.Call) else None
                 if kind not in _SKILL_DECORATORS or not isinstance(decorator, ast.Call):
                     continue
                 name = string_value(keyword_argument(decorator, "name")) or method.name
@@ -491,8 +472,8 @@ class SkillFacts:
         """Every call in the file that makes an rclpy or tf2 object, in walk order."""
         found = []
         for call in self.calls(self.tree):
-            maker = _call_name(call)
-            if maker not in MAKERS:
+            maker = called_name(call)
+            if maker not in _MAKERS:
                 continue
             arguments = _INTERFACE_ARGUMENTS.get(maker)
             written = None if arguments is None else _argument(call, *arguments[1])
@@ -529,7 +510,7 @@ class SkillFacts:
             if handle is None:
                 continue
             targets = node.targets if isinstance(node, ast.Assign) else [node.target]
-            found += [Handle(ast.unparse(target), handle, node) for target in targets]
+            found += [Handle(ast.unparse(target), handle) for target in targets]
         return tuple(found)
 
     @cached_property
@@ -698,7 +679,7 @@ class SkillFacts:
         if definition is not None:
             positional = [a.arg for a in definition.args.args if a.arg != "self"]
         else:
-            positional = [] if name is None else list(skeleton_parameters(name))
+            positional = [] if name is None else list(_skeleton_parameters(name))
         if parameter not in positional:
             return None
         position = positional.index(parameter)
@@ -706,7 +687,7 @@ class SkillFacts:
 
 
 @cache
-def skeleton_parameters(helper: str) -> tuple[str, ...]:
+def _skeleton_parameters(helper: str) -> tuple[str, ...]:
     """The parameters (without ``self``) the skeleton's ``helper`` takes, read once from
     :mod:`skillwright.generation.helpers`; empty for a name that is none of its helpers."""
     try:
@@ -729,7 +710,11 @@ def is_clock_now(node: ast.expr) -> bool:
 
 def _skill_decorator(cls: ast.ClassDef) -> ast.Call | None:
     return next(
-        (d for d in cls.decorator_list if isinstance(d, ast.Call) and decorator_name(d) == "skill"),
+        (
+            d
+            for d in cls.decorator_list
+            if isinstance(d, ast.Call) and _decorator_name(d) == "skill"
+        ),
         None,
     )
 

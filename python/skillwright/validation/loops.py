@@ -32,7 +32,7 @@ from collections.abc import Set as AbstractSet
 from skillwright.rules.behaviour import CLOCK_COMPARED_WITH_DURATION, LOOP_NEVER_SLEEPS
 from skillwright.rules.finding import Finding
 from skillwright.validation.facts import SkillFacts
-from skillwright.validation.syntax import error_at, self_method, skips_its_end
+from skillwright.validation.syntax import called_name, error_at, self_method, skips_its_end
 
 __all__ = ["check_waits"]
 
@@ -41,15 +41,6 @@ _READINGS = frozenset({"monotonic", "time", "perf_counter"})
 """``time`` functions that return seconds since an arbitrary start."""
 _MOMENTS = ("DEADLINE", "START", "END", "STAMP", "BEGIN")
 _WAITING = frozenset({"sleep", "spin", "spin_once", "spin_until_future_complete"})
-
-
-def _called_name(call: ast.Call) -> str | None:
-    func = call.func
-    if isinstance(func, ast.Attribute):
-        return func.attr
-    if isinstance(func, ast.Name):
-        return func.id
-    return None
 
 
 def _waiting_methods(methods: Mapping[str, ast.FunctionDef]) -> set[str]:
@@ -73,9 +64,7 @@ def _waits(node: ast.AST, waiting: set[str], nodes: Iterable[ast.AST] | None = N
     for call in ast.walk(node) if nodes is None else nodes:
         if not isinstance(call, ast.Call):
             continue
-        name = _called_name(call)
-        if name is None:
-            continue
+        name = called_name(call)
         if name in _WAITING or name.startswith("wait_for") or self_method(call) in waiting:
             return True
     return False
@@ -85,7 +74,7 @@ def _expects_time(loop: ast.While, changing: AbstractSet[str]) -> str | None:
     """What the loop waits for, when it waits for the robot or the clock."""
     for node in ast.walk(loop):
         if isinstance(node, ast.Call):
-            name = _called_name(node)
+            name = called_name(node)
             if name in _CLOCK:
                 return "the clock"
             if name == "publish":

@@ -14,8 +14,8 @@ deadline, which a run can only report as a state that did not return.
 
 A ``while`` loop of ``starting`` or ``execute`` is flagged when the skill has a velocity
 publisher (a ``Twist`` or ``TwistStamped`` handle), the loop's condition, or an ``if`` in it
-that leaves it, compares a measured number (see :func:`~skillwright.validation.equality.
-measurements`) with ``<``, ``>``, ``<=`` or ``>=`` (it waits for progress), and neither that
+that leaves it, compares a measured number (see :attr:`~skillwright.validation.facts.SkillFacts.
+is_measured`) with ``<``, ``>``, ``<=`` or ``>=`` (it waits for progress), and neither that
 state, nor ``starting`` before it, nor a method of the skill either calls, publishes a command
 other than a zero one or sends a goal or a request.
 
@@ -49,7 +49,7 @@ from skillwright.rules.behaviour import (
 from skillwright.rules.finding import Finding
 from skillwright.validation.facts import SkillFacts
 from skillwright.validation.stops import loop_publishes, zero_velocity
-from skillwright.validation.syntax import blocks, error_at, self_method
+from skillwright.validation.syntax import blocks, called_name, error_at, self_method
 
 __all__ = ["check_motion"]
 
@@ -216,8 +216,7 @@ def _awaits_motion(loop: ast.While, is_measured: Callable[[ast.expr], bool]) -> 
     waits = False
     for node in ast.walk(loop):
         if isinstance(node, ast.Call):
-            func = node.func
-            name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
+            name = called_name(node)
             waits = waits or name in {"sleep", "spin_once"} or name.startswith("_wait")
     forever = isinstance(loop.test, ast.Constant) and loop.test.value is True
     return waits and (forever or _progress_test(loop, is_measured) is not None)

@@ -53,6 +53,7 @@ from skillwright.rules.registry import Rule
 from skillwright.runtime import standin_api
 from skillwright.validation.facts import SkillFacts, is_clock_now
 from skillwright.validation.syntax import (
+    called_name,
     self_attribute,
     self_method,
     with_node_replaced,
@@ -514,9 +515,7 @@ def _unlogged(facts: SkillFacts, node: ast.Attribute) -> str | None:
     statement = facts.statement_of.get(id(node))
     if not (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)):
         return None
-    func = statement.value.func
-    called = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
-    if called not in _LOG_CALLS:
+    if called_name(statement.value) not in _LOG_CALLS:
         return None
     where = (node.lineno, node.col_offset, node.end_lineno, node.end_col_offset)
 

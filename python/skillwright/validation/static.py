@@ -97,6 +97,7 @@ from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
 from skillwright.validation.syntax import (
     COMPOUND_STATEMENTS,
+    called_name,
     keyword_argument,
     self_attribute,
     string_value,
@@ -125,15 +126,6 @@ class _Context:
         data: dict[str, object] | None = None,
     ) -> None:
         self.findings.append(rule.at(node, message, data=data, replacement=replacement))
-
-
-def _call_name(call: ast.Call) -> str:
-    func = call.func
-    if isinstance(func, ast.Attribute):
-        return func.attr
-    if isinstance(func, ast.Name):
-        return func.id
-    return ""
 
 
 def _normalise(name: str) -> str:
@@ -2202,7 +2194,7 @@ def _check_timers(facts: SkillFacts) -> list[Finding]:
             if not isinstance(statement, ast.Assign | ast.Expr):
                 continue
             call = statement.value
-            if not (isinstance(call, ast.Call) and _call_name(call) == "create_timer"):
+            if not (isinstance(call, ast.Call) and called_name(call) == "create_timer"):
                 continue
             targets = statement.targets if isinstance(statement, ast.Assign) else []
             kept = [ast.unparse(t) for t in targets if ast.unparse(t).startswith("self.")]

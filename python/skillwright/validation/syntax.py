@@ -12,6 +12,7 @@ from skillwright.rules.registry import Rule
 __all__ = [
     "COMPOUND_STATEMENTS",
     "blocks",
+    "called_name",
     "error_at",
     "keyword_argument",
     "self_attribute",
@@ -124,6 +125,17 @@ def written_type(node: ast.expr | None) -> str | None:
             return f"{owner}.{node.attr}" if owner is not None else None
         return node.attr
     return None
+
+
+def called_name(call: ast.Call) -> str:
+    """The name ``call`` calls: ``publish`` for ``self.pub.publish(...)``, ``min`` for
+    ``min(...)``; empty for anything else (``f()(...)``)."""
+    func = call.func
+    if isinstance(func, ast.Attribute):
+        return func.attr
+    if isinstance(func, ast.Name):
+        return func.id
+    return ""
 
 
 def self_method(call: ast.Call) -> str | None:
