@@ -39,7 +39,7 @@ from typing import Literal
 from skillwright.capability.binding import Annotation, Binding, bind
 from skillwright.capability.model import Capability
 from skillwright.generation.helpers import helper_signature
-from skillwright.runtime.skillinfo import returned_path
+from skillwright.runtime.skillinfo import decorator_name, returned_path
 from skillwright.spec.model import PACKML_STATES, SkillSpec
 from skillwright.validation.model import Catalog
 from skillwright.validation.syntax import (
@@ -88,17 +88,6 @@ _READINGS = frozenset({"_yaw", "_closest_reading"})
 """The skeleton's helpers that give a reading of the robot."""
 
 _SKILL_DECORATORS = frozenset({"skill_parameter", "skill_output"})
-
-
-def _decorator_name(node: ast.expr) -> str:
-    """The name a decorator is called by: ``skill`` for ``@skill(...)`` and for
-    ``@decorators.skill(...)``."""
-    target = node.func if isinstance(node, ast.Call) else node
-    if isinstance(target, ast.Name):
-        return target.id
-    if isinstance(target, ast.Attribute):
-        return target.attr
-    return ""
 
 
 def _argument(call: ast.Call, position: int, keyword: str) -> ast.expr | None:
@@ -391,7 +380,7 @@ class SkillFacts:
         found: list[Getter] = []
         for method in self.functions:
             for decorator in method.decorator_list:
-                kind = _decorator_name(decorator) if isinstance(decorator, ast.Call) else None
+                kind = decorator_name(decorator) if isinstance(decorator, ast.Call) else None
                 if kind not in _SKILL_DECORATORS or not isinstance(decorator, ast.Call):
                     continue
                 name = string_value(keyword_argument(decorator, "name")) or method.name
@@ -710,11 +699,7 @@ def is_clock_now(node: ast.expr) -> bool:
 
 def _skill_decorator(cls: ast.ClassDef) -> ast.Call | None:
     return next(
-        (
-            d
-            for d in cls.decorator_list
-            if isinstance(d, ast.Call) and _decorator_name(d) == "skill"
-        ),
+        (d for d in cls.decorator_list if isinstance(d, ast.Call) and decorator_name(d) == "skill"),
         None,
     )
 
