@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import ast
 import math
 import textwrap
 from types import SimpleNamespace
@@ -12,6 +11,7 @@ import pytest
 from skillwright.generation.helpers import helper_lines
 from skillwright.rules.finding import Finding
 from skillwright.validation.bearings import check_bearings
+from tests.validation.test_facts import facts_of
 
 HEADER = "import math\n\n\nclass Skill:\n" + "\n".join(helper_lines("_closest_reading")) + "\n\n"
 
@@ -21,9 +21,7 @@ def _source(execute: str) -> str:
 
 
 def _bearings(execute: str) -> list[Finding]:
-    tree = ast.parse(_source(execute))
-    [cls] = [n for n in tree.body if isinstance(n, ast.ClassDef)]
-    return check_bearings(cls)
+    return check_bearings(facts_of(_source(execute)))
 
 
 def test_the_evaluations_second_angle_min_is_an_error_with_the_bearing_as_the_fix() -> None:
@@ -96,8 +94,7 @@ class Skill:
         scan = self._closest_reading(self.scan_msg)
         self.out_angle = scan[1] + self.scan_msg.angle_min
 """
-    [cls] = [n for n in ast.parse(source).body if isinstance(n, ast.ClassDef)]
-    assert check_bearings(cls) == []
+    assert check_bearings(facts_of(source)) == []
 
 
 def test_the_fix_gives_the_bearing_the_simulator_measures() -> None:

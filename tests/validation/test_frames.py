@@ -2,19 +2,18 @@
 
 from __future__ import annotations
 
-import ast
 import textwrap
 
 import pytest
 
 from skillwright.rules.finding import Finding
 from skillwright.validation.frames import check_frames
+from tests.validation.test_facts import facts_of
 
 
 def _frames(execute: str) -> tuple[str, list[Finding]]:
     source = "class Skill:\n" + textwrap.indent(textwrap.dedent(execute), "    ")
-    [cls] = [n for n in ast.parse(source).body if isinstance(n, ast.ClassDef)]
-    return source, check_frames(cls)
+    return source, check_frames(facts_of(source))
 
 
 def test_the_evaluations_reversed_lookup_is_an_error_with_the_frames_swapped() -> None:

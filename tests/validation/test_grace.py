@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import ast
-
 import pytest
 
 from skillwright.rules.finding import Finding
+from skillwright.spec.model import SkillSpec
 from skillwright.validation.grace import check_grace, stated_seconds
+from tests.validation.test_facts import facts_of
 
 
 @pytest.mark.parametrize(
@@ -41,7 +41,7 @@ SKILL = '''
 class Skill:
     def _wait_until(self, condition, timeout: float, what: str) -> None:
         """Waits."""
-
+    @starting
     def starting(self) -> None:
         self.client = ActionClient(self.node, NavigateToPose, "/navigate_to_pose")
         self._wait_until(lambda: self.map_msg is not None, {map_wait}, "map")
@@ -52,11 +52,11 @@ class Skill:
 
 
 def _grace(map_wait: float, server_wait: float, text: str) -> list[Finding]:
-    tree = ast.parse(SKILL.format(map_wait=map_wait, server_wait=server_wait))
-    cls = tree.body[0]
-    assert isinstance(cls, ast.ClassDef)
-    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
-    return check_grace(cls, {"starting": methods["starting"]}, {"starting": text})
+    source = SKILL.format(map_wait=map_wait, server_wait=server_wait)
+    spec = SkillSpec(
+        name="skill", description="", skill_interface="REST", states={"starting": text}
+    )
+    return check_grace(facts_of(source, spec=spec))
 
 
 def test_waits_for_a_first_message_or_a_server_shorter_than_the_spec_are_lengthened() -> None:

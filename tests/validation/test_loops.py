@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
-import ast
 import textwrap
 
 import pytest
 
+from skillwright.capability.model import Capability
 from skillwright.rules.finding import Finding
+from skillwright.validation.facts import SkillFacts
 from skillwright.validation.loops import check_waits
+from tests.validation.test_facts import facts_of
 
 HEAD = """
 class Skill:
@@ -29,16 +31,15 @@ class Skill:
 """
 
 
-def skill_class(head: str, method: str) -> ast.ClassDef:
-    """The class of ``head`` (a class statement and members) with ``method`` added to it."""
+def skill_facts(head: str, method: str, capability: Capability | None = None) -> SkillFacts:
+    """The facts of the class of ``head`` (a class statement and members) with ``method``
+    added to it."""
     source = head + textwrap.indent(textwrap.dedent(method).strip(), "    ") + "\n"
-    cls = ast.parse(source).body[0]
-    assert isinstance(cls, ast.ClassDef)
-    return cls
+    return facts_of(source, capability=capability)
 
 
 def _waits(execute: str) -> list[Finding]:
-    return check_waits(skill_class(HEAD, execute))
+    return check_waits(skill_facts(HEAD, execute))
 
 
 @pytest.mark.parametrize(

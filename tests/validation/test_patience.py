@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from skillwright.validation.patience import check_zero_timeouts
-from tests.validation.test_loops import HEAD, skill_class
+from tests.validation.test_loops import HEAD, skill_facts
 
 HELPERS = """    def _transform(self, target_frame, source_frame, timeout):
         return None
@@ -17,7 +17,7 @@ HELPERS = """    def _transform(self, target_frame, source_frame, timeout):
 
 
 def _zero(execute: str) -> list:
-    return check_zero_timeouts(skill_class(HEAD + HELPERS, execute))
+    return check_zero_timeouts(skill_facts(HEAD + HELPERS, execute))
 
 
 def test_a_transform_looked_up_with_no_time_gets_two_seconds() -> None:

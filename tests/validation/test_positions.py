@@ -9,7 +9,7 @@ import pytest
 
 from skillwright.rules.finding import Finding
 from skillwright.validation.positions import check_filtered_positions
-from tests.validation.test_loops import skill_class
+from tests.validation.test_loops import skill_facts
 
 HEAD = """
 class Skill:
@@ -30,7 +30,7 @@ def execute(self):
 
 
 def _positions(execute: str) -> list[Finding]:
-    return check_filtered_positions(skill_class(HEAD, execute))
+    return check_filtered_positions(skill_facts(HEAD, execute))
 
 
 def test_the_index_of_the_nearest_kept_reading_is_asked_of_the_scan() -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from skillwright.validation.settle import check_settling
-from tests.validation.test_loops import skill_class
+from tests.validation.test_loops import skill_facts
 
 HEAD = """class S:
     def __init__(self) -> None:
@@ -49,7 +49,7 @@ def execute(self) -> None:
 def test_a_test_of_the_reading_right_after_the_command_becomes_a_wait(
     test: str, wait_for: str
 ) -> None:
-    [finding] = check_settling(skill_class(HEAD, SET_VELOCITY.format(test=test)))
+    [finding] = check_settling(skill_facts(HEAD, SET_VELOCITY.format(test=test)))
     assert (finding.check, finding.severity) == ("waits", "error")
     assert "right after `self.cmd_vel_publisher.publish(command)`" in finding.message
     assert "on self.odom_msg as it was before the command" in finding.message
@@ -61,7 +61,7 @@ def test_a_test_of_the_reading_right_after_the_command_becomes_a_wait(
 def test_without_the_skeletons_wait_the_finding_has_no_fix() -> None:
     head = HEAD.replace("_wait_until", "_other")
     test = "if self.odom_msg.twist.twist.linear.x > 0.5:"
-    [finding] = check_settling(skill_class(head, SET_VELOCITY.format(test=test)))
+    [finding] = check_settling(skill_facts(head, SET_VELOCITY.format(test=test)))
     assert finding.replacement is None
     assert "wait until self.odom_msg.twist.twist.linear.x <= 0.5 instead" in finding.message
 
@@ -78,7 +78,7 @@ def test_a_test_after_something_that_gave_the_robot_time_is_left_alone(between: 
     method = SET_VELOCITY.format(test="if self.odom_msg.twist.twist.linear.x > 0.5:").replace(
         "    self._wait_until(lambda: self.odom_msg is not None", f"    {between}\n    pass  #", 1
     )
-    assert check_settling(skill_class(HEAD, method)) == []
+    assert check_settling(skill_facts(HEAD, method)) == []
 
 
 @pytest.mark.parametrize(
@@ -118,4 +118,4 @@ def test_a_test_after_something_that_gave_the_robot_time_is_left_alone(between: 
     ],
 )
 def test_other_tests_are_left_alone(method: str) -> None:
-    assert check_settling(skill_class(HEAD, method)) == []
+    assert check_settling(skill_facts(HEAD, method)) == []

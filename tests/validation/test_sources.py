@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import ast
 import textwrap
 
 import pytest
 
 from skillwright.validation.sources import measuring_sources
+from tests.validation.test_facts import facts_of
 
 SKILL = textwrap.dedent(
     """
@@ -23,8 +23,7 @@ SKILL = textwrap.dedent(
 
 
 def sources(unit: str, source: str = SKILL) -> list[str]:
-    [cls] = [n for n in ast.parse(source).body if isinstance(n, ast.ClassDef)]
-    return measuring_sources(cls, unit)
+    return measuring_sources(facts_of(source), unit)
 
 
 def test_each_latest_message_offers_the_fields_of_the_outputs_unit() -> None:

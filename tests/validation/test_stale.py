@@ -7,7 +7,7 @@ import pytest
 from skillwright.rules.finding import Finding
 from skillwright.validation.stale import check_stale_conditions
 from tests.validation.test_loops import HEAD as LOOPS_HEAD
-from tests.validation.test_loops import skill_class
+from tests.validation.test_loops import skill_facts
 
 HEAD = (
     LOOPS_HEAD
@@ -30,7 +30,7 @@ callback sets and a method that changes an attribute."""
 
 
 def _stale(execute: str) -> list[Finding]:
-    return check_stale_conditions(skill_class(HEAD, execute))
+    return check_stale_conditions(skill_facts(HEAD, execute))
 
 
 def test_a_reading_taken_once_before_the_loop_is_taken_again_at_its_end() -> None:

@@ -289,6 +289,28 @@ def test_retrieved_but_unused_and_used_but_not_retrieved(
     assert report.passed  # warnings only
 
 
+def test_handles_made_by_keyword_are_checked_as_rclpy_takes_them() -> None:
+    # rclpy's ActionClient(node, action_type, action_name) and create_publisher(msg_type,
+    # topic, qos_profile): the same handles by keyword are the same interfaces
+    path = SHIPPED_CAPABILITIES / "skills" / "navigate_to_point.py"
+    source = path.read_text(encoding="utf-8")
+    inputs = (
+        load_capability(SHIPPED_CAPABILITIES / "navigate-to-point.ttl").capability,
+        load_spec(SHIPPED_CAPABILITIES / "navigate-to-point.spec.yaml"),
+    )
+    keywords = source.replace(
+        'ActionClient(self.node, NavigateToPose, "/navigate_to_pose")',
+        'ActionClient(self.node, action_type=NavigateToPose, action_name="navigate_to_pose")',
+    ).replace(
+        'create_publisher(Twist, "/cmd_vel", 10)',
+        'create_publisher(msg_type=Twist, topic="/cmd_vel", qos_profile=10)',
+    )
+    assert keywords.count("action_type=") == keywords.count("msg_type=") == 1
+    found, expected = check_on_mr1(keywords, inputs), check_on_mr1(source, inputs)
+    assert [f.code for f in found.findings] == [f.code for f in expected.findings]
+    assert found.used_interfaces == expected.used_interfaces
+
+
 def test_skeleton_is_well_formed_but_fails_for_its_placeholders(
     move_forward: tuple[Capability, SkillSpec],
 ) -> None:

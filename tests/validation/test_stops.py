@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import ast
 import textwrap
 
 import pytest
 
 from skillwright.rules.finding import Finding
 from skillwright.validation.stops import check_stops
+from tests.validation.test_facts import facts_of
 
 HEAD = """
 class Skill:
@@ -32,9 +32,7 @@ def _stops(execute: str) -> list[Finding]:
     body = "    def execute(self):\n" + textwrap.indent(
         textwrap.dedent(execute).strip(), "        "
     )
-    cls = ast.parse(HEAD + body + "\n").body[0]
-    assert isinstance(cls, ast.ClassDef)
-    return check_stops(cls)
+    return check_stops(facts_of(HEAD + body + "\n"))
 
 
 @pytest.mark.parametrize(

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import ast
 from pathlib import Path
 
 import pytest
@@ -11,7 +10,8 @@ import pytest
 from skillwright.capability.model import Capability
 from skillwright.capability.reader import load_capability
 from skillwright.validation.units import check_angle_units
-from tests.validation.test_loops import skill_class
+from tests.validation.test_facts import facts_of
+from tests.validation.test_loops import skill_facts
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -39,7 +39,7 @@ def radians() -> Capability:
 
 
 def _units(capability: Capability, method: str) -> list:
-    return check_angle_units(skill_class(HEAD, method), capability)
+    return check_angle_units(skill_facts(HEAD, method, capability))
 
 
 @pytest.mark.parametrize(
@@ -262,6 +262,4 @@ def test_a_capability_without_angles_is_not_checked(degrees: dict[str, Capabilit
 def test_the_shipped_skills_pass(skill: Path) -> None:
     model = REPO / "capabilities" / f"{skill.stem.replace('_', '-')}.ttl"
     capability = load_capability(model).capability
-    classes = [n for n in ast.parse(skill.read_text()).body if isinstance(n, ast.ClassDef)]
-    assert classes
-    assert [f for c in classes for f in check_angle_units(c, capability)] == []
+    assert check_angle_units(facts_of(skill.read_text(), capability=capability)) == []

@@ -6,7 +6,7 @@ import pytest
 
 from skillwright.rules.finding import Finding
 from skillwright.validation.unsent import check_unsent
-from tests.validation.test_loops import skill_class
+from tests.validation.test_loops import skill_facts
 
 STARTING = """class Skill:
     def starting(self):
@@ -18,7 +18,7 @@ STARTING = """class Skill:
 
 
 def _unsent(method: str, starting: str = STARTING) -> list[Finding]:
-    return check_unsent(skill_class(starting, method))
+    return check_unsent(skill_facts(starting, method))
 
 
 def test_a_velocity_command_whose_fields_are_set_and_read_but_never_published() -> None:

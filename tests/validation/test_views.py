@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import ast
 import textwrap
 
 from skillwright.rules.finding import Finding
 from skillwright.validation.views import check_views
+from tests.validation.test_facts import facts_of
 
 HEADER = """\
 from geometry_msgs.msg import Twist
@@ -41,9 +41,7 @@ class Skill:
 
 def _views(execute: str) -> list[Finding]:
     source = HEADER + textwrap.indent(textwrap.dedent(execute), "    ")
-    tree = ast.parse(source)
-    [cls] = [n for n in tree.body if isinstance(n, ast.ClassDef)]
-    return check_views(cls, tree)
+    return check_views(facts_of(source))
 
 
 def test_a_skill_that_measures_with_one_scanner_of_two_is_told_to_read_the_other() -> None:

@@ -55,7 +55,7 @@ from skillwright.generation.repair import Judgement, repair_skill
 from skillwright.llm.base import GenerationOptions, TextGenerator
 from skillwright.rules.finding import Finding
 from skillwright.spec.model import SkillSpec
-from skillwright.validation.names import self_attribute
+from skillwright.validation.syntax import self_attribute
 
 __all__ = [
     "AttemptFinished",

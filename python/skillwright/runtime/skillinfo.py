@@ -12,7 +12,14 @@ from dataclasses import dataclass, field
 
 from skillwright.rules.run import RUN_STRUCTURE, RUN_SYNTAX
 
-__all__ = ["SkillInfo", "SkillSourceError", "Variable", "read_skill", "returned_path"]
+__all__ = [
+    "SkillInfo",
+    "SkillSourceError",
+    "Variable",
+    "decorator_name",
+    "read_skill",
+    "returned_path",
+]
 
 _STATES = frozenset(
     {
@@ -73,7 +80,9 @@ class SkillInfo:
     """State name -> line of its method."""
 
 
-def _decorator_name(node: ast.expr) -> str:
+def decorator_name(node: ast.expr) -> str:
+    """The name a decorator is called by: ``skill`` for ``@skill(...)`` and for
+    ``@decorators.skill(...)``."""
     target = node.func if isinstance(node, ast.Call) else node
     if isinstance(target, ast.Name):
         return target.id
@@ -158,14 +167,14 @@ def read_skill(source: str, filename: str = "skill.py") -> SkillInfo:
     for node in tree.body:
         if not isinstance(node, ast.ClassDef):
             continue
-        if not any(_decorator_name(d) == "skill" for d in node.decorator_list):
+        if not any(decorator_name(d) == "skill" for d in node.decorator_list):
             continue
         info = SkillInfo(class_name=node.name, class_line=node.lineno)
         for item in node.body:
             if not isinstance(item, ast.FunctionDef):
                 continue
             for decorator in item.decorator_list:
-                name = _decorator_name(decorator)
+                name = decorator_name(decorator)
                 if name in _STATES and not isinstance(decorator, ast.Call):
                     info.states[name] = item.lineno
                 elif name == "skill_parameter" and isinstance(decorator, ast.Call):

@@ -20,7 +20,7 @@ import copy
 
 from skillwright.rules.behaviour import BEARING_OFFSET_TWICE
 from skillwright.rules.finding import Finding
-from skillwright.validation.names import simple_statements
+from skillwright.validation.facts import SkillFacts
 from skillwright.validation.syntax import error_at, self_method, with_node_replaced
 
 __all__ = ["check_bearings"]
@@ -28,19 +28,17 @@ __all__ = ["check_bearings"]
 _CLOSEST = "_closest_reading"
 
 
-def check_bearings(cls: ast.ClassDef) -> list[Finding]:
+def check_bearings(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``bearings``) for a closest reading's bearing offset by ``angle_min``
     once more."""
-    helper = next(
-        (n for n in cls.body if isinstance(n, ast.FunctionDef) and n.name == _CLOSEST), None
-    )
-    if helper is None or not any(_is_angle_min(n) for n in ast.walk(helper)):
+    helper = next((n for n in facts.functions if n.name == _CLOSEST), None)
+    if helper is None or not any(_is_angle_min(n) for n in facts.walk(helper)):
         return []
-    statement_of = simple_statements(cls)
+    statement_of = facts.statement_of
     findings = []
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef) and n is not helper):
+    for method in (n for n in facts.functions if n is not helper):
         results, bearings = _holders(method)
-        for node in ast.walk(method):
+        for node in facts.walk(method):
             if not (isinstance(node, ast.BinOp) and isinstance(node.op, ast.Add | ast.Sub)):
                 continue
             sides = (node.left, node.right)

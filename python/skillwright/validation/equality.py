@@ -21,20 +21,15 @@ from __future__ import annotations
 
 import ast
 import copy
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 
 from skillwright.capability.model import Capability
 from skillwright.generation.names import snake_case
 from skillwright.rules.behaviour import EXACT_EQUALITY
 from skillwright.rules.finding import Finding
-from skillwright.validation.first_messages import latest_messages
-from skillwright.validation.names import self_attribute
-from skillwright.validation.syntax import statement_holding
+from skillwright.validation.facts import SkillFacts
 
-__all__ = ["check_equality", "measurements"]
-
-_COMPONENTS = frozenset({"x", "y", "z", "w"})
-_READINGS = frozenset({"_yaw", "_closest_reading"})
+__all__ = ["check_equality"]
 
 _TOLERANCES = {
     "m": 0.01,
@@ -48,24 +43,16 @@ _TOLERANCES = {
 """How close is close enough, by the unit the capability states."""
 
 
-def measurements(cls: ast.ClassDef) -> Callable[[ast.expr], bool]:
-    """Whether an expression of the class is, or computes from, a measured number (see the
-    module's text)."""
-    latest = latest_messages(cls)
-    latest |= _message_parts(cls, latest)
-    measured = _measured_names(cls, latest)
-    return lambda node: _is_measured(node, latest, measured)
-
-
-def check_equality(cls: ast.ClassDef, capability: Capability) -> list[Finding]:
-    """Findings (check ``equality``) for measured numbers compared with ``==`` or ``!=``."""
-    is_measured = measurements(cls)
-    units = _units(capability)
+def check_equality(facts: SkillFacts) -> list[Finding]:
+    """Findings (check ``equality``) for measured numbers compared with ``==`` or ``!=``
+    (what is measured: :attr:`~skillwright.validation.facts.SkillFacts.is_measured`)."""
+    is_measured = facts.is_measured
+    units = _units(facts.capability)
     findings = []
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    for method in facts.functions:
         aliases = _aliases(method, units)
         exits = _loop_exits(method)
-        for node in ast.walk(method):
+        for node in facts.walk(method):
             if not (
                 isinstance(node, ast.Compare)
                 and len(node.ops) == 1
@@ -82,7 +69,7 @@ def check_equality(cls: ast.ClassDef, capability: Capability) -> list[Finding]:
                 ),
                 None,
             )
-            statement = statement_holding(method, node)
+            statement = facts.statement_holding(node, method)
             if found is None or statement is None:
                 continue
             reading, other = found
@@ -141,113 +128,6 @@ def _replaced(statement: ast.stmt, old: ast.expr, new: ast.expr) -> ast.stmt:
     swapped = _Swap().visit(changed)
     assert isinstance(swapped, ast.stmt)
     return ast.fix_missing_locations(swapped)
-
-
-def _is_measured(node: ast.expr, latest: set[str], measured: set[str]) -> bool:
-    """Whether ``node`` is, or computes from, a measured number."""
-    if isinstance(node, ast.Name):
-        return node.id in measured
-    if isinstance(node, ast.Attribute):
-        name = self_attribute(node)
-        if name is not None:
-            return f"self.{name}" in measured
-        return node.attr in _COMPONENTS and _reads_latest(node, latest)
-    if isinstance(node, ast.Subscript):
-        holder = node.value
-        if isinstance(holder, ast.Call):  # self._closest_reading(scan)[0]
-            return _is_measured(holder, latest, measured)
-        return (
-            isinstance(holder, ast.Attribute)
-            and holder.attr == "ranges"
-            and _reads_latest(holder, latest)
-        )
-    if isinstance(node, ast.Call):
-        called = self_attribute(node.func)
-        if called in _READINGS or f"self.{called}()" in measured:
-            return True
-        function = node.func
-        if (isinstance(function, ast.Name) and function.id in ("abs", "float", "round")) or (
-            isinstance(function, ast.Attribute) and ast.unparse(function.value) == "math"
-        ):
-            return any(_is_measured(a, latest, measured) for a in node.args)
-        return False
-    if isinstance(node, ast.BinOp):
-        return _is_measured(node.left, latest, measured) or _is_measured(
-            node.right, latest, measured
-        )
-    if isinstance(node, ast.UnaryOp):
-        return _is_measured(node.operand, latest, measured)
-    return False
-
-
-def _reads_latest(node: ast.expr, latest: set[str]) -> bool:
-    """Whether the attribute chain ``node`` starts at a latest message (``self.odom_msg``)
-    or at a name the class assigns a part of one to (``here =
-    self.odom_msg.pose.pose.position``; the names are in ``latest`` too, see
-    :func:`_message_parts`)."""
-    while isinstance(node, ast.Attribute | ast.Subscript):
-        if self_attribute(node) in latest:
-            return True
-        node = node.value
-    return isinstance(node, ast.Name) and node.id in latest
-
-
-def _message_parts(cls: ast.ClassDef, latest: set[str]) -> set[str]:
-    """Local names the class assigns a latest message or a part of one to."""
-    out: set[str] = set()
-    for node in ast.walk(cls):
-        if (
-            isinstance(node, ast.Assign)
-            and len(node.targets) == 1
-            and isinstance(node.targets[0], ast.Name)
-            and isinstance(node.value, ast.Attribute)
-            and _reads_latest(node.value, latest)
-        ):
-            out.add(node.targets[0].id)
-    return out
-
-
-def _measured_names(cls: ast.ClassDef, latest: set[str]) -> set[str]:
-    """Local names and ``self.<name>`` attributes the class assigns a measured number to."""
-    measured: set[str] = set()
-    assignments = [
-        n
-        for n in ast.walk(cls)
-        if isinstance(n, ast.Assign) and len(n.targets) == 1 and not isinstance(n.value, ast.Lambda)
-    ]
-    for _ in range(3):  # a name from a name from a reading
-        for node in assignments:
-            target = node.targets[0]
-            key = (
-                target.id
-                if isinstance(target, ast.Name)
-                else f"self.{name}"
-                if (name := self_attribute(target)) is not None
-                else None
-            )
-            if key is not None and _is_direct(node.value, latest, measured):
-                measured.add(key)
-        for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-            returned = [
-                n.value
-                for n in ast.walk(method)
-                if isinstance(n, ast.Return) and n.value is not None
-            ]
-            if returned and all(_is_measured(v, latest, measured) for v in returned):
-                measured.add(f"self.{method.name}()")
-    return measured
-
-
-def _is_direct(node: ast.expr, latest: set[str], measured: set[str]) -> bool:
-    """A measured number read from a message itself (not a local holding a message)."""
-    if isinstance(node, ast.Attribute) and self_attribute(node) is None:
-        chain: ast.expr = node
-        while isinstance(chain, ast.Attribute | ast.Subscript):
-            if self_attribute(chain) in latest:
-                return node.attr in _COMPONENTS
-            chain = chain.value
-        return False
-    return _is_measured(node, latest, measured)
 
 
 def _is_number_like(node: ast.expr) -> bool:

@@ -26,23 +26,12 @@ from collections.abc import Mapping
 
 from skillwright.rules.behaviour import FIRST_MESSAGE_GUARD, FIRST_MESSAGE_READ
 from skillwright.rules.finding import Finding
-from skillwright.validation.names import self_attribute
-from skillwright.validation.syntax import error_at
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import error_at, self_attribute
 
-__all__ = ["check_first_messages", "latest_messages"]
+__all__ = ["check_first_messages"]
 
 _NORMAL_PATH = ("starting", "execute", "completing")
-
-
-def latest_messages(cls: ast.ClassDef) -> set[str]:
-    """The ``self.X_msg`` attributes the class declares with an annotation (the skeleton's)."""
-    return {
-        name
-        for node in ast.walk(cls)
-        if isinstance(node, ast.AnnAssign)
-        and (name := self_attribute(node.target)) is not None
-        and name.endswith("_msg")
-    }
 
 
 def _mentions(node: ast.AST, attribute: str) -> bool:
@@ -191,11 +180,12 @@ def _read_too_soon(statement: ast.stmt, reads: list[str], state: str) -> Finding
     )
 
 
-def check_first_messages(cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef]) -> list[Finding]:
+def check_first_messages(facts: SkillFacts) -> list[Finding]:
     """Findings for guards that give up on a first message nothing waited for, with the wait
     (and the local variables set from the message again after it) in their place."""
-    latest = latest_messages(cls)
-    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
+    latest = set(facts.latest_messages)
+    methods = facts.methods
+    states = facts.states
     waited: set[str] = set()
     reported: set[str] = set()
     findings = []

@@ -20,13 +20,8 @@ import ast
 
 from skillwright.rules.behaviour import TRANSFORM_REVERSED
 from skillwright.rules.finding import Finding
-from skillwright.validation.names import self_attribute, simple_statements
-from skillwright.validation.syntax import (
-    error_at,
-    helper_argument,
-    self_method,
-    with_node_replaced,
-)
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import error_at, self_attribute, self_method, with_node_replaced
 
 __all__ = ["check_frames"]
 
@@ -36,34 +31,34 @@ _WORLD_FRAMES = frozenset({"map", "odom", "world"})
 _PARTS = frozenset({"translation", "rotation"})
 
 
-def check_frames(cls: ast.ClassDef) -> list[Finding]:
+def check_frames(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``frames``) for the robot's pose asked of tf the wrong way round and
     stored in an output."""
-    statement_of = simple_statements(cls)
+    statement_of = facts.statement_of
     findings = []
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    for method in facts.functions:
         reversed_locals = {
             target.id: node.value
-            for node in ast.walk(method)
+            for node in facts.walk(method)
             if isinstance(node, ast.Assign)
             and len(node.targets) == 1
             and isinstance(target := node.targets[0], ast.Name)
             and isinstance(node.value, ast.Call)
-            and _reversed(node.value)
+            and _reversed(facts, node.value)
         }
         flagged: set[int] = set()
-        for node in ast.walk(method):
+        for node in facts.walk(method):
             if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
                 continue
             output = self_attribute(node.targets[0])
             if output is None or not output.startswith("out_"):
                 continue
-            call = _pose_read(node.value, reversed_locals)
+            call = _pose_read(facts, node.value, reversed_locals)
             statement = None if call is None else statement_of.get(id(call))
             if call is None or statement is None or id(call) in flagged:
                 continue
             flagged.add(id(call))
-            target, source = (ast.literal_eval(a) for a in _frames(call) if a is not None)
+            target, source = (ast.literal_eval(a) for a in _frames(facts, call) if a is not None)
             findings.append(
                 error_at(
                     TRANSFORM_REVERSED,
@@ -73,17 +68,17 @@ def check_frames(cls: ast.ClassDef) -> list[Finding]:
                     f"lies seen from the robot, not where the robot stands in {source} (read "
                     f"for self.{output}). Ask self.{_TRANSFORM}({source!r}, {target!r}, ...) "
                     f"for the robot's pose in {source}",
-                    with_node_replaced(statement, call, _swapped),
+                    with_node_replaced(statement, call, lambda copy: _swapped(facts, copy)),
                 )
             )
     return findings
 
 
-def _reversed(call: ast.Call) -> bool:
+def _reversed(facts: SkillFacts, call: ast.Call) -> bool:
     """Whether ``call`` is ``self._transform(<base frame>, <world frame>, ...)``."""
     if self_method(call) != _TRANSFORM:
         return False
-    target, source = _frames(call)
+    target, source = _frames(facts, call)
     return (
         isinstance(target, ast.Constant)
         and target.value in _BASE_FRAMES
@@ -92,7 +87,9 @@ def _reversed(call: ast.Call) -> bool:
     )
 
 
-def _pose_read(value: ast.expr, reversed_locals: dict[str, ast.Call]) -> ast.Call | None:
+def _pose_read(
+    facts: SkillFacts, value: ast.expr, reversed_locals: dict[str, ast.Call]
+) -> ast.Call | None:
     """The reversed call whose ``.transform.translation`` or ``.transform.rotation`` the
     expression ``value`` reads, if it reads one."""
     for node in ast.walk(value):
@@ -104,23 +101,26 @@ def _pose_read(value: ast.expr, reversed_locals: dict[str, ast.Call]) -> ast.Cal
         ):
             continue
         held = node.value.value
-        if isinstance(held, ast.Call) and _reversed(held):
+        if isinstance(held, ast.Call) and _reversed(facts, held):
             return held
         if isinstance(held, ast.Name) and held.id in reversed_locals:
             return reversed_locals[held.id]
     return None
 
 
-def _frames(call: ast.Call) -> tuple[ast.expr | None, ast.expr | None]:
+def _frames(facts: SkillFacts, call: ast.Call) -> tuple[ast.expr | None, ast.expr | None]:
     """What ``call`` of ``_transform`` passes for its target and its source frame."""
-    return helper_argument(call, "target_frame"), helper_argument(call, "source_frame")
+    return (
+        facts.helper_argument(call, "target_frame"),
+        facts.helper_argument(call, "source_frame"),
+    )
 
 
-def _swapped(call: ast.expr) -> ast.expr:
+def _swapped(facts: SkillFacts, call: ast.expr) -> ast.expr:
     """``call`` (a copy) with the two frames it passes swapped."""
     if not isinstance(call, ast.Call):
         return call
-    target, source = _frames(call)
+    target, source = _frames(facts, call)
     if target is None or source is None:
         return call
     call.args = [source if a is target else target if a is source else a for a in call.args]

@@ -19,14 +19,8 @@ import re
 from skillwright.rules.behaviour import WAIT_SHORTER_THAN_SPEC
 from skillwright.rules.finding import Finding
 from skillwright.runtime import standin_api
-from skillwright.validation.names import self_attribute
-from skillwright.validation.syntax import (
-    error_at,
-    helper_argument,
-    self_method,
-    statement_holding,
-    with_text_in_place,
-)
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import error_at, self_attribute, self_method, with_text_in_place
 
 __all__ = ["check_grace", "stated_seconds"]
 
@@ -57,18 +51,18 @@ def stated_seconds(text: str) -> tuple[float, str] | None:
     return next(iter(found.items())) if len(found) == 1 else None
 
 
-def _timeout_of(call: ast.Call, methods: dict[str, ast.FunctionDef]) -> ast.expr | None:
+def _timeout_of(facts: SkillFacts, call: ast.Call) -> ast.expr | None:
     """The argument that is the seconds of ``call``, when it waits for something to appear."""
     called = self_method(call)
     if called == "_wait_until":
-        condition = helper_argument(call, "condition", methods.get(called))
+        condition = facts.helper_argument(call, "condition")
         if condition is None or not any(
             (self_attribute(n) or "").endswith("_msg") for n in ast.walk(condition)
         ):
             return None
-        return helper_argument(call, "timeout", methods.get(called))
+        return facts.helper_argument(call, "timeout")
     if called == "_transform":
-        return helper_argument(call, "timeout", methods.get(called))
+        return facts.helper_argument(call, "timeout")
     if isinstance(call.func, ast.Attribute) and call.func.attr in _SERVER_WAITS:
         signature = standin_api.signature(_SERVER_WAITS[call.func.attr], call.func.attr)
         keywords = {k.arg: k.value for k in call.keywords if k.arg is not None}
@@ -79,21 +73,18 @@ def _timeout_of(call: ast.Call, methods: dict[str, ast.FunctionDef]) -> ast.expr
     return None
 
 
-def check_grace(
-    cls: ast.ClassDef, states: dict[str, ast.FunctionDef], texts: dict[str, str]
-) -> list[Finding]:
-    """Findings for waits in the state methods ``states`` shorter than their specification's
-    ``texts`` allow."""
-    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
+def check_grace(facts: SkillFacts) -> list[Finding]:
+    """Findings for waits in the state methods shorter than their specification's texts
+    allow."""
     findings = []
-    for state, method in states.items():
-        stated = stated_seconds(texts.get(state, ""))
+    for state, method in facts.states.items():
+        stated = stated_seconds(facts.spec.states.get(state, ""))
         if stated is None:
             continue
         seconds, sentence = stated
-        for call in (n for n in ast.walk(method) if isinstance(n, ast.Call)):
-            timeout = _timeout_of(call, methods)
-            statement = statement_holding(method, call)
+        for call in facts.calls(method):
+            timeout = _timeout_of(facts, call)
+            statement = facts.statement_holding(call, method)
             if not (
                 statement is not None
                 and isinstance(timeout, ast.Constant)

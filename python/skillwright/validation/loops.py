@@ -26,19 +26,15 @@ from __future__ import annotations
 
 import ast
 import copy
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Mapping
 from collections.abc import Set as AbstractSet
 
 from skillwright.rules.behaviour import CLOCK_COMPARED_WITH_DURATION, LOOP_NEVER_SLEEPS
 from skillwright.rules.finding import Finding
-from skillwright.validation.syntax import (
-    error_at,
-    self_method,
-    skips_its_end,
-    statement_holding,
-)
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import called_name, error_at, self_method, skips_its_end
 
-__all__ = ["callback_attributes", "check_waits"]
+__all__ = ["check_waits"]
 
 _CLOCK = frozenset({"monotonic", "time", "perf_counter", "now", "get_clock"})
 _READINGS = frozenset({"monotonic", "time", "perf_counter"})
@@ -47,16 +43,7 @@ _MOMENTS = ("DEADLINE", "START", "END", "STAMP", "BEGIN")
 _WAITING = frozenset({"sleep", "spin", "spin_once", "spin_until_future_complete"})
 
 
-def _called_name(call: ast.Call) -> str | None:
-    func = call.func
-    if isinstance(func, ast.Attribute):
-        return func.attr
-    if isinstance(func, ast.Name):
-        return func.id
-    return None
-
-
-def _waiting_methods(methods: dict[str, ast.FunctionDef]) -> set[str]:
+def _waiting_methods(methods: Mapping[str, ast.FunctionDef]) -> set[str]:
     """Methods of the class that wait on every call, directly or through another such
     method: a wait that only a loop of the method reaches (one that waits for data) does
     not count."""
@@ -77,48 +64,17 @@ def _waits(node: ast.AST, waiting: set[str], nodes: Iterable[ast.AST] | None = N
     for call in ast.walk(node) if nodes is None else nodes:
         if not isinstance(call, ast.Call):
             continue
-        name = _called_name(call)
-        if name is None:
-            continue
+        name = called_name(call)
         if name in _WAITING or name.startswith("wait_for") or self_method(call) in waiting:
             return True
     return False
 
 
-def callback_attributes(methods: dict[str, ast.FunctionDef]) -> set[str]:
-    """Attributes that methods handed over as callbacks (``self._on_odom`` given to
-    ``create_subscription``) assign."""
-    handed: set[str] = set()
-    for method in methods.values():
-        for call in ast.walk(method):
-            if not isinstance(call, ast.Call):
-                continue
-            for argument in [*call.args, *(k.value for k in call.keywords)]:
-                if (
-                    isinstance(argument, ast.Attribute)
-                    and isinstance(argument.value, ast.Name)
-                    and argument.value.id == "self"
-                    and argument.attr in methods
-                ):
-                    handed.add(argument.attr)
-    out: set[str] = set()
-    for name in handed:
-        for node in ast.walk(methods[name]):
-            if (
-                isinstance(node, ast.Attribute)
-                and isinstance(node.ctx, ast.Store)
-                and isinstance(node.value, ast.Name)
-                and node.value.id == "self"
-            ):
-                out.add(node.attr)
-    return out
-
-
-def _expects_time(loop: ast.While, changing: set[str]) -> str | None:
+def _expects_time(loop: ast.While, changing: AbstractSet[str]) -> str | None:
     """What the loop waits for, when it waits for the robot or the clock."""
     for node in ast.walk(loop):
         if isinstance(node, ast.Call):
-            name = _called_name(node)
+            name = called_name(node)
             if name in _CLOCK:
                 return "the clock"
             if name == "publish":
@@ -136,17 +92,17 @@ def _expects_time(loop: ast.While, changing: set[str]) -> str | None:
     return None
 
 
-def check_waits(cls: ast.ClassDef) -> list[Finding]:
+def check_waits(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``waits``) for loops that wait for the robot without waiting, and
     for timeouts that compare the clock's reading with a duration."""
-    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
+    methods = facts.methods
     waiting = _waiting_methods(methods)
-    changing = callback_attributes(methods)
+    changing = facts.callback_stores
     findings = []
     for method in methods.values():
         owners = _loops_of_durations(method)
-        taken = {n.id for n in ast.walk(method) if isinstance(n, ast.Name)}
-        for loop in ast.walk(method):
+        taken = {n.id for n in facts.walk(method) if isinstance(n, ast.Name)}
+        for loop in facts.walk(method):
             if not isinstance(loop, ast.While):
                 continue
             durations = owners.pop(loop, [])
@@ -174,7 +130,7 @@ def check_waits(cls: ast.ClassDef) -> list[Finding]:
                 findings.append(
                     error_at(
                         CLOCK_COMPARED_WITH_DURATION,
-                        statement_holding(method, compare) or method,
+                        facts.statement_holding(compare, method) or method,
                         _duration_message(compare),
                         None,
                     )

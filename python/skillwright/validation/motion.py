@@ -14,8 +14,8 @@ deadline, which a run can only report as a state that did not return.
 
 A ``while`` loop of ``starting`` or ``execute`` is flagged when the skill has a velocity
 publisher (a ``Twist`` or ``TwistStamped`` handle), the loop's condition, or an ``if`` in it
-that leaves it, compares a measured number (see :func:`~skillwright.validation.equality.
-measurements`) with ``<``, ``>``, ``<=`` or ``>=`` (it waits for progress), and neither that
+that leaves it, compares a measured number (see :attr:`~skillwright.validation.facts.SkillFacts.
+is_measured`) with ``<``, ``>``, ``<=`` or ``>=`` (it waits for progress), and neither that
 state, nor ``starting`` before it, nor a method of the skill either calls, publishes a command
 other than a zero one or sends a goal or a request.
 
@@ -47,10 +47,9 @@ from skillwright.rules.behaviour import (
     UNMOVED_LOOP,
 )
 from skillwright.rules.finding import Finding
-from skillwright.validation.equality import measurements
-from skillwright.validation.names import self_attribute
+from skillwright.validation.facts import SkillFacts
 from skillwright.validation.stops import loop_publishes, zero_velocity
-from skillwright.validation.syntax import blocks, error_at, self_method
+from skillwright.validation.syntax import blocks, called_name, error_at, self_method
 
 __all__ = ["check_motion"]
 
@@ -59,16 +58,15 @@ _SENDS = ("send_goal", "call_async", "call")
 _ORDER = frozenset({ast.Lt, ast.Gt, ast.LtE, ast.GtE})
 
 
-def check_motion(
-    cls: ast.ClassDef, states: Mapping[str, ast.FunctionDef], capability: Capability
-) -> list[Finding]:
+def check_motion(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``motion``) for a skill that never commands the velocity its
     capability asks for, and for loops that wait for progress nothing commands."""
-    publishers = _velocity_publishers(cls)
+    publishers = _velocity_publishers(facts)
     if not publishers:
         return []
-    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
-    speeds = _speed_inputs(capability)
+    methods = facts.methods
+    states = facts.states
+    speeds = _speed_inputs(facts.capability)
     execute = states.get("execute")
     if (
         speeds
@@ -88,8 +86,8 @@ def check_motion(
                 "stop the base when done",
             )
         ]
-    findings = _repeated_nowhere(cls, publishers, methods)
-    is_measured = measurements(cls)
+    findings = _repeated_nowhere(facts, publishers)
+    is_measured = facts.is_measured
     for state in ("starting", "execute"):
         method = states.get(state)
         if method is None:
@@ -118,16 +116,17 @@ def check_motion(
     return findings
 
 
-def _repeated_nowhere(
-    cls: ast.ClassDef, publishers: set[str], methods: Mapping[str, ast.FunctionDef]
-) -> list[Finding]:
+def _repeated_nowhere(facts: SkillFacts, publishers: set[str]) -> list[Finding]:
     """Findings for loops that wait while the motion command published once before them
     is never published again (see the module's text); none when a timer of the skill could
     repeat it."""
-    if any(isinstance(n, ast.Attribute) and n.attr == "create_timer" for n in ast.walk(cls)):
+    if facts.skill is None or any(
+        isinstance(n, ast.Attribute) and n.attr == "create_timer" for n in facts.walk(facts.skill)
+    ):
         return []
+    methods = facts.methods
     handles = {f"self.{p}" for p in publishers}
-    is_measured = measurements(cls)
+    is_measured = facts.is_measured
     findings = []
     for method in methods.values():
         looped = {
@@ -217,8 +216,7 @@ def _awaits_motion(loop: ast.While, is_measured: Callable[[ast.expr], bool]) -> 
     waits = False
     for node in ast.walk(loop):
         if isinstance(node, ast.Call):
-            func = node.func
-            name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
+            name = called_name(node)
             waits = waits or name in {"sleep", "spin_once"} or name.startswith("_wait")
     forever = isinstance(loop.test, ast.Constant) and loop.test.value is True
     return waits and (forever or _progress_test(loop, is_measured) is not None)
@@ -294,22 +292,15 @@ def _written(method: ast.FunctionDef) -> bool:
     return False
 
 
-def _velocity_publishers(cls: ast.ClassDef) -> set[str]:
+def _velocity_publishers(facts: SkillFacts) -> set[str]:
     """The attributes the class keeps its velocity publishers in."""
-    out = set()
-    for node in ast.walk(cls):
-        if (
-            isinstance(node, ast.Assign)
-            and len(node.targets) == 1
-            and (name := self_attribute(node.targets[0])) is not None
-            and isinstance(node.value, ast.Call)
-            and isinstance(node.value.func, ast.Attribute)
-            and node.value.func.attr == "create_publisher"
-            and node.value.args
-            and ast.unparse(node.value.args[0]).rsplit(".", 1)[-1] in _VELOCITY
-        ):
-            out.add(name)
-    return out
+    return {
+        h.attribute
+        for h in facts.handles
+        if h.attribute is not None
+        and h.made.maker == "create_publisher"
+        and h.made.type_written in _VELOCITY
+    }
 
 
 def _commands(

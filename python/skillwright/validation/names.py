@@ -27,7 +27,7 @@ import inspect
 import itertools
 import re
 import symtable
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 
 from skillwright.rules.api import (
     ATTRIBUTE_NEVER_SET,
@@ -51,22 +51,16 @@ from skillwright.rules.api import (
 from skillwright.rules.finding import Finding
 from skillwright.rules.registry import Rule
 from skillwright.runtime import standin_api
-from skillwright.runtime.skillinfo import returned_path
+from skillwright.validation.facts import SkillFacts, is_clock_now
 from skillwright.validation.syntax import (
+    called_name,
+    self_attribute,
     self_method,
-    statement_holding,
     with_node_replaced,
     with_text_in_place,
 )
 
-__all__ = [
-    "COMPOUND_STATEMENTS",
-    "RCLPY_API",
-    "check_names",
-    "self_attribute",
-    "simple_statements",
-    "without_guard",
-]
+__all__ = ["RCLPY_API", "check_names", "without_guard"]
 
 PYSKILLUP_NAMES = frozenset(standin_api.exported("pyskillup.decorators.decorators"))
 """What ``from pyskillup.decorators.decorators import *`` provides."""
@@ -90,17 +84,6 @@ RCLPY_API: dict[str, frozenset[str]] = {
 """Attributes of rclpy's and tf2's objects a skill may use, by the kind of object: those of
 the sandbox's stand-ins (:mod:`skillwright.runtime.standin_api`)."""
 
-_MAKERS = {
-    "create_publisher": "publisher",
-    "create_subscription": "subscription",
-    "create_client": "client",
-    "create_timer": "timer",
-    "create_rate": "rate",
-    "ActionClient": "action_client",
-    "TransformListener": "tf_listener",
-    "Buffer": "tf_buffer",
-    "get_logger": "logger",
-}
 _KIND_WORDS = {
     "node": "the node (rclpy Node)",
     "publisher": "a Publisher",
@@ -129,8 +112,7 @@ def _finding(
     return rule.at(node, message, data=data, replacement=replacement)
 
 
-def _module_names(source: str, tree: ast.Module) -> set[str]:
-    table = symtable.symtable(source, "skill.py", "exec")
+def _module_names(table: symtable.SymbolTable) -> set[str]:
     names = {s.get_name() for s in table.get_symbols() if s.is_assigned() or s.is_imported()}
     return names | set(dir(builtins)) | PYSKILLUP_NAMES | {"__name__", "__file__"}
 
@@ -193,9 +175,10 @@ def _undefined_message(name: str, tree: ast.Module) -> str:
     )
 
 
-def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
-    known = _module_names(source, tree)
-    table = symtable.symtable(source, "skill.py", "exec")
+def _undefined_names(facts: SkillFacts) -> list[Finding]:
+    table = symtable.symtable(facts.source, "skill.py", "exec")
+    known = _module_names(table)
+    tree = facts.tree
     uses = [(name, child) for name, child in _global_uses(table) if name not in known]
     # Names a class body reads (its decorators' arguments, constants); a module-level
     # function's parameters are its own.
@@ -212,7 +195,7 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
         use = _scope_uses(tree, name, child.get_lineno())
         if use is not None and name not in seen:
             seen.add(name)
-            ros1 = _from_ros1(tree, use) if name == "rospy" else None
+            ros1 = _from_ros1(facts, use) if name == "rospy" else None
             if ros1 is not None:
                 findings.append(_finding(ROS1_API, use, *ros1, data={"name": "rospy"}))
                 continue
@@ -221,11 +204,11 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
                     UNDEFINED_NAME,
                     use,
                     _undefined_message(name, tree),
-                    _read_from_skill(tree, use, {n for n, c in uses if c is child}),
+                    _read_from_skill(facts, use, {n for n, c in uses if c is child}),
                     data={"name": name},
                 )
             )
-    for node in ast.walk(tree):
+    for node in facts.walk(tree):
         if isinstance(node, ast.Name) and node.id in class_level and node.id not in seen:
             seen.add(node.id)
             findings.append(
@@ -236,17 +219,17 @@ def _undefined_names(source: str, tree: ast.Module) -> list[Finding]:
     return findings
 
 
-def _read_from_skill(tree: ast.Module, use: ast.Name, undefined: set[str]) -> str | None:
+def _read_from_skill(facts: SkillFacts, use: ast.Name, undefined: set[str]) -> str | None:
     """The statement holding ``use`` with the name read from the skill (``self.name``), when
     the name is a local variable of another method of the class: rotate's completing logged
     ``remaining_angle``, which only execute had. The checks then have execute keep it. Every
     such name the statement reads (of ``undefined``, the names its method reads but never
     assigns) is read from the skill at once: one fix, not one per name."""
-    owners = [_locals_by_method(cls) for cls in tree.body if isinstance(cls, ast.ClassDef)]
+    owners = [_locals_by_method(cls) for cls in facts.tree.body if isinstance(cls, ast.ClassDef)]
     theirs = {name for name in undefined if any(name in local for local in owners)}
     if use.id not in theirs:
         return None
-    innermost = statement_holding(tree, use)
+    innermost = facts.statement_holding(use)
     if innermost is None:
         return None
     statement = copy.deepcopy(innermost)
@@ -310,12 +293,12 @@ def _ros2_call(call: ast.expr) -> str | None:
     return None
 
 
-def _from_ros1(tree: ast.Module, use: ast.Name) -> tuple[str, str | None] | None:
+def _from_ros1(facts: SkillFacts, use: ast.Name) -> tuple[str, str | None] | None:
     """The message (and, when every use of rospy in the statement has a plain ROS 2
     counterpart, the statement so translated) for ``rospy`` used in a ROS 2 skill
     (``rospy.Duration(0.0)`` for a lookup's timeout): rospy is ROS 1's client library, which
     a ROS 2 robot does not have."""
-    statement = statement_holding(tree, use)
+    statement = facts.statement_holding(use)
     if statement is None:
         return None
     said: list[str] = []
@@ -350,85 +333,15 @@ def _from_ros1(tree: ast.Module, use: ast.Name) -> tuple[str, str | None] | None
     return message, ast.unparse(translated) if whole and said else None
 
 
-def self_attribute(node: ast.AST) -> str | None:
-    """``x`` for the expression ``self.x``, else ``None``."""
-    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
-        return node.attr if node.value.id == "self" else None
-    return None
+def _defined(facts: SkillFacts) -> set[str]:
+    """The attributes the skill has: what pySkillUp's ``ROS2Skill`` gives it, those pySkillUp
+    sets for its parameters, and those the class defines or sets itself."""
+    return set(_BASE_ATTRIBUTES) | facts.parameter_attributes | facts.set_attributes
 
 
-def _framework_set(cls: ast.ClassDef) -> set[str]:
-    """The attributes pySkillUp sets for each ``@skill_parameter``: the one its getter reads
-    (``return self.a``, or the root of ``return self.goal.x``), where the value it is given
-    goes; a skill that never assigns it itself still reads its input there."""
-    found: set[str] = set()
-    for member in cls.body:
-        if not isinstance(member, ast.FunctionDef) or not any(
-            isinstance(d, ast.Call)
-            and isinstance(d.func, ast.Name)
-            and d.func.id == "skill_parameter"
-            for d in member.decorator_list
-        ):
-            continue
-        path = returned_path(member)
-        if path is not None:
-            found.add(path.split(".")[0])
-    return found
-
-
-def _class_facts(cls: ast.ClassDef) -> tuple[set[str], dict[str, str]]:
-    """Attributes the class defines or sets, and the rclpy kind of handles it makes."""
-    defined = set(_BASE_ATTRIBUTES) | _framework_set(cls)
-    kinds: dict[str, str] = {"node": "node"}
-    for member in cls.body:
-        if isinstance(member, ast.FunctionDef | ast.AsyncFunctionDef):
-            defined.add(member.name)
-        elif isinstance(member, ast.Assign):
-            defined |= {t.id for t in member.targets if isinstance(t, ast.Name)}
-        elif isinstance(member, ast.AnnAssign) and isinstance(member.target, ast.Name):
-            defined.add(member.target.id)
-    for node in ast.walk(cls):
-        if isinstance(node, ast.Assign | ast.AnnAssign | ast.AugAssign):
-            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
-            for target in targets:
-                for part in ast.walk(target):
-                    name = self_attribute(part)
-                    if name is not None:
-                        defined.add(name)
-            value = node.value
-            if isinstance(value, ast.Call) and len(targets) == 1:
-                name = self_attribute(targets[0])
-                maker = (
-                    value.func.attr
-                    if isinstance(value.func, ast.Attribute)
-                    else (value.func.id if isinstance(value.func, ast.Name) else "")
-                )
-                if name is not None and maker in _MAKERS:
-                    kinds[name] = _MAKERS[maker]
-                elif name is not None and _is_clock_now(value):
-                    kinds[name] = "time"
-        elif isinstance(node, ast.For | ast.With):
-            for part in ast.walk(node.target if isinstance(node, ast.For) else node):
-                if isinstance(part, ast.Attribute) and isinstance(part.ctx, ast.Store):
-                    name = self_attribute(part)
-                    if name is not None:
-                        defined.add(name)
-    return defined, kinds
-
-
-def _latest_messages(cls: ast.ClassDef) -> list[str]:
-    """``self.X_msg`` attributes declared with a message annotation (the skeleton's latest
-    messages), as ``self.odom_msg (Odometry)``."""
-    found = []
-    for node in ast.walk(cls):
-        if isinstance(node, ast.AnnAssign):
-            name = self_attribute(node.target)
-            if name is not None and name.endswith("_msg"):
-                annotation = node.annotation
-                if isinstance(annotation, ast.BinOp):  # Odometry | None
-                    annotation = annotation.left
-                found.append(f"self.{name} ({ast.unparse(annotation)})")
-    return found
+def _latest_messages(facts: SkillFacts) -> list[str]:
+    """The skeleton's latest messages, as ``self.odom_msg (Odometry)``."""
+    return [f"self.{name} ({type_name})" for name, type_name in facts.latest_messages.items()]
 
 
 def _hint(name: str, defined: set[str], methods: set[str], latest: list[str]) -> str:
@@ -489,18 +402,14 @@ def _locals_by_method(cls: ast.ClassDef) -> dict[str, tuple[_Method, ast.AST]]:
     return found
 
 
-def _last_assigning_statement(method: _Method, name: str) -> ast.stmt | None:
+def _last_assigning_statement(facts: SkillFacts, method: _Method, name: str) -> ast.stmt | None:
     """Where the method is done changing the local variable ``name``: its last assignment,
     or the outermost ``if`` around it, so that the value is kept whichever branch ran (a
     loop that updates it keeps it on every pass); ``None`` if the method assigns it
     nowhere."""
-    parents: dict[int, ast.AST] = {}
-    for node in ast.walk(method):
-        for child in ast.iter_child_nodes(node):
-            parents[id(child)] = node
     assignments = [
         node
-        for node in ast.walk(method)
+        for node in facts.walk(method)
         if isinstance(node, ast.Assign | ast.AugAssign | ast.AnnAssign)
         and any(
             isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store)
@@ -510,33 +419,32 @@ def _last_assigning_statement(method: _Method, name: str) -> ast.stmt | None:
     if not assignments:
         return None
     found: ast.stmt = max(assignments, key=lambda n: (n.lineno, n.col_offset))
-    while isinstance(parent := parents.get(id(found)), ast.If):
+    while isinstance(parent := facts.parent(found), ast.If):
         found = parent
     return found
 
 
-def _readers(cls: ast.ClassDef, name: str) -> list[str]:
+def _readers(facts: SkillFacts, name: str) -> list[str]:
     return [
         member.name
-        for member in cls.body
-        if isinstance(member, ast.FunctionDef | ast.AsyncFunctionDef)
-        and any(
+        for member in facts.definitions
+        if any(
             self_attribute(node) == name and isinstance(node.ctx, ast.Load)
-            for node in ast.walk(member)
+            for node in facts.walk(member)
             if isinstance(node, ast.Attribute)
         )
     ]
 
 
-def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
-    defined, _ = _class_facts(cls)
-    methods = {m.name for m in cls.body if isinstance(m, ast.FunctionDef | ast.AsyncFunctionDef)}
-    latest = _latest_messages(cls)
+def _unset_attributes(facts: SkillFacts, cls: ast.ClassDef) -> list[Finding]:
+    defined = _defined(facts)
+    methods = {m.name for m in facts.definitions}
+    latest = _latest_messages(facts)
     local = _locals_by_method(cls)
-    called = {id(c.func) for c in ast.walk(cls) if isinstance(c, ast.Call)}
+    called = {id(c.func) for c in facts.calls(cls)}
     findings = []
     seen: set[str] = set()
-    for node in ast.walk(cls):
+    for node in facts.nodes:
         name = self_attribute(node)
         if (
             name is None
@@ -551,9 +459,9 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             # One method keeps in a local variable what others read from the skill: the fix
             # is where it is made, so the finding goes there.
             method, assignment = local[name]
-            readers = " and ".join(_readers(cls, name))
+            readers = " and ".join(_readers(facts, name))
             # The value kept on the skill once the method is done changing it.
-            last = _last_assigning_statement(method, name)
+            last = _last_assigning_statement(facts, method, name)
             keep = (
                 f"{ast.unparse(last)}\nself.{name} = {name}"
                 if last is not None and isinstance(assignment, ast.Assign)
@@ -586,9 +494,9 @@ def _unset_attributes(cls: ast.ClassDef) -> list[Finding]:
             )
         unlimited = name.isupper() and not any(d.isupper() for d in defined)
         fix = (
-            _without_limit(cls, node, name)
+            _without_limit(facts, cls, node, name)
             if unlimited
-            else _underscored(cls, node, defined) or _unlogged(cls, node)
+            else _underscored(facts, node, defined) or _unlogged(facts, node)
         )
         findings.append(_finding(ATTRIBUTE_NEVER_SET, node, message, fix, data={"attribute": name}))
     return findings
@@ -598,18 +506,16 @@ _LOG_CALLS = frozenset({"debug", "info", "warning", "warn", "error", "fatal", "p
 _LABEL_ENDS = (", ", "; ", " (", "\n")
 
 
-def _unlogged(cls: ast.ClassDef, node: ast.Attribute) -> str | None:
+def _unlogged(facts: SkillFacts, node: ast.Attribute) -> str | None:
     """The log line holding ``node`` in an f-string's field without that field and its label
     (``f"heading: {self.out_heading:.2f}, timestamp: {self._transform_time:.2f}"``, with an
     attribute nothing sets): a log line reports, and one value less is better than a state
     that raises AttributeError. The text after the field up
     to the next separator (its unit) goes with it."""
-    statement = simple_statements(cls).get(id(node))
+    statement = facts.statement_of.get(id(node))
     if not (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)):
         return None
-    func = statement.value.func
-    called = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
-    if called not in _LOG_CALLS:
+    if called_name(statement.value) not in _LOG_CALLS:
         return None
     where = (node.lineno, node.col_offset, node.end_lineno, node.end_col_offset)
 
@@ -638,14 +544,14 @@ def _unlogged(cls: ast.ClassDef, node: ast.Attribute) -> str | None:
     return None
 
 
-def _underscored(cls: ast.ClassDef, node: ast.Attribute, defined: set[str]) -> str | None:
+def _underscored(facts: SkillFacts, node: ast.Attribute, defined: set[str]) -> str | None:
     """The simple statement holding ``node`` (``self._map_saver_client``) with the attribute
     the class does set when the two differ only in leading underscores
     (``self._map_saver_save_map_client`` for the skeleton's ``self.map_saver_save_map_client``):
     Python's attribute names are exact, and the misspelt one raises AttributeError."""
     bare = node.attr.lstrip("_")
     meant = [d for d in defined if d != node.attr and d.lstrip("_") == bare]
-    statement = simple_statements(cls).get(id(node))
+    statement = facts.statement_of.get(id(node))
     if len(meant) != 1 or statement is None:
         return None
     fixed = copy.deepcopy(statement)
@@ -675,7 +581,7 @@ class _DropLimit(ast.NodeTransformer):
         return node
 
 
-def _without_limit(cls: ast.ClassDef, node: ast.AST, name: str) -> str | None:
+def _without_limit(facts: SkillFacts, cls: ast.ClassDef, node: ast.AST, name: str) -> str | None:
     """What the statement that reads the made-up limit ``self.<name>`` at ``node`` comes to
     without the limit, where that is plain: a clamp ``if x > self.<name>: x = self.<name>``
     goes, ``min(x, self.<name>)`` is ``x``; ``None`` otherwise. The capability states no
@@ -684,7 +590,7 @@ def _without_limit(cls: ast.ClassDef, node: ast.AST, name: str) -> str | None:
     def reads(part: ast.AST) -> bool:
         return any(self_attribute(n) == name for n in ast.walk(part))
 
-    statement = statement_holding(cls, node)
+    statement = facts.statement_holding(node, cls)
     if (
         isinstance(statement, ast.If)
         and not statement.orelse
@@ -698,13 +604,13 @@ def _without_limit(cls: ast.ClassDef, node: ast.AST, name: str) -> str | None:
     return None if reads(kept) else ast.unparse(kept)
 
 
-def _none_only_attributes(cls: ast.ClassDef) -> list[Finding]:
+def _none_only_attributes(facts: SkillFacts) -> list[Finding]:
     """Attributes the class only ever sets to ``None`` but reads as an object (``self.start.x``
     after ``self.start = None`` in ``__init__`` and ``resetting``, with the assignment the
     specification asked for forgotten): the read fails whenever it runs."""
     assigned: dict[str, list[int]] = {}
     set_otherwise: set[str] = set()
-    for node in ast.walk(cls):
+    for node in facts.nodes:
         if isinstance(node, ast.Assign | ast.AnnAssign) and node.value is not None:
             targets = node.targets if isinstance(node, ast.Assign) else [node.target]
             for target in targets:
@@ -725,14 +631,14 @@ def _none_only_attributes(cls: ast.ClassDef) -> list[Finding]:
             }
     tested = {
         name
-        for node in ast.walk(cls)
+        for node in facts.nodes
         if isinstance(node, ast.If | ast.While | ast.IfExp | ast.Assert)
         for part in ast.walk(node.test)
         if (name := self_attribute(part)) is not None
     }
     findings = []
     reported: set[str] = set()
-    for node in ast.walk(cls):
+    for node in facts.nodes:
         inner = node.value if isinstance(node, ast.Attribute | ast.Subscript) else None
         if isinstance(node, ast.Call):
             inner = node.func
@@ -762,24 +668,12 @@ def _none_only_attributes(cls: ast.ClassDef) -> list[Finding]:
     return findings
 
 
-def _is_clock_now(node: ast.expr) -> bool:
-    """Whether ``node`` is ``<...>.get_clock().now()``, an rclpy Time."""
-    return (
-        isinstance(node, ast.Call)
-        and isinstance(node.func, ast.Attribute)
-        and node.func.attr == "now"
-        and isinstance(node.func.value, ast.Call)
-        and isinstance(node.func.value.func, ast.Attribute)
-        and node.func.value.func.attr == "get_clock"
-    )
-
-
-def _receiver_kind(node: ast.expr, kinds: dict[str, str]) -> str | None:
+def _receiver_kind(node: ast.expr, kinds: Mapping[str, str]) -> str | None:
     """The rclpy kind of the object ``node`` evaluates to, where the code makes it plain."""
     name = self_attribute(node)
     if name is not None:
         return kinds.get(name)
-    if _is_clock_now(node):
+    if is_clock_now(node):
         return "time"
     if (
         isinstance(node, ast.Call)
@@ -882,20 +776,16 @@ def _goal_handle_hint(receiver: ast.expr) -> str:
     )
 
 
-def _unknown_api(cls: ast.ClassDef) -> list[Finding]:
-    defined, kinds = _class_facts(cls)
-    guards = _guards(cls)
-    statement_of = simple_statements(cls)
+def _unknown_api(facts: SkillFacts, guards: Mapping[int, ast.If]) -> list[Finding]:
+    defined, kinds = _defined(facts), facts.kinds
+    statement_of = facts.statement_of
     method_of = {
-        id(node): method.name
-        for method in cls.body
-        if isinstance(method, ast.FunctionDef | ast.AsyncFunctionDef)
-        for node in ast.walk(method)
+        id(node): method.name for method in facts.definitions for node in facts.walk(method)
     }
     # (method, latest-message attribute) whose wait a fix has put in already
     waited: set[tuple[str | None, str]] = set()
     findings = []
-    attributes = [n for n in ast.walk(cls) if isinstance(n, ast.Attribute)]
+    attributes = [n for n in facts.nodes if isinstance(n, ast.Attribute)]
     for node in sorted(attributes, key=lambda n: (n.lineno, n.col_offset)):
         if not isinstance(node.ctx, ast.Load):
             continue
@@ -963,7 +853,7 @@ _CANCEL_ALL = frozenset({"cancel_all_goals", "cancel_goal", "cancel_goals", "can
 """What a model calls on an ActionClient to cancel what it sent (ROS 1's actionlib names)."""
 
 
-def _called_alone(node: ast.Attribute, statement_of: dict[int, ast.stmt]) -> bool:
+def _called_alone(node: ast.Attribute, statement_of: Mapping[int, ast.stmt]) -> bool:
     """Whether ``node`` is called as a statement of its own (``X.m(...)``, result unused)."""
     statement = statement_of.get(id(node))
     return (
@@ -992,33 +882,10 @@ def _teardown_instead(node: ast.Attribute, kind: str, defined: set[str]) -> tupl
     )
 
 
-COMPOUND_STATEMENTS = (
-    ast.If,
-    ast.For,
-    ast.While,
-    ast.With,
-    ast.Try,
-    ast.FunctionDef,
-    ast.ClassDef,
-    ast.Match,
-)
-"""Statements that hold other statements."""
-
-
-def simple_statements(tree: ast.AST) -> dict[int, ast.stmt]:
-    """The innermost simple (not compound) statement of every node inside one, by node id."""
-    return {
-        id(node): statement
-        for statement in ast.walk(tree)
-        if isinstance(statement, ast.stmt) and not isinstance(statement, COMPOUND_STATEMENTS)
-        for node in ast.walk(statement)
-    }
-
-
-def _guards(cls: ast.ClassDef) -> dict[int, ast.If]:
+def _guards(facts: SkillFacts) -> dict[int, ast.If]:
     """``if X.m():`` and ``if not X.m():`` without ``else``, by the ``X.m`` they test."""
     out: dict[int, ast.If] = {}
-    for node in ast.walk(cls):
+    for node in facts.nodes:
         if not isinstance(node, ast.If) or node.orelse:
             continue
         test = node.test.operand if isinstance(node.test, ast.UnaryOp) else node.test
@@ -1056,7 +923,7 @@ _FIELD_CLASSES = {
 (``Twist.Linear`` for a Vector3): every ROS 2 install has these types."""
 
 
-def _nested_class(node: ast.AST, imports: dict[str, str]) -> tuple[str, str] | None:
+def _nested_class(node: ast.AST, imports: Mapping[str, str]) -> tuple[str, str] | None:
     """(class, made-up nested class) for ``Twist.Linear``; ``None`` for anything else."""
     if (
         isinstance(node, ast.Attribute)
@@ -1073,7 +940,7 @@ def _nested_class(node: ast.AST, imports: dict[str, str]) -> tuple[str, str] | N
 class _FieldClasses(ast.NodeTransformer):
     """Puts the field's own class in place of made-up nested ones it knows."""
 
-    def __init__(self, imports: dict[str, str]) -> None:
+    def __init__(self, imports: Mapping[str, str]) -> None:
         self.imports = imports
         self.unknown = False
 
@@ -1088,20 +955,21 @@ class _FieldClasses(ast.NodeTransformer):
         return ast.copy_location(ast.Name(id=known, ctx=node.ctx), node)
 
 
-def _replacement(statement: ast.stmt, imports: dict[str, str]) -> str | None:
+def _replacement(statement: ast.stmt, imports: Mapping[str, str]) -> str | None:
     """The simple ``statement`` with the field classes in place, when all are known."""
     fixer = _FieldClasses(imports)
     fixed = fixer.visit(copy.deepcopy(statement))
     return None if fixer.unknown else ast.unparse(fixed)
 
 
-def _missing_nested_classes(tree: ast.Module, imports: dict[str, str]) -> list[Finding]:
+def _missing_nested_classes(facts: SkillFacts) -> list[Finding]:
     """``Odometry.Pose``: message classes have constants and, for services and actions, the
     request/goal classes, but no classes for their fields. Where the field's type is a known
     geometry message, the finding carries its simple statement with that class in place."""
-    statement_of = simple_statements(tree)
+    statement_of = facts.statement_of
+    imports = facts.imports
     findings = []
-    for node in ast.walk(tree):
+    for node in facts.walk(facts.tree):
         nested = _nested_class(node, imports)
         if nested is None:
             continue
@@ -1200,18 +1068,16 @@ def _renamed_local(method: ast.FunctionDef | ast.AsyncFunctionDef, module: str) 
     return findings
 
 
-def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
+def _shadowed_modules(facts: SkillFacts) -> list[Finding]:
     """A local variable named like a module the same method uses (``time = distance /
     speed`` then ``time.sleep(...)``): the module is gone inside that method. For the standard
     modules skills use, the variable is renamed in every statement that uses it."""
-    modules = _imported_modules(tree)
+    modules = facts.modules
     findings = []
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef | ast.AsyncFunctionDef):
-            continue
+    for method in facts.definitions:
         used = {
             node.value.id
-            for node in ast.walk(method)
+            for node in facts.walk(method)
             if isinstance(node, ast.Attribute)
             and isinstance(node.value, ast.Name)
             and node.value.id in modules
@@ -1235,15 +1101,6 @@ def _shadowed_modules(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
                     )
                 )
     return findings
-
-
-def _imported_modules(tree: ast.Module) -> set[str]:
-    return {
-        (alias.asname or alias.name).split(".")[0]
-        for node in tree.body
-        if isinstance(node, ast.Import)
-        for alias in node.names
-    }
 
 
 def _operands(node: ast.AST) -> list[ast.expr]:
@@ -1279,23 +1136,21 @@ def _stand_in(
     return f"self.in_{module}" if not named and f"in_{module}" in defined else None
 
 
-def _modules_as_numbers(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
+def _modules_as_numbers(facts: SkillFacts) -> list[Finding]:
     """A module compared or computed with (``while time.monotonic() - start < time:``, after a
     local ``time`` was renamed in one statement and not the next): it raises TypeError when
     it runs. When the method has one local that
     stands for it, or the capability an input of its name, the statement uses that."""
-    modules = _imported_modules(tree)
-    defined, _ = _class_facts(cls)
+    modules = facts.modules
+    defined = _defined(facts)
     findings = []
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef | ast.AsyncFunctionDef):
-            continue
+    for method in facts.definitions:
         stored = {
             n.id
-            for n in ast.walk(method)
+            for n in facts.walk(method)
             if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)
         }
-        for node in ast.walk(method):
+        for node in facts.walk(method):
             for operand in _operands(node):
                 if not (
                     isinstance(operand, ast.Name)
@@ -1308,7 +1163,7 @@ def _modules_as_numbers(tree: ast.Module, cls: ast.ClassDef) -> list[Finding]:
                     "raises TypeError when it runs"
                 )
                 stand_in = _stand_in(method, operand.id, defined)
-                statement = statement_holding(method, operand)
+                statement = facts.statement_holding(operand, method)
                 if stand_in is None or statement is None:
                     findings.append(
                         _finding(
@@ -1363,37 +1218,31 @@ def _signature(method: ast.FunctionDef) -> inspect.Signature | None:
     return inspect.Signature(parameters)
 
 
-def _used_nothing(cls: ast.ClassDef) -> list[Finding]:
+def _used_nothing(facts: SkillFacts) -> list[Finding]:
     """Results used of the class's own methods that are annotated to return None (``result =
     self._send_x_goal(goal, 5.0)`` and then ``result.success``): the value is always None.
     An assignment of it is fixed to the call alone."""
     nothing = {
         node.name: node
-        for node in cls.body
-        if isinstance(node, ast.FunctionDef)
-        and isinstance(node.returns, ast.Constant)
-        and node.returns.value is None
+        for node in facts.functions
+        if isinstance(node.returns, ast.Constant) and node.returns.value is None
     }
-    methods = {
-        node.name for node in cls.body if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
-    }
+    methods = {node.name for node in facts.definitions}
     findings = []
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef):
-            continue
+    for method in facts.functions:
         # A statement's own call, a callback's lambda and a return pass the None on harmlessly.
         plain = {
             id(n.value if isinstance(n, ast.Expr | ast.Return) else n.body)
-            for n in ast.walk(method)
+            for n in facts.walk(method)
             if isinstance(n, ast.Expr | ast.Return | ast.Lambda)
         }
         assigned = {
             id(s.value): s.targets[0]
-            for s in ast.walk(method)
+            for s in facts.walk(method)
             if isinstance(s, ast.Assign) and len(s.targets) == 1
         }
         tested = _tested_calls(method)
-        for call in ast.walk(method):
+        for call in facts.walk(method):
             name = self_attribute(call.func) if isinstance(call, ast.Call) else None
             if name not in nothing or id(call) in plain:
                 continue
@@ -1471,20 +1320,18 @@ def _result_wait(
     return f"{target.id} = self._{sent.group(1)}_result({RESULT_WAIT_SECONDS!r})"
 
 
-def _mismatched_calls(cls: ast.ClassDef) -> list[Finding]:
+def _mismatched_calls(facts: SkillFacts) -> list[Finding]:
     """Calls of the class's own methods with arguments their definitions do not take (a helper
     written with a parameter more than the call that asked for it gives): found at the
     definition of an undocumented helper, at the call of a documented one (the skeleton's)."""
     signatures = {
         node.name: (node, signature)
-        for node in cls.body
-        if isinstance(node, ast.FunctionDef) and (signature := _signature(node)) is not None
+        for node in facts.functions
+        if (signature := _signature(node)) is not None
     }
-    statement_of = simple_statements(cls)
+    statement_of = facts.statement_of
     findings = []
-    for call in ast.walk(cls):
-        if not isinstance(call, ast.Call):
-            continue
+    for call in (n for n in facts.nodes if isinstance(n, ast.Call)):
         name = self_attribute(call.func)
         if name not in signatures:
             continue
@@ -1528,7 +1375,7 @@ HELPER_TIMEOUT = 2.0
 
 
 def _with_timeout(
-    call: ast.Call, signature: inspect.Signature, statement_of: dict[int, ast.stmt]
+    call: ast.Call, signature: inspect.Signature, statement_of: Mapping[int, ast.stmt]
 ) -> str | None:
     """The statement holding ``call`` with :data:`HELPER_TIMEOUT` added as its last argument,
     when the timeout is all the call leaves out (``self._transform("map", "base_link")``):
@@ -1548,18 +1395,18 @@ def _with_timeout(
     return with_node_replaced(statement, call, timed)
 
 
-def check_names(
-    source: str, tree: ast.Module, cls: ast.ClassDef | None, imports: dict[str, str]
-) -> list[Finding]:
+def check_names(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``names``) for names, attributes and rclpy calls nothing defines, and
-    modules a local variable hides; ``imports`` maps the message classes the file imports to
-    their types."""
-    findings = _undefined_names(source, tree) + _missing_nested_classes(tree, imports)
+    modules a local variable hides."""
+    findings = _undefined_names(facts) + _missing_nested_classes(facts)
+    cls = facts.skill
     if cls is not None:
-        findings += _unset_attributes(cls) + _unknown_api(cls) + _shadowed_modules(tree, cls)
-        findings += _modules_as_numbers(tree, cls)
-        findings += _mismatched_calls(cls) + _none_only_attributes(cls) + _used_nothing(cls)
-        findings += _overwritten_methods(cls) + _rclpy_calls(cls) + _waited_futures(cls)
+        guards = _guards(facts)
+        findings += _unset_attributes(facts, cls) + _unknown_api(facts, guards)
+        findings += _shadowed_modules(facts) + _modules_as_numbers(facts)
+        findings += _mismatched_calls(facts) + _none_only_attributes(facts) + _used_nothing(facts)
+        findings += _overwritten_methods(facts) + _rclpy_calls(facts)
+        findings += _waited_futures(facts, cls, guards)
     return findings
 
 
@@ -1567,30 +1414,29 @@ _FUTURE_API = standin_api.members("future")
 """What an rclpy Future has and the response or result it gives does not."""
 
 
-def _waited_futures(cls: ast.ClassDef) -> list[Finding]:
+def _waited_futures(
+    facts: SkillFacts, cls: ast.ClassDef, guards: Mapping[int, ast.If]
+) -> list[Finding]:
     """A future's methods asked of what the skeleton's ``self._result_of(future, ...)``
     returned: the response (or result) itself, a message, which has none of them
     (``if not response.done(): raise ...`` raises AttributeError when it runs). A guard that
     only raises goes; ``X.result()`` becomes ``X``."""
-    calls = {id(n.func): n for n in ast.walk(cls) if isinstance(n, ast.Call) and not n.args}
-    guards = _guards(cls)
-    statement_of = simple_statements(cls)
+    calls = {id(n.func): n for n in facts.calls(cls) if not n.args}
+    statement_of = facts.statement_of
     findings = []
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef):
-            continue
+    for method in facts.functions:
         # what a self attribute holds counts in every method, a local in its own
         waited = {
             ast.unparse(node.targets[0]): node.lineno
             for root in (cls, method)
-            for node in ast.walk(root)
+            for node in facts.walk(root)
             if isinstance(node, ast.Assign)
             and len(node.targets) == 1
             and (root is method or self_attribute(node.targets[0]) is not None)
             and isinstance(node.value, ast.Call)
             and self_method(node.value) == "_result_of"
         }
-        for node in ast.walk(method):
+        for node in facts.walk(method):
             if not (
                 isinstance(node, ast.Attribute)
                 and node.attr in _FUTURE_API
@@ -1635,17 +1481,17 @@ _RCLPY_SIGNATURES = {
 """What rclpy's methods take (Humble and Jazzy), for the calls a model gets wrong."""
 
 
-def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
+def _rclpy_calls(facts: SkillFacts) -> list[Finding]:
     """Calls of rclpy handles' methods with arguments the methods do not take, above all a
     timeout handed to a call that gives a future at once (``client.call_async(request, 5.0)``:
     rclpy's call_async takes the request only, and raises TypeError), and a number where
     send_goal_async takes its feedback callback. A service call's timeout moves to the
     skeleton's ``self._result_of``, which waits for the response."""
-    defined, kinds = _class_facts(cls)
-    statement_of = simple_statements(cls)
+    defined, kinds = _defined(facts), facts.kinds
+    statement_of = facts.statement_of
     findings = []
-    for call in ast.walk(cls):
-        if not isinstance(call, ast.Call) or not isinstance(call.func, ast.Attribute):
+    for call in (n for n in facts.nodes if isinstance(n, ast.Call)):
+        if not isinstance(call.func, ast.Attribute):
             continue
         kind = _receiver_kind(call.func.value, kinds)
         signature = _RCLPY_SIGNATURES.get((kind or "", call.func.attr))
@@ -1699,14 +1545,14 @@ def _rclpy_calls(cls: ast.ClassDef) -> list[Finding]:
     return findings
 
 
-def _overwritten_methods(cls: ast.ClassDef) -> list[Finding]:
+def _overwritten_methods(facts: SkillFacts) -> list[Finding]:
     """A method of the class replaced by a value (``self._closest_reading =
     self._closest_reading(self.scan_msg)``): every later call of it raises TypeError
     ('tuple' object is not callable). The
     fix keeps the value in a local of the method's name."""
-    methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef | ast.AsyncFunctionDef)}
+    methods = {n.name for n in facts.definitions}
     findings = []
-    for node in ast.walk(cls):
+    for node in facts.nodes:
         if not isinstance(node, ast.Assign) or len(node.targets) != 1:
             continue
         name = self_attribute(node.targets[0])

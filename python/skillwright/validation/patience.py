@@ -15,7 +15,8 @@ import copy
 
 from skillwright.rules.behaviour import ZERO_TIMEOUT
 from skillwright.rules.finding import Finding
-from skillwright.validation.syntax import error_at, self_method, statement_holding
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import error_at, self_method
 from skillwright.validation.timeouts import bound_arguments
 
 __all__ = ["check_zero_timeouts"]
@@ -25,9 +26,9 @@ _GIVEN = 2.0
 """The seconds the fix gives: the skeleton's own waits for a first message take as many."""
 
 
-def check_zero_timeouts(cls: ast.ClassDef) -> list[Finding]:
+def check_zero_timeouts(facts: SkillFacts) -> list[Finding]:
     """Findings for calls of the skill's waiting methods with a timeout of zero or less."""
-    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
+    methods = facts.methods
     waiting = {
         name: parameters
         for name, method in methods.items()
@@ -35,13 +36,13 @@ def check_zero_timeouts(cls: ast.ClassDef) -> list[Finding]:
     }
     findings = []
     for method in methods.values():
-        for call in (n for n in ast.walk(method) if isinstance(n, ast.Call)):
+        for call in facts.calls(method):
             called = self_method(call)
             if called not in waiting:
                 continue
             given, _ = bound_arguments(methods[called], call, waiting[called])
             zeros = [a for a in given if _at_most_zero(a)]
-            statement = statement_holding(method, call)
+            statement = facts.statement_holding(call, method)
             if not zeros or statement is None:
                 continue
             findings.append(

@@ -23,24 +23,25 @@ import copy
 
 from skillwright.rules.behaviour import FILTERED_INDEX
 from skillwright.rules.finding import Finding
-from skillwright.validation.syntax import error_at, statement_holding
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import error_at
 
 __all__ = ["check_filtered_positions"]
 
 
-def check_filtered_positions(cls: ast.ClassDef) -> list[Finding]:
+def check_filtered_positions(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``positions``) for positions in a filtered copy used as positions in
     what it was filtered from."""
     findings = []
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    for method in facts.functions:
         copies = _filtered_copies(method)
-        for call in ast.walk(method):
+        for call in facts.walk(method):
             name = _copy_asked(call, copies)
             if name is None or not isinstance(call, ast.Call):
                 continue
             if not _used_beyond(method, call, name):
                 continue
-            statement = statement_holding(method, call)
+            statement = facts.statement_holding(call, method)
             if statement is not None:
                 findings.append(_finding(statement, call, name, copies[name]))
     return findings

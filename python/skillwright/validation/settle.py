@@ -27,9 +27,8 @@ import ast
 
 from skillwright.rules.behaviour import READ_RIGHT_AFTER_COMMAND
 from skillwright.rules.finding import Finding
-from skillwright.validation.first_messages import latest_messages
-from skillwright.validation.names import self_attribute
-from skillwright.validation.syntax import error_at
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import error_at, self_attribute
 
 __all__ = ["check_settling"]
 
@@ -47,12 +46,12 @@ _OPPOSITE: dict[type[ast.cmpop], type[ast.cmpop]] = {
 }
 
 
-def check_settling(cls: ast.ClassDef) -> list[Finding]:
+def check_settling(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``waits``) for giving up on a reading right after a command."""
-    latest = latest_messages(cls)
-    can_wait = any(isinstance(n, ast.FunctionDef) and n.name == "_wait_until" for n in cls.body)
+    latest = set(facts.latest_messages)
+    can_wait = "_wait_until" in facts.methods
     findings = []
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    for method in facts.functions:
         findings += _in_block(method.body, latest, can_wait)
     return findings
 

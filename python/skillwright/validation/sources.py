@@ -12,11 +12,9 @@ of them.
 
 from __future__ import annotations
 
-import ast
+from skillwright.validation.facts import SkillFacts
 
-from skillwright.validation.names import self_attribute
-
-__all__ = ["measuring_sources"]
+__all__ = ["measuring_sources", "raw_scans"]
 
 _LENGTH = frozenset({"m", "mm", "cm"})
 _SPEED = frozenset({"m/s"})
@@ -89,15 +87,14 @@ _HELPERS: dict[str, tuple[str, list[tuple[frozenset[str], str]]]] = {
 """Message type -> (the skeleton's helper that reads it, the advice when the skill has it)."""
 
 
-def measuring_sources(cls: ast.ClassDef, unit: str) -> list[str]:
-    """Where the skill ``cls`` can read a quantity in ``unit``: fields of the latest messages
-    its ``__init__`` declares (``self.odom_msg: Odometry | None``), and the clock for a
-    duration; empty when it keeps nothing that carries one."""
-    methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef)}
+def measuring_sources(facts: SkillFacts, unit: str) -> list[str]:
+    """Where the skill can read a quantity in ``unit``: fields of the latest messages it
+    declares (``self.odom_msg: Odometry | None``), and the clock for a duration; empty when it
+    keeps nothing that carries one."""
     out = []
-    for attribute, type_name in _latest_messages(cls):
+    for attribute, type_name in facts.latest_messages.items():
         helper, advice = _HELPERS.get(type_name, ("", []))
-        for units, text in advice if helper in methods else _FIELDS.get(type_name, []):
+        for units, text in advice if helper in facts.methods else _FIELDS.get(type_name, []):
             if unit in units:
                 out.append(text.format(a=f"self.{attribute}"))
     if unit in _TIME:
@@ -105,31 +102,10 @@ def measuring_sources(cls: ast.ClassDef, unit: str) -> list[str]:
     return out
 
 
-def raw_scans(cls: ast.ClassDef, unit: str) -> list[str]:
+def raw_scans(facts: SkillFacts, unit: str) -> list[str]:
     """The latest LaserScan messages whose raw fields :func:`measuring_sources` names for a
     quantity in ``unit`` (the class lacks the skeleton's ``_closest_reading``, which reads
     them for it)."""
-    methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef)}
-    if "_closest_reading" in methods or not any(unit in u for u, _ in _FIELDS["LaserScan"]):
+    if "_closest_reading" in facts.methods or not any(unit in u for u, _ in _FIELDS["LaserScan"]):
         return []
-    return [a for a, type_name in _latest_messages(cls) if type_name == "LaserScan"]
-
-
-def _latest_messages(cls: ast.ClassDef) -> list[tuple[str, str]]:
-    """(attribute, message type) of each ``self.<attribute>: <Type> | None`` in ``__init__``."""
-    init = next(
-        (n for n in cls.body if isinstance(n, ast.FunctionDef) and n.name == "__init__"), None
-    )
-    if init is None:
-        return []
-    found = []
-    for node in ast.walk(init):
-        if not isinstance(node, ast.AnnAssign):
-            continue
-        attribute = self_attribute(node.target)
-        annotation = node.annotation
-        if isinstance(annotation, ast.BinOp) and isinstance(annotation.op, ast.BitOr):
-            annotation = annotation.left
-        if attribute is not None and isinstance(annotation, ast.Name):
-            found.append((attribute, annotation.id))
-    return found
+    return [a for a, type_name in facts.latest_messages.items() if type_name == "LaserScan"]

@@ -23,7 +23,7 @@ import copy
 
 from skillwright.rules.behaviour import STALE_LOOP, STALE_READING
 from skillwright.rules.finding import Finding
-from skillwright.validation.loops import callback_attributes
+from skillwright.validation.facts import SkillFacts
 from skillwright.validation.syntax import blocks, error_at, skips_its_end
 
 __all__ = ["check_stale_conditions"]
@@ -37,19 +37,19 @@ _PURE = frozenset(
 _MODULES = frozenset({"math", "time", "abs", "min", "max", "float", "int", "round", "len", "bool"})
 
 
-def check_stale_conditions(cls: ast.ClassDef) -> list[Finding]:
+def check_stale_conditions(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``stale``) for loops whose condition cannot change while they run."""
     findings = []
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        for loop in ast.walk(method):
+    for method in facts.functions:
+        for loop in facts.walk(method):
             if isinstance(loop, ast.While):
-                finding = _stale(cls, method, loop) or _stale_exit(cls, method, loop)
+                finding = _stale(facts, method, loop) or _stale_exit(facts, method, loop)
                 if finding is not None:
                     findings.append(finding)
     return findings
 
 
-def _stale_exit(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> Finding | None:
+def _stale_exit(facts: SkillFacts, method: ast.FunctionDef, loop: ast.While) -> Finding | None:
     """``while True:`` whose ``if TEST: break`` decides on names nothing in the loop reads
     again: TEST's own names, through the values the loop works out from others before it
     (``remaining = (target - current) % (2 * math.pi)`` from ``current`` read once before
@@ -77,7 +77,7 @@ def _stale_exit(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> 
         names, attributes = roots
         if not names or names & _assigned(loop.body) or names & _used_as_objects(method):
             continue
-        if attributes & _set_meanwhile(cls, loop):
+        if attributes & _set_meanwhile(facts, loop):
             continue
         ordered = sorted(names)
         readings = [r for name in ordered if (r := _reading_before(method, loop, name))]
@@ -133,11 +133,11 @@ def _constant(value: ast.expr) -> bool:
     return not any(isinstance(n, ast.Name | ast.Attribute | ast.Call) for n in ast.walk(value))
 
 
-def _stale(cls: ast.ClassDef, method: ast.FunctionDef, loop: ast.While) -> Finding | None:
+def _stale(facts: SkillFacts, method: ast.FunctionDef, loop: ast.While) -> Finding | None:
     names, attributes = _condition_names(loop.test)
     if not names or _ends_otherwise(loop) or names & _assigned(loop.body):
         return None
-    if names & _used_as_objects(method) or attributes & _set_meanwhile(cls, loop):
+    if names & _used_as_objects(method) or attributes & _set_meanwhile(facts, loop):
         return None
     ordered = sorted(names)
     readings = [_reading_before(method, loop, name) for name in ordered]
@@ -183,16 +183,16 @@ def _condition_names(test: ast.expr) -> tuple[set[str], set[str]]:
     return names, attributes
 
 
-def _set_meanwhile(cls: ast.ClassDef, loop: ast.While) -> set[str]:
+def _set_meanwhile(facts: SkillFacts, loop: ast.While) -> set[str]:
     """Attributes of the skill that may change while ``loop`` runs: set by a callback, by
     the loop, or by a method the loop calls (directly or through another)."""
-    methods = {n.name: n for n in cls.body if isinstance(n, ast.FunctionDef)}
-    out = callback_attributes(methods)
+    methods = facts.methods
+    out = set(facts.callback_stores)
     pending: list[ast.AST] = [loop]
     seen: set[str] = set()
     while pending:
         root = pending.pop()
-        for node in ast.walk(root):
+        for node in facts.walk(root):
             if (
                 isinstance(node, ast.Attribute)
                 and isinstance(node.value, ast.Name)

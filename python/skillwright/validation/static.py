@@ -20,9 +20,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
 from keyword import kwlist
-from typing import Literal
 
-from skillwright.capability.binding import Annotation, Binding, bind
 from skillwright.capability.model import Capability
 from skillwright.rules.api import (
     GOAL_RESULT_WITHOUT_SEND,
@@ -75,10 +73,10 @@ from skillwright.rules.structure import (
     STATE_NOT_SPECIFIED,
     SYNTAX_ERROR,
 )
-from skillwright.runtime.skillinfo import returned_path
-from skillwright.spec.model import PACKML_STATES, SkillSpec
+from skillwright.spec.model import SkillSpec
 from skillwright.validation.bearings import check_bearings
 from skillwright.validation.equality import check_equality
+from skillwright.validation.facts import SkillFacts
 from skillwright.validation.first_messages import check_first_messages
 from skillwright.validation.frames import check_frames
 from skillwright.validation.grace import check_grace
@@ -90,45 +88,28 @@ from skillwright.validation.model import (
     FieldTree,
 )
 from skillwright.validation.motion import check_motion
-from skillwright.validation.names import (
-    COMPOUND_STATEMENTS,
-    check_names,
-    self_attribute,
-    simple_statements,
-)
+from skillwright.validation.names import check_names
 from skillwright.validation.patience import check_zero_timeouts
 from skillwright.validation.positions import check_filtered_positions
 from skillwright.validation.settle import check_settling
 from skillwright.validation.sources import measuring_sources, raw_scans
 from skillwright.validation.stale import check_stale_conditions
 from skillwright.validation.stops import check_stops
-from skillwright.validation.syntax import helper_argument
+from skillwright.validation.syntax import (
+    COMPOUND_STATEMENTS,
+    called_name,
+    keyword_argument,
+    self_attribute,
+    string_value,
+)
 from skillwright.validation.units import check_angle_units
 from skillwright.validation.unsent import check_unsent
 from skillwright.validation.views import check_views
 
 __all__ = ["check_skill", "local_name"]
 
-_HANDLE_CALLS = {
-    "create_publisher": "topic",
-    "create_subscription": "topic",
-    "create_client": "service",
-    "ActionClient": "action",
-}
 _NESTED_TYPES = {"Request", "Response", "Goal", "Result", "Feedback"}
 _GENERIC_TOKENS = {"in", "out", "value", "the", "of", "id", "x", "y", "z"}
-
-
-@dataclass
-class _Use:
-    """A handle the code creates for an interface."""
-
-    name: str
-    kind: str
-    type_name: str | None
-    line: int
-    column: int
-    callback: str | None = None
 
 
 @dataclass
@@ -147,71 +128,28 @@ class _Context:
         self.findings.append(rule.at(node, message, data=data, replacement=replacement))
 
 
-def _imports(tree: ast.Module) -> dict[str, str]:
-    """Local name -> ``pkg/sub/Type`` for ``from pkg.sub import Type [as Alias]``."""
-    out: dict[str, str] = {}
-    for node in ast.walk(tree):
-        if isinstance(node, ast.ImportFrom) and node.module:
-            parts = node.module.split(".")
-            if len(parts) == 2 and parts[1] in {"msg", "srv", "action"}:
-                for alias in node.names:
-                    out[alias.asname or alias.name] = f"{parts[0]}/{parts[1]}/{alias.name}"
-    return out
-
-
-def _call_name(call: ast.Call) -> str:
-    func = call.func
-    if isinstance(func, ast.Attribute):
-        return func.attr
-    if isinstance(func, ast.Name):
-        return func.id
-    return ""
-
-
-def _decorator_name(node: ast.expr) -> str:
-    target = node.func if isinstance(node, ast.Call) else node
-    if isinstance(target, ast.Name):
-        return target.id
-    if isinstance(target, ast.Attribute):
-        return target.attr
-    return ""
-
-
-def _keyword(call: ast.Call, name: str) -> ast.expr | None:
-    return next((k.value for k in call.keywords if k.arg == name), None)
-
-
-def _constant_text(node: ast.expr | None) -> str | None:
-    if isinstance(node, ast.Constant) and isinstance(node.value, str):
-        return node.value
-    return None
-
-
 def _normalise(name: str) -> str:
     return name if name.startswith("/") else f"/{name}"
-
-
-def _skill_class(tree: ast.Module) -> tuple[ast.ClassDef, ast.Call] | None:
-    for node in tree.body:
-        if isinstance(node, ast.ClassDef):
-            for decorator in node.decorator_list:
-                if isinstance(decorator, ast.Call) and _decorator_name(decorator) == "skill":
-                    return node, decorator
-    return None
 
 
 # --- annotations -----------------------------------------------------------------
 
 
-def _check_skill_decorator(
-    ctx: _Context, cls: ast.ClassDef, call: ast.Call, capability: Capability, spec: SkillSpec
-) -> None:
+def _check_skill_decorator(facts: SkillFacts) -> list[Finding]:
+    """The ``@skill`` decorator names the capability and its resource by their IRIs, has a
+    skill IRI and the specification's skill interface, and the class derives from pySkillUp's
+    ``ROS2Skill``."""
+    ctx = _Context()
+    cls, call = facts.skill, facts.decorator
+    if cls is None or call is None:
+        return ctx.findings
+    capability, spec = facts.capability, facts.spec
     expected = {"capability_iri": capability.iri}
     if capability.resource is not None:
         expected["module_iri"] = capability.resource.iri
     for key, value in expected.items():
-        given = _keyword(call, key)
-        text = _constant_text(given)
+        given = keyword_argument(call, key)
+        text = string_value(given)
         if given is None:
             ctx.add(
                 SKILL_IRI_MISMATCH,
@@ -226,9 +164,9 @@ def _check_skill_decorator(
                 f"@skill {key} is {text!r}, expected {value!r}",
                 data={"key": key, "expected": value, "given": text},
             )
-    if not _constant_text(_keyword(call, "skill_iri")):
+    if not string_value(keyword_argument(call, "skill_iri")):
         ctx.add(SKILL_IRI_MISSING, call, "@skill needs a skill_iri (a string IRI)")
-    interface = _keyword(call, "skill_interface")
+    interface = keyword_argument(call, "skill_interface")
     wanted = f"SkillInterface.{spec.skill_interface}"
     if interface is None or ast.unparse(interface) != wanted:
         ctx.add(
@@ -244,36 +182,18 @@ def _check_skill_decorator(
             f"class {cls.name} must derive from ROS2Skill",
             data={"class": cls.name},
         )
+    return ctx.findings
 
 
-def _member_annotations(node: ast.stmt) -> list[tuple[Annotation, ast.AST]]:
-    """The @skill_parameter and @skill_output annotations of one member of the class."""
-    if not isinstance(node, ast.FunctionDef):
-        return []
-    found: list[tuple[Annotation, ast.AST]] = []
-    for dec in node.decorator_list:
-        kind = _decorator_name(dec) if isinstance(dec, ast.Call) else None
-        if kind not in {"skill_parameter", "skill_output"} or not isinstance(dec, ast.Call):
-            continue
-        name = _constant_text(_keyword(dec, "name")) or node.name
-        described = _constant_text(_keyword(dec, "description")) or ""
-        direction: Literal["input", "output"] = "input" if kind == "skill_parameter" else "output"
-        found.append((Annotation(name, direction, described, dec.lineno), dec))
-    return found
-
-
-def _annotations(cls: ast.ClassDef) -> list[tuple[Annotation, ast.AST]]:
-    """The class's @skill_parameter and @skill_output annotations, with their decorators."""
-    return [found for node in cls.body for found in _member_annotations(node)]
-
-
-def _check_parameters(
-    ctx: _Context, cls: ast.ClassDef, capability: Capability, binding: Binding
-) -> None:
+def _check_parameters(facts: SkillFacts) -> list[Finding]:
     """Each capability input and output has an annotation bound to it (by name, by meaning
     or by --bind, :mod:`skillwright.capability.binding`), and each annotation is bound."""
+    ctx = _Context()
+    cls, capability, binding = facts.skill, facts.capability, facts.binding
+    if cls is None:
+        return ctx.findings
     bound = {b.target for b in binding.bound}
-    given = {a.name for a, _ in _annotations(cls)}
+    given = {g.annotation.name for g in facts.getters}
     composites = {p.name for p in capability.inputs + capability.outputs if len(p.components) > 1}
     for parameters, decorator, what in (
         (capability.inputs, "skill_parameter", "input"),
@@ -291,7 +211,8 @@ def _check_parameters(
                 + (f" (missing: {', '.join(missing)})" if len(names) > 1 else ""),
                 data={"decorator": decorator, "parameter": parameter.name, "missing": missing},
             )
-    for annotation, node in _annotations(cls):
+    for getter in facts.getters:
+        annotation, node = getter.annotation, getter.decorator
         decorator = "skill_parameter" if annotation.direction == "input" else "skill_output"
         candidates = binding.ambiguous.get(annotation.name)
         if candidates:
@@ -311,20 +232,16 @@ def _check_parameters(
                 "capability, by name or by what its name and description mean",
                 data={"decorator": decorator, "name": annotation.name},
             )
+    return ctx.findings
 
 
-def _state_methods(cls: ast.ClassDef) -> dict[str, ast.FunctionDef]:
-    out: dict[str, ast.FunctionDef] = {}
-    for node in cls.body:
-        if isinstance(node, ast.FunctionDef):
-            for dec in node.decorator_list:
-                if isinstance(dec, ast.Name) and dec.id in PACKML_STATES:
-                    out[dec.id] = node
-    return out
-
-
-def _check_states(ctx: _Context, cls: ast.ClassDef, spec: SkillSpec) -> dict[str, ast.FunctionDef]:
-    methods = _state_methods(cls)
+def _check_states(facts: SkillFacts) -> list[Finding]:
+    """The class has a method for each state the specification describes, and none for a
+    state it leaves out but a halting one."""
+    ctx = _Context()
+    cls, spec, methods = facts.skill, facts.spec, facts.states
+    if cls is None:
+        return ctx.findings
     for state in spec.states:
         if state not in methods:
             ctx.add(
@@ -343,7 +260,7 @@ def _check_states(ctx: _Context, cls: ast.ClassDef, spec: SkillSpec) -> dict[str
                 f"@{state} is not in the specification; remove it or add it to the spec",
                 data={"state": state},
             )
-    return methods
+    return ctx.findings
 
 
 # --- placeholders ------------------------------------------------------------------
@@ -356,40 +273,60 @@ def _body_without_docstring(function: ast.FunctionDef) -> list[ast.stmt]:
     return body
 
 
-def _check_placeholders(
-    ctx: _Context, tree: ast.Module, source: str, methods: dict[str, ast.FunctionDef]
-) -> None:
-    for state, method in methods.items():
-        body = _body_without_docstring(method)
-        trivial = all(
+def _empty_states(facts: SkillFacts) -> list[tuple[str, ast.FunctionDef]]:
+    """The state methods with no behaviour: only ``pass`` or ``...`` after the docstring."""
+    if facts.skill is None:
+        return []
+    return [
+        (state, method)
+        for state, method in facts.states.items()
+        if all(
             isinstance(s, ast.Pass)
             or (
                 isinstance(s, ast.Expr)
                 and isinstance(s.value, ast.Constant)
                 and s.value.value is ...
             )
-            for s in body
+            for s in _body_without_docstring(method)
         )
-        if trivial:
-            ctx.add(
-                EMPTY_STATE,
-                method,
-                f"@{state} has no behaviour (only pass / ...)",
-                data={"state": state},
-            )
-    for node in ast.walk(tree):
+    ]
+
+
+def _unimplemented(facts: SkillFacts) -> list[ast.Raise]:
+    """Every ``raise NotImplementedError``: behaviour still to be written."""
+    if facts.skill is None:
+        return []
+    found = []
+    for node in facts.walk(facts.tree):
         if isinstance(node, ast.Raise) and node.exc is not None:
             exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
             if isinstance(exc, ast.Name) and exc.id == "NotImplementedError":
-                ctx.add(
-                    NOT_IMPLEMENTED,
-                    node,
-                    "raises NotImplementedError: this behaviour is still to be written",
-                )
+                found.append(node)
+    return found
+
+
+def _check_placeholders(facts: SkillFacts) -> list[Finding]:
+    """States with no behaviour, behaviour still to be written and left-over markers."""
+    ctx = _Context()
+    if facts.skill is None:
+        return ctx.findings
+    for state, method in _empty_states(facts):
+        ctx.add(
+            EMPTY_STATE,
+            method,
+            f"@{state} has no behaviour (only pass / ...)",
+            data={"state": state},
+        )
+    for node in _unimplemented(facts):
+        ctx.add(
+            NOT_IMPLEMENTED,
+            node,
+            "raises NotImplementedError: this behaviour is still to be written",
+        )
     try:
-        tokens = list(tokenize.generate_tokens(io.StringIO(source).readline))
+        tokens = list(tokenize.generate_tokens(io.StringIO(facts.source).readline))
     except (tokenize.TokenError, SyntaxError):
-        return
+        return ctx.findings
     for token in tokens:
         if token.type == tokenize.COMMENT and re.search(r"\b(TODO|FIXME|XXX)\b", token.string):
             ctx.findings.append(
@@ -400,6 +337,7 @@ def _check_placeholders(
                     data={"marker": token.string.strip()},
                 )
             )
+    return ctx.findings
 
 
 # --- errors swallowed where the specification says to abort -----------------------------
@@ -411,15 +349,14 @@ _HALTING = frozenset({"stopping", "aborting"})
 """States that bring the robot to a halt when a skill ends early."""
 
 
-def _check_swallowed_errors(
-    ctx: _Context, methods: dict[str, ast.FunctionDef], spec: SkillSpec
-) -> None:
+def _check_swallowed_errors(facts: SkillFacts) -> list[Finding]:
     """An ``except`` in a state that does not raise again lets the state end as if nothing
     failed (logging or returning included); where the specification says to abort, that hides
     the failure from the operator (pySkillUp aborts the skill when a state raises)."""
-    for state, method in methods.items():
-        text = spec.states.get(state, "")
-        for node in ast.walk(method):
+    ctx = _Context()
+    for state, method in facts.states.items():
+        text = facts.spec.states.get(state, "")
+        for node in facts.walk(method):
             if not isinstance(node, ast.ExceptHandler):
                 continue
             if any(isinstance(n, ast.Raise) for part in node.body for n in ast.walk(part)):
@@ -444,6 +381,7 @@ def _check_swallowed_errors(
                     "the skill should go on after it",
                     data={"state": state, "caught": caught},
                 )
+    return ctx.findings
 
 
 # --- constants standing in for inputs ------------------------------------------------
@@ -473,7 +411,7 @@ def _is_number(node: ast.expr | None) -> bool:
 
 
 def _bounding_names(
-    tree: ast.Module, matching: Callable[[str], str | None]
+    facts: SkillFacts, matching: Callable[[str], str | None]
 ) -> set[tuple[str, str]]:
     """(name, input) for each name compared with, or clamped against (``min``, ``max``), a
     value named for the same input that is not a constant itself: ``min(self.in_velocity,
@@ -481,7 +419,7 @@ def _bounding_names(
     the input's value to the number, so the number is a bound or a tolerance, not a stand-in
     for the input."""
     found: set[tuple[str, str]] = set()
-    for node in ast.walk(tree):
+    for node in facts.walk(facts.tree):
         is_clamp = (
             isinstance(node, ast.Call)
             and isinstance(node.func, ast.Name)
@@ -491,7 +429,7 @@ def _bounding_names(
             continue
         names = [
             name
-            for part in ast.walk(node)
+            for part in facts.walk(node)
             if isinstance(part, ast.Name | ast.Attribute)
             for name in [_target_name(part)]
             if name is not None
@@ -521,13 +459,13 @@ def _number(node: ast.expr) -> float:
     return float(value)
 
 
-def _assignments(tree: ast.AST) -> Iterable[tuple[ast.AST, ast.expr, ast.expr, bool]]:
+def _assignments(facts: SkillFacts) -> Iterable[tuple[ast.AST, ast.expr, ast.expr, bool]]:
     """(statement, target, value, inside __init__) for assignments and comparisons."""
     init_nodes: set[int] = set()
-    for function in ast.walk(tree):
+    for function in facts.walk(facts.tree):
         if isinstance(function, ast.FunctionDef) and function.name == "__init__":
-            init_nodes.update(id(n) for n in ast.walk(function))
-    for node in ast.walk(tree):
+            init_nodes.update(id(n) for n in facts.walk(function))
+    for node in facts.walk(facts.tree):
         in_init = id(node) in init_nodes
         if isinstance(node, ast.Assign):
             for target in node.targets:
@@ -548,34 +486,20 @@ def _spec_numbers(spec: SkillSpec) -> set[float]:
     return {float(m) for text in texts for m in re.findall(r"(?<![\w.])\d+(?:\.\d+)?", text)}
 
 
-def _input_attributes(cls: ast.ClassDef, binding: Binding) -> dict[str, str]:
-    """Attribute -> the capability input whose value the skill keeps in it: what the getter
-    of each bound @skill_parameter returns (``self.target_angular_speed`` for inVelocity)."""
-    held: dict[str, str] = {}
-    for node in cls.body:
-        for annotation, _ in _member_annotations(node):
-            meant = binding.target_of(annotation.name)
-            path = returned_path(node) if isinstance(node, ast.FunctionDef) else None
-            if meant is not None and annotation.direction == "input" and path is not None:
-                held[path.split(".")[0]] = meant
-    return held
-
-
-def _check_input_constants(
-    ctx: _Context,
-    tree: ast.Module,
-    capability: Capability,
-    spec: SkillSpec,
-    held: Mapping[str, str],
-) -> None:
-    sanctioned = _spec_numbers(spec) | {0.0}
+def _check_input_constants(facts: SkillFacts) -> list[Finding]:
+    """A number written out where the skill should use the value of a capability input: a
+    name that means the input given a number that is neither zero, one the specification
+    states, the resource's own limit nor a bound the input's value is held to."""
+    ctx = _Context()
+    capability, held = facts.capability, facts.input_attributes
+    sanctioned = _spec_numbers(facts.spec) | {0.0}
     inputs = [
         (component.name, _tokens(component.name))
         for parameter in capability.inputs
         for component in parameter.components
     ]
     if not inputs:
-        return
+        return ctx.findings
     own_attributes = {re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", n).lower() for n, _ in inputs}
     outputs = {
         re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", c.name).lower()
@@ -595,9 +519,9 @@ def _check_input_constants(
     def meaning(name: str) -> str | None:
         return held.get(name) or matching(name)
 
-    bounding = _bounding_names(tree, meaning)
+    bounding = _bounding_names(facts, meaning)
 
-    for statement, target, value, in_init in _assignments(tree):
+    for statement, target, value, in_init in _assignments(facts):
         name = _target_name(target)
         if name is None or not _is_number(value):
             continue
@@ -620,61 +544,36 @@ def _check_input_constants(
                 f"{input_name} (via {name!r}); use the value of its @skill_parameter",
                 data={"input": input_name, "name": name, "value": number},
             )
+    return ctx.findings
 
 
 # --- interface grounding ----------------------------------------------------------------
 
 
-def _uses(tree: ast.Module, imports: dict[str, str], ctx: _Context) -> list[_Use]:
-    uses: list[_Use] = []
-    for node in ast.walk(tree):
-        if not isinstance(node, ast.Call):
-            continue
-        call_name = _call_name(node)
-        if call_name == "TransformListener":
-            # A tf2 listener subscribes to the transform tree itself.
-            line, column = node.lineno, node.col_offset + 1
-            uses.append(_Use("/tf", "topic", "tf2_msgs/msg/TFMessage", line, column))
-            continue
-        if call_name not in _HANDLE_CALLS:
-            continue
-        args = list(node.args)
-        if call_name == "ActionClient":
-            args = args[1:]  # (node, ActionType, name)
-        type_arg = args[0] if args else _keyword(node, "msg_type") or _keyword(node, "srv_type")
-        name_arg = (
-            args[1] if len(args) > 1 else _keyword(node, "topic") or _keyword(node, "srv_name")
+def _check_interface_names(facts: SkillFacts) -> list[Finding]:
+    """A handle made for an interface whose name is not a string literal: no check can tell
+    which interface it is."""
+    return [
+        INTERFACE_NAME_NOT_LITERAL.at(
+            made.call,
+            f"{made.maker}: the interface name is not a string literal, so it cannot be checked",
+            data={"call": made.maker},
         )
-        name = _constant_text(name_arg)
-        if name is None:
-            ctx.add(
-                INTERFACE_NAME_NOT_LITERAL,
-                node,
-                f"{call_name}: the interface name is not a string literal, so it cannot be checked",
-                data={"call": call_name},
-            )
-            continue
-        type_name = imports.get(ast.unparse(type_arg)) if type_arg is not None else None
-        callback = None
-        if call_name == "create_subscription" and len(args) > 2:
-            callback = _target_name(args[2])
-        uses.append(
-            _Use(
-                name=_normalise(name),
-                kind=_HANDLE_CALLS[call_name],
-                type_name=type_name,
-                line=node.lineno,
-                column=node.col_offset + 1,
-                callback=callback,
-            )
-        )
-    return uses
+        for made in facts.made
+        if made.interface_kind is not None and made.name is None
+    ]
 
 
-def _check_uses(ctx: _Context, uses: Iterable[_Use], catalog: Catalog) -> None:
-    for use in uses:
+def _check_uses(facts: SkillFacts) -> list[Finding]:
+    """Each interface the file uses exists on the robot (in the catalog), as the kind of
+    interface and with the type the code uses it as."""
+    ctx = _Context()
+    catalog = facts.catalog
+    if catalog is None:
+        return ctx.findings
+    for use in facts.interface_uses:
         entry = catalog.entries.get(use.name)
-        where = ast.Constant(value=None, lineno=use.line, col_offset=use.column - 1)
+        where = use.call
         if entry is None:
             ctx.add(
                 UNKNOWN_INTERFACE,
@@ -698,6 +597,34 @@ def _check_uses(ctx: _Context, uses: Iterable[_Use], catalog: Catalog) -> None:
                 f"{use.name} carries {entry.type_name}, but the code uses {use.type_name}",
                 data={"name": use.name, "type": entry.type_name, "used_type": use.type_name},
             )
+    return ctx.findings
+
+
+def _check_retrieved(facts: SkillFacts) -> list[Finding]:
+    """The interfaces retrieval chose are the ones the code uses: one retrieved and never
+    used, or used and never retrieved, is most likely the wrong one."""
+    ctx = _Context()
+    if not facts.retrieved:
+        return ctx.findings
+    used = {u.name for u in facts.interface_uses}
+    wanted = {_normalise(n) for n in facts.retrieved}
+    for name in sorted(wanted - used):
+        ctx.add(
+            INTERFACE_RETRIEVED_UNUSED,
+            None,
+            f"{name} was retrieved but the code never uses it",
+            data={"name": name},
+        )
+    for use in facts.interface_uses:
+        if use.name not in wanted:
+            ctx.add(
+                INTERFACE_NOT_RETRIEVED,
+                use.call,
+                f"{use.name} is used but was not retrieved for this capability; "
+                "check that it is the right interface",
+                data={"name": use.name},
+            )
+    return ctx.findings
 
 
 def _chain(node: ast.expr) -> tuple[ast.expr, list[str]]:
@@ -1046,12 +973,13 @@ def _with_transforms(catalog: Catalog) -> Catalog:
     return catalog.model_copy(update={"fields": {**catalog.fields, _TRANSFORM_STAMPED: transforms}})
 
 
-def _returned_messages(cls: ast.ClassDef, imports: dict[str, str]) -> dict[str, str]:
+def _returned_messages(facts: SkillFacts) -> dict[str, str]:
     """Methods of the class annotated to return a message (``-> "NavigateToPose.Result"``,
     as the skeleton's result helpers are): method name -> ``pkg/action/Type.Result``."""
+    imports = facts.imports
     out: dict[str, str] = {}
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef) or method.returns is None:
+    for method in facts.functions:
+        if method.returns is None:
             continue
         annotation = method.returns
         if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
@@ -1080,20 +1008,18 @@ def _checked_results(method: ast.FunctionDef, helpers: AbstractSet[str]) -> set[
     }
 
 
-def _message_bindings(
-    cls: ast.ClassDef, uses: Sequence[_Use], returns: dict[str, str], imports: dict[str, str]
-) -> dict[str, dict[str, str]]:
+def _message_bindings(facts: SkillFacts, returns: dict[str, str]) -> dict[str, dict[str, str]]:
     """Per method: which local names / self attributes hold which message type (``returns``:
     the class's methods annotated to return a message, as :func:`_returned_messages` finds).
     A name given a part of a message (``twist = self.odom_msg.twist``) holds
     ``type#path`` (``nav_msgs/msg/Odometry#twist``): an Odometry's ``twist`` is a
     TwistWithCovariance, so ``twist.linear.x`` is missing (it is ``twist.twist.linear.x``).
     The second pass sees the attributes every method stores."""
-    callbacks = {u.callback: u.type_name for u in uses if u.callback and u.type_name}
+    callbacks = {m.callback: m.type_name for m in facts.made if m.callback and m.type_name}
     stored: dict[str, str] = {}
     per_method: dict[str, dict[str, str]] = {}
     for _ in range(2):
-        per_method = _bindings_pass(cls, callbacks, stored, returns, imports)
+        per_method = _bindings_pass(facts, callbacks, stored, returns)
     for bound in per_method.values():
         for attribute, key in stored.items():
             bound.setdefault(attribute, key)
@@ -1101,21 +1027,21 @@ def _message_bindings(
 
 
 def _bindings_pass(
-    cls: ast.ClassDef,
+    facts: SkillFacts,
     callbacks: dict[str, str],
     stored: dict[str, str],
     returns: dict[str, str],
-    imports: dict[str, str],
 ) -> dict[str, dict[str, str]]:
     """One pass of :func:`_message_bindings`; adds to ``stored``."""
+    imports = facts.imports
     per_method: dict[str, dict[str, str]] = {}
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    for method in facts.functions:
         bound: dict[str, str] = {}
         if method.name in callbacks and len(method.args.args) >= 2:
             message_type = callbacks[method.name]
             assert message_type is not None
             bound[method.args.args[1].arg] = message_type
-        for node in ast.walk(method):
+        for node in facts.walk(method):
             if not isinstance(node, ast.Assign) or len(node.targets) != 1:
                 continue
             target = node.targets[0]
@@ -1163,42 +1089,41 @@ def _part_of_message(
     return f"{key}.{'.'.join(path)}" if "#" in key else f"{key}#{'.'.join(path)}"
 
 
-def _check_fields(
-    ctx: _Context,
-    cls: ast.ClassDef,
-    uses: Sequence[_Use],
-    catalog: Catalog,
-    imports: dict[str, str],
-) -> None:
-    returns = _returned_messages(cls, imports)
-    bindings = _message_bindings(cls, uses, returns, imports)
-    _check_arguments(ctx, cls, catalog, imports, bindings)
-    _check_yaw_arguments(ctx, cls, bindings)
-    _check_heading_arguments(ctx, cls, bindings)
-    numeric_attributes = _numeric_attributes(cls)
-    numeric_attributes |= _numeric_callables(cls, numeric_attributes)
+def _check_fields(facts: SkillFacts) -> list[Finding]:
+    """Messages built, sent and read as the robot's interfaces define them: each field a
+    chain of attributes or a keyword names exists, a message handed to a handle is of its
+    type, the skeleton's helpers get a quaternion or an angle where they take one, and a
+    message's fields are given by keyword and as messages where they are messages."""
+    ctx = _Context()
+    catalog, imports = facts.catalog, facts.imports
+    if facts.skill is None or catalog is None:
+        return ctx.findings
+    returns = _returned_messages(facts)
+    bindings = _message_bindings(facts, returns)
+    _check_arguments(ctx, facts, catalog, bindings)
+    _check_yaw_arguments(ctx, facts, bindings)
+    _check_heading_arguments(ctx, facts, bindings)
+    numeric_attributes = _numeric_attributes(facts)
+    numeric_attributes |= _numeric_callables(facts, numeric_attributes)
     known = _with_transforms(catalog)
     helpers = {name for name, key in returns.items() if key.endswith(".Result")}
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    for method in facts.functions:
         visitor = _FieldVisitor(
             ctx, known, bindings.get(method.name, {}), _checked_results(method, helpers)
         )
         visitor.generic_visit(method)
         visitor.report()
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    statement_of = facts.statement_of
+    for method in facts.functions:
         numbers = _numeric_names(method, numeric_attributes) | numeric_attributes
-        statement_of = simple_statements(method)
         published = {
             id(call.args[0]): ast.unparse(call.func)
-            for call in ast.walk(method)
-            if isinstance(call, ast.Call)
-            and isinstance(call.func, ast.Attribute)
+            for call in facts.calls(method)
+            if isinstance(call.func, ast.Attribute)
             and call.func.attr == "publish"
             and len(call.args) == 1
         }
-        for node in ast.walk(method):
-            if not isinstance(node, ast.Call):
-                continue
+        for node in facts.calls(method):
             func = ast.unparse(node.func)
             head, _, tail = func.partition(".")
             if head not in imports or (tail and tail not in _NESTED_TYPES):
@@ -1251,6 +1176,7 @@ def _check_fields(
                         replacement=fix,
                         data={"type": key, "field": keyword.arg, "fields": sorted(nested)},
                     )
+    return ctx.findings
 
 
 _ORIENTATIONS = {
@@ -1264,13 +1190,13 @@ _ORIENTATIONS = {
 
 
 def _check_yaw_arguments(
-    ctx: _Context, cls: ast.ClassDef, bindings: dict[str, dict[str, str]]
+    ctx: _Context, facts: SkillFacts, bindings: dict[str, dict[str, str]]
 ) -> None:
     """The skeleton's ``self._yaw(q)`` handed a whole message (``self._yaw(transform)``): it
     takes the quaternion, which a message has no x, y, z, w of its own for (AttributeError),
     and the fix hands it the message's orientation."""
-    for call, bound, statement in _helper_calls(cls, "_yaw", bindings):
-        given = helper_argument(call, "q")
+    for call, bound, statement in _helper_calls(facts, "_yaw", bindings):
+        given = facts.helper_argument(call, "q")
         if given is None or len(call.args) + len(call.keywords) != 1:
             continue
         argument = ast.unparse(given)
@@ -1302,29 +1228,28 @@ def _replaced_once(statement: ast.stmt | None, old: str, new: str) -> str | None
 
 
 def _helper_calls(
-    cls: ast.ClassDef, helper: str, bindings: dict[str, dict[str, str]]
+    facts: SkillFacts, helper: str, bindings: dict[str, dict[str, str]]
 ) -> Iterable[tuple[ast.Call, dict[str, str], ast.stmt | None]]:
     """Every call of the skeleton's ``self.<helper>(...)`` when the class has that helper,
     with the message types its method binds to names and the statement that holds it."""
-    if not any(isinstance(n, ast.FunctionDef) and n.name == helper for n in cls.body):
+    if helper not in facts.methods:
         return
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    for method in facts.functions:
         bound = bindings.get(method.name, {})
-        statement_of = simple_statements(method)
-        for call in ast.walk(method):
-            if isinstance(call, ast.Call) and self_attribute(call.func) == helper:
-                yield call, bound, statement_of.get(id(call))
+        for call in facts.calls(method):
+            if self_attribute(call.func) == helper:
+                yield call, bound, facts.statement_of.get(id(call))
 
 
 def _check_heading_arguments(
-    ctx: _Context, cls: ast.ClassDef, bindings: dict[str, dict[str, str]]
+    ctx: _Context, facts: SkillFacts, bindings: dict[str, dict[str, str]]
 ) -> None:
     """The skeleton's ``self._pose_goal(frame, x, y, yaw)`` handed an orientation for the
     heading (a quaternion, or a whole odometry, pose or transform): it takes the angle in
     radians, which ``math.sin`` of a message raises TypeError on, and the fix hands it
     ``self._yaw()`` of the quaternion."""
-    for call, bound, statement in _helper_calls(cls, "_pose_goal", bindings):
-        heading = helper_argument(call, "yaw")
+    for call, bound, statement in _helper_calls(facts, "_pose_goal", bindings):
+        heading = facts.helper_argument(call, "yaw")
         if heading is None:
             continue
         text = ast.unparse(heading)
@@ -1429,28 +1354,8 @@ _MADE_BY = {
 """The call that makes a handle with that method."""
 
 
-def _handle_types(cls: ast.ClassDef, imports: dict[str, str]) -> dict[str, str]:
-    """``self.<attribute>`` -> the type of the interface the handle in it was made for."""
-    out: dict[str, str] = {}
-    for node in ast.walk(cls):
-        if not (
-            isinstance(node, ast.Assign)
-            and len(node.targets) == 1
-            and isinstance(node.value, ast.Call)
-            and _call_name(node.value) in _HANDLE_CALLS
-        ):
-            continue
-        args = list(node.value.args)
-        if _call_name(node.value) == "ActionClient":
-            args = args[1:]
-        type_name = imports.get(ast.unparse(args[0])) if args else None
-        if type_name is not None:
-            out[ast.unparse(node.targets[0])] = type_name
-    return out
-
-
 def _argument_type(
-    argument: ast.expr, bound: dict[str, str], imports: dict[str, str]
+    argument: ast.expr, bound: dict[str, str], imports: Mapping[str, str]
 ) -> str | None:
     if isinstance(argument, ast.Name):
         return bound.get(argument.id)
@@ -1463,27 +1368,27 @@ def _argument_type(
 
 def _check_arguments(
     ctx: _Context,
-    cls: ast.ClassDef,
+    facts: SkillFacts,
     catalog: Catalog,
-    imports: dict[str, str],
     bindings: dict[str, dict[str, str]],
 ) -> None:
     """A message handed to ``publish``, ``send_goal_async``, ``call_async`` or a skeleton's
     ``_send_<action>_goal`` must be of the type the handle carries (the model sent a
     PoseStamped as a NavigateToPose goal). When the expected message has a field of the
     given type, the finding carries the statement that wraps it in one."""
-    handles = _handle_types(cls, imports)
-    makers = {
-        ast.unparse(n.targets[0]): _call_name(n.value)
-        for n in ast.walk(cls)
-        if isinstance(n, ast.Assign) and len(n.targets) == 1 and isinstance(n.value, ast.Call)
+    imports = facts.imports
+    handles = {
+        h.target: h.made.type_name
+        for h in facts.handles
+        if h.made.interface_kind is not None and h.made.type_name is not None
     }
+    makers = {h.target: h.made.maker for h in facts.handles}
     classes = {type_name: name for name, type_name in imports.items()}
-    statement_of = simple_statements(cls)
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    statement_of = facts.statement_of
+    for method in facts.functions:
         bound = bindings.get(method.name, {})
-        for call in ast.walk(method):
-            if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute)):
+        for call in facts.calls(method):
+            if not isinstance(call.func, ast.Attribute):
                 continue
             receiver, attr = ast.unparse(call.func.value), call.func.attr
             expected = None
@@ -1551,11 +1456,13 @@ def _field_holding(catalog: Catalog, container: str, content: str) -> str | None
     return holders[0] if len(holders) == 1 else None
 
 
-def _check_constants(
-    ctx: _Context, cls: ast.ClassDef, catalog: Catalog, imports: dict[str, str]
-) -> None:
+def _check_constants(facts: SkillFacts) -> list[Finding]:
     """``Twist.YAW_RATE``: an upper-case attribute of a message class whose definition is
     known must be one of its constants."""
+    ctx = _Context()
+    cls, catalog, imports = facts.skill, facts.catalog, facts.imports
+    if cls is None or catalog is None:
+        return ctx.findings
     own = [
         f"self.{target.id}"
         for statement in cls.body
@@ -1564,8 +1471,8 @@ def _check_constants(
         if isinstance(target, ast.Name) and target.id.isupper()
     ]
     mine = f"; the skill's own: {', '.join(own)}" if own else ""
-    statement_of = simple_statements(cls)
-    for node in ast.walk(cls):
+    statement_of = facts.statement_of
+    for node in facts.nodes:
         if not (
             isinstance(node, ast.Attribute)
             and isinstance(node.value, ast.Name)
@@ -1585,6 +1492,7 @@ def _check_constants(
             replacement=_with_own_constant(node, own, statement_of.get(id(node))),
             data={"type": type_name, "constant": node.attr, "constants": known},
         )
+    return ctx.findings
 
 
 _QUANTITY_WORDS = {"yaw": "angular", "turn": "angular", "rate": "velocity", "speed": "velocity"}
@@ -1626,13 +1534,13 @@ def _numeric_names(function: ast.FunctionDef, known: AbstractSet[str] = frozense
 _NUMERIC_ANNOTATIONS = frozenset({"float", "int"})
 
 
-def _numeric_callables(cls: ast.ClassDef, attributes: AbstractSet[str]) -> set[str]:
+def _numeric_callables(facts: SkillFacts, attributes: AbstractSet[str]) -> set[str]:
     """``self.<name>()`` for the methods of the class that return a number (annotated so, or
     every value they return is one) and the lambdas it keeps on itself that do
     (``self._clipped_speed = lambda speed: min(...)``, then
     ``Twist(linear=self._clipped_speed(v))``, a number where a Vector3 goes)."""
     out: set[str] = set()
-    methods = [n for n in cls.body if isinstance(n, ast.FunctionDef)]
+    methods = facts.functions
     for method in methods:
         annotation = ast.unparse(method.returns) if method.returns is not None else None
         values = [
@@ -1658,9 +1566,12 @@ def _numeric_callables(cls: ast.ClassDef, attributes: AbstractSet[str]) -> set[s
     return out
 
 
-def _numeric_attributes(cls: ast.ClassDef) -> set[str]:
+def _numeric_attributes(facts: SkillFacts) -> set[str]:
     """``self.<name>`` for the class's upper-case constants and the attributes ``__init__``
     gives a number (the skill's inputs and outputs): what holds a number, not a message."""
+    cls = facts.skill
+    if cls is None:
+        return set()
     out = {
         f"self.{target.id}"
         for statement in cls.body
@@ -1668,9 +1579,9 @@ def _numeric_attributes(cls: ast.ClassDef) -> set[str]:
         for target in statement.targets
         if isinstance(target, ast.Name) and target.id.isupper()
     }
-    for method in cls.body:
-        if isinstance(method, ast.FunctionDef) and method.name == "__init__":
-            for node in ast.walk(method):
+    for method in facts.functions:
+        if method.name == "__init__":
+            for node in facts.walk(method):
                 if isinstance(node, ast.Assign) and _is_number(node.value):
                     targets = node.targets
                 elif isinstance(node, ast.AnnAssign) and _is_number(node.value):
@@ -1704,19 +1615,20 @@ def _is_scalar(node: ast.expr, numbers: AbstractSet[str] = frozenset()) -> bool:
     return False
 
 
-def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability) -> None:
+def _check_input_writes(facts: SkillFacts) -> list[Finding]:
     """Inputs are set by the client; a state that overwrites one changes the request. Where
     it can, the fix keeps the method's arithmetic on a local copy of the input."""
+    ctx = _Context()
     attributes = {
         re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", c.name).lower(): c.name
-        for parameter in capability.inputs
+        for parameter in facts.capability.inputs
         for c in parameter.components
     }
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef) or method.name == "__init__":
+    for method in facts.functions:
+        if method.name == "__init__":
             continue
         written: dict[str, ast.stmt] = {}
-        for node in ast.walk(method):
+        for node in facts.walk(method):
             if not isinstance(node, ast.Assign | ast.AugAssign | ast.AnnAssign):
                 continue
             targets = node.targets if isinstance(node, ast.Assign) else [node.target]
@@ -1750,6 +1662,7 @@ def _check_input_writes(ctx: _Context, cls: ast.ClassDef, capability: Capability
                     replacement=replacement,
                     data={"input": attributes[attr], "attribute": attr, "local": local},
                 )
+    return ctx.findings
 
 
 def _parameter_detail(capability: Capability, name: str, annotation: str | None) -> str:
@@ -1772,34 +1685,31 @@ def _parameter_detail(capability: Capability, name: str, annotation: str | None)
     return ""
 
 
-def _check_parameter_use(
-    ctx: _Context, cls: ast.ClassDef, capability: Capability, binding: Binding
-) -> None:
+def _check_parameter_use(facts: SkillFacts) -> list[Finding]:
     """An input no method reads, or an output no method sets, once every state is written:
     the skill ignores what it is asked, or reports what ``__init__`` put there. Each is
     given at its getter, as the run gives it (generation asks ``execute`` for the fix), with
-    what the capability says the parameter is, so that the fix knows what to use or store."""
+    what the capability says the parameter is, so that the fix knows what to use or store.
+    The attribute is the one the getter returns, as pySkillUp reads it
+    (:attr:`~skillwright.validation.facts.Getter.path`); a getter that returns a part of an
+    object (``self.goal.x``) is left alone: what it reads and writes are the object's
+    fields."""
+    ctx = _Context()
+    capability, binding = facts.capability, facts.binding
+    if facts.skill is None or _empty_states(facts) or _unimplemented(facts):
+        return ctx.findings  # not every state is written yet
     getters: dict[str, tuple[str, str, str, ast.AST, str, str]] = {}
-    for node in cls.body:
-        if not isinstance(node, ast.FunctionDef):
+    for getter in facts.getters:
+        path = getter.path
+        if path is None or "." in path:
             continue
-        for dec in node.decorator_list:
-            kind = _decorator_name(dec) if isinstance(dec, ast.Call) else None
-            if kind not in {"skill_parameter", "skill_output"} or not isinstance(dec, ast.Call):
-                continue
-            returned = [s for s in _body_without_docstring(node) if isinstance(s, ast.Return)]
-            value = returned[0].value if len(returned) == 1 else None
-            if (
-                isinstance(value, ast.Attribute)
-                and isinstance(value.value, ast.Name)
-                and value.value.id == "self"
-            ):
-                name = _constant_text(_keyword(dec, "name")) or node.name
-                annotation = ast.unparse(node.returns) if node.returns is not None else None
-                meant = binding.target_of(name) or name
-                detail = _parameter_detail(capability, meant, annotation)
-                getters[node.name] = (kind, name, value.attr, dec, detail, meant)
-    uses = _attribute_uses(cls, {*getters, "__init__"})
+        method, name = getter.method, getter.annotation.name
+        kind = "skill_parameter" if getter.annotation.direction == "input" else "skill_output"
+        annotation = ast.unparse(method.returns) if method.returns is not None else None
+        meant = binding.target_of(name) or name
+        detail = _parameter_detail(capability, meant, annotation)
+        getters[method.name] = (kind, name, path, getter.decorator, detail, meant)
+    uses = _attribute_uses(facts, {*getters, "__init__"})
     reads, idle, checked = uses.reads, uses.idle, uses.checked
     for kind, name, attr, where, detail, meant in getters.values():
         about = f" ({detail})" if detail else ""
@@ -1837,8 +1747,8 @@ def _check_parameter_use(
                 where,
                 f"output {name} is never set: no method assigns self.{attr}, so the getter "
                 f"returns what __init__ put there; store the value it reports{about} in "
-                f"self.{attr} before execute ends{_sources(cls, capability, meant)}",
-                data={"output": name, "attribute": attr, "scans": _scans(cls, capability, meant)},
+                f"self.{attr} before execute ends{_sources(facts, meant)}",
+                data={"output": name, "attribute": attr, "scans": _scans(facts, meant)},
             )
         elif (
             kind == "skill_output"
@@ -1846,7 +1756,8 @@ def _check_parameter_use(
             and _only_constants(uses.stored.get(attr, []))
         ):
             values = ", ".join(dict.fromkeys(ast.unparse(v) for v in uses.stored[attr] if v))
-            _literal_output(ctx, cls, capability, (meant, attr, values), where, about)
+            _literal_output(ctx, facts, (meant, attr, values), where, about)
+    return ctx.findings
 
 
 @dataclass
@@ -1865,11 +1776,11 @@ class _AttributeUses:
     itself or through a local copy."""
 
 
-def _attribute_uses(cls: ast.ClassDef, skipped: AbstractSet[str]) -> _AttributeUses:
-    """How the methods of ``cls`` but the ``skipped`` ones use its attributes."""
+def _attribute_uses(facts: SkillFacts, skipped: AbstractSet[str]) -> _AttributeUses:
+    """How the methods of the class but the ``skipped`` ones use its attributes."""
     uses = _AttributeUses()
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef) or method.name in skipped:
+    for method in facts.functions:
+        if method.name in skipped:
             continue
         if method.name != "resetting":
             for attr, value in _self_stores(method):
@@ -1901,8 +1812,7 @@ def _attribute_uses(cls: ast.ClassDef, skipped: AbstractSet[str]) -> _AttributeU
 
 def _literal_output(
     ctx: _Context,
-    cls: ast.ClassDef,
-    capability: Capability,
+    facts: SkillFacts,
     output: tuple[str, str, str],
     where: ast.AST,
     about: str,
@@ -1914,7 +1824,7 @@ def _literal_output(
         f"output {name} is only ever set to {values}: no method assigns self.{attr} "
         f"a measured value, so the skill reports a fixed number whatever happened; "
     )
-    worked_out = _worked_out_local(cls, attr)
+    worked_out = _worked_out_local(facts, attr)
     if worked_out is not None:
         store, method_name, local = worked_out
         ctx.add(
@@ -1927,10 +1837,10 @@ def _literal_output(
                 "output": name,
                 "attribute": attr,
                 "values": values,
-                "scans": _scans(cls, capability, name),
+                "scans": _scans(facts, name),
             },
         )
-    elif (reading := _helper_reading(cls, capability, name, attr)) is not None:
+    elif (reading := _helper_reading(facts, name, attr)) is not None:
         store, method_name, value = reading
         ctx.add(
             OUTPUT_CONSTANT,
@@ -1942,7 +1852,7 @@ def _literal_output(
                 "output": name,
                 "attribute": attr,
                 "values": values,
-                "scans": _scans(cls, capability, name),
+                "scans": _scans(facts, name),
             },
         )
     else:
@@ -1950,12 +1860,12 @@ def _literal_output(
             OUTPUT_CONSTANT,
             where,
             message + f"store what it measures{about} in self.{attr} before execute "
-            f"ends{_sources(cls, capability, name)}",
+            f"ends{_sources(facts, name)}",
             data={
                 "output": name,
                 "attribute": attr,
                 "values": values,
-                "scans": _scans(cls, capability, name),
+                "scans": _scans(facts, name),
             },
         )
 
@@ -1964,15 +1874,13 @@ _DEGREES = frozenset({"°", "deg", "degree", "degrees"})
 _RADIANS = frozenset({"rad", "radian", "radians"})
 
 
-def _helper_reading(
-    cls: ast.ClassDef, capability: Capability, name: str, attr: str
-) -> tuple[ast.Assign, str, str] | None:
+def _helper_reading(facts: SkillFacts, name: str, attr: str) -> tuple[ast.Assign, str, str] | None:
     """A store of a literal in ``self.<attr>`` in a method that calls the skeleton's
     ``self._closest_reading(scan)``, for an output in metres or in an angle unit: the
     store, the method and the element of the helper's answer that the output reports (its
     bearing in the output's unit, or its distance): the helper gives both, and a literal
     reports the same number whatever the scan showed."""
-    unit = next((p.element.unit for p in capability.outputs if p.name == name), None)
+    unit = next((p.element.unit for p in facts.capability.outputs if p.name == name), None)
     unit = (unit or "").strip().lower()
     if unit == "m":
         element = "[0]"
@@ -1980,19 +1888,17 @@ def _helper_reading(
         element = "[1]"
     else:
         return None
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef) or method.name in {"__init__", "resetting"}:
+    for method in facts.functions:
+        if method.name in {"__init__", "resetting"}:
             continue
         scans = {
             ast.unparse(node.args[0])
-            for node in ast.walk(method)
-            if isinstance(node, ast.Call)
-            and self_attribute(node.func) == "_closest_reading"
-            and len(node.args) == 1
+            for node in facts.calls(method)
+            if self_attribute(node.func) == "_closest_reading" and len(node.args) == 1
         }
         stores = [
             node
-            for node in ast.walk(method)
+            for node in facts.walk(method)
             if isinstance(node, ast.Assign)
             and len(node.targets) == 1
             and self_attribute(node.targets[0]) == attr
@@ -2006,19 +1912,19 @@ def _helper_reading(
     return None
 
 
-def _worked_out_local(cls: ast.ClassDef, attr: str) -> tuple[ast.Assign, str, str] | None:
+def _worked_out_local(facts: SkillFacts, attr: str) -> tuple[ast.Assign, str, str] | None:
     """A store of a literal in ``self.<attr>`` that follows, in the same method, a local of
     the output's name (``out_obstacle_degree``, else ``obstacle_degree``) given a computed
     value, not a copy of an input: the store, the method and the local. The value worked out
     is what the output should report; the literal reports a fixed number."""
     names = {attr, attr.removeprefix("out_")}
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef) or method.name in {"__init__", "resetting"}:
+    for method in facts.functions:
+        if method.name in {"__init__", "resetting"}:
             continue
         computed: dict[str, int] = {}
         store: tuple[ast.Assign, str] | None = None
         for node in sorted(
-            (n for n in ast.walk(method) if isinstance(n, ast.Assign) and len(n.targets) == 1),
+            (n for n in facts.walk(method) if isinstance(n, ast.Assign) and len(n.targets) == 1),
             key=lambda n: n.lineno,
         ):
             target = node.targets[0]
@@ -2033,10 +1939,10 @@ def _worked_out_local(cls: ast.ClassDef, attr: str) -> tuple[ast.Assign, str, st
     return None
 
 
-def _sources(cls: ast.ClassDef, capability: Capability, name: str) -> str:
+def _sources(facts: SkillFacts, name: str) -> str:
     """Where the skill can read what output ``name`` measures, as the end of a message."""
-    unit = _measured_unit(capability, name)
-    found = measuring_sources(cls, unit) if unit is not None else []
+    unit = _measured_unit(facts.capability, name)
+    found = measuring_sources(facts, unit) if unit is not None else []
     return f"; the skill can read it from {' or '.join(found)}" if found else ""
 
 
@@ -2048,10 +1954,10 @@ def _measured_unit(capability: Capability, name: str) -> str | None:
     return unit if unit is not None and _measured(capability, name) else None
 
 
-def _scans(cls: ast.ClassDef, capability: Capability, name: str) -> list[str]:
+def _scans(facts: SkillFacts, name: str) -> list[str]:
     """The scans the finding of output ``name`` tells the skill to read raw."""
-    unit = _measured_unit(capability, name)
-    return raw_scans(cls, unit) if unit is not None else []
+    unit = _measured_unit(facts.capability, name)
+    return raw_scans(facts, unit) if unit is not None else []
 
 
 def _self_stores(method: ast.FunctionDef) -> list[tuple[str, ast.expr | None]]:
@@ -2210,13 +2116,14 @@ _KEYWORDS_AND_BUILTINS = frozenset({*kwlist, *dir(builtins), "self", "math", "ti
 """Names a local copy may not take."""
 
 
-def _check_goal_results(ctx: _Context, cls: ast.ClassDef) -> None:
+def _check_goal_results(facts: SkillFacts) -> list[Finding]:
     """A goal's result waited for (the skeleton's ``self._X_result(...)``) in a class that
     never sends that goal (``self._X_goal(...)`` is never called): the wait can only fail."""
-    methods = {n.name for n in cls.body if isinstance(n, ast.FunctionDef)}
+    ctx = _Context()
+    methods = facts.methods
     calls = [
         (node, node.func.attr)
-        for node in ast.walk(cls)
+        for node in facts.nodes
         if isinstance(node, ast.Call)
         and isinstance(node.func, ast.Attribute)
         and isinstance(node.func.value, ast.Name)
@@ -2235,6 +2142,7 @@ def _check_goal_results(ctx: _Context, cls: ast.ClassDef) -> None:
             f"with self.{send}(goal, timeout), and then wait for its result",
             data={"helper": name, "send": send},
         )
+    return ctx.findings
 
 
 _MAKES_HANDLE = frozenset(
@@ -2248,19 +2156,15 @@ _MAKES_HANDLE = frozenset(
 )
 
 
-def _check_handles(ctx: _Context, cls: ast.ClassDef) -> None:
+def _check_handles(facts: SkillFacts) -> list[Finding]:
     """A handle made in one state and made again in another: the second one leaks the first
     (a subscription then delivers every message twice)."""
+    ctx = _Context()
+    makes = {id(m.call) for m in facts.made if m.maker in _MAKES_HANDLE}
     made: dict[str, str] = {}
-    for method in cls.body:
-        if not isinstance(method, ast.FunctionDef):
-            continue
-        for node in ast.walk(method):
-            if not (
-                isinstance(node, ast.Assign)
-                and isinstance(node.value, ast.Call)
-                and _call_name(node.value) in _MAKES_HANDLE
-            ):
+    for method in facts.functions:
+        for node in facts.walk(method):
+            if not (isinstance(node, ast.Assign) and id(node.value) in makes):
                 continue
             for target in node.targets:
                 if not (isinstance(target, ast.Attribute) and ast.unparse(target.value) == "self"):
@@ -2276,19 +2180,21 @@ def _check_handles(ctx: _Context, cls: ast.ClassDef) -> None:
                         replacement="" if len(node.targets) == 1 else None,
                         data={"attribute": target.attr, "first": first},
                     )
+    return ctx.findings
 
 
-def _check_timers(ctx: _Context, cls: ast.ClassDef) -> None:
+def _check_timers(facts: SkillFacts) -> list[Finding]:
     """A timer fires until it is cancelled: one kept only in a local variable (or not kept)
     goes on firing after its state ended, with handles resetting released; one kept on the
     skill must be cancelled somewhere."""
-    cancelled = _cancelled(cls)
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
-        for statement in ast.walk(method):
+    ctx = _Context()
+    cancelled = _cancelled(facts.nodes)
+    for method in facts.functions:
+        for statement in facts.walk(method):
             if not isinstance(statement, ast.Assign | ast.Expr):
                 continue
             call = statement.value
-            if not (isinstance(call, ast.Call) and _call_name(call) == "create_timer"):
+            if not (isinstance(call, ast.Call) and called_name(call) == "create_timer"):
                 continue
             targets = statement.targets if isinstance(statement, ast.Assign) else []
             kept = [ast.unparse(t) for t in targets if ast.unparse(t).startswith("self.")]
@@ -2304,7 +2210,7 @@ def _check_timers(ctx: _Context, cls: ast.ClassDef) -> None:
                     )
                 continue
             local = {ast.unparse(t) for t in targets}
-            if local & _cancelled(method):
+            if local & _cancelled(facts.walk(method)):
                 continue  # a timer for a while of this method, cancelled in it
             attribute = f"self.{_timer_name(call)}"
             reads = any(
@@ -2321,14 +2227,15 @@ def _check_timers(ctx: _Context, cls: ast.ClassDef) -> None:
                 replacement=None if reads else f"{attribute} = {ast.unparse(call)}",
                 data={"attribute": attribute},
             )
+    return ctx.findings
 
 
-def _cancelled(node: ast.AST) -> set[str]:
-    """What ``node`` cancels or destroys as a timer (``x.cancel()``, ``destroy_timer(x)``), as
+def _cancelled(nodes: Iterable[ast.AST]) -> set[str]:
+    """What ``nodes`` cancel or destroy as a timer (``x.cancel()``, ``destroy_timer(x)``), as
     source."""
     return {
         ast.unparse(call.func.value) if call.func.attr == "cancel" else ast.unparse(call.args[0])
-        for call in ast.walk(node)
+        for call in nodes
         if isinstance(call, ast.Call)
         and isinstance(call.func, ast.Attribute)
         and (call.func.attr == "cancel" or (call.func.attr == "destroy_timer" and call.args))
@@ -2344,6 +2251,52 @@ def _timer_name(call: ast.Call) -> str:
     return "timer"
 
 
+def _check_skill_class(facts: SkillFacts) -> list[Finding]:
+    """The file has a class decorated with ``@skill(...)``: pySkillUp runs nothing else."""
+    if facts.skill is not None:
+        return []
+    return [NO_SKILL_CLASS.at(None, "no class decorated with @skill(...)")]
+
+
+STATIC_CHECKS: tuple[Callable[[SkillFacts], list[Finding]], ...] = (
+    _check_interface_names,
+    _check_input_constants,
+    _check_skill_class,
+    _check_skill_decorator,
+    _check_parameters,
+    _check_states,
+    _check_placeholders,
+    _check_swallowed_errors,
+    _check_input_writes,
+    _check_parameter_use,
+    _check_handles,
+    _check_goal_results,
+    _check_timers,
+    check_names,
+    check_waits,
+    check_stale_conditions,
+    check_stops,
+    check_filtered_positions,
+    check_angle_units,
+    check_unsent,
+    check_first_messages,
+    check_settling,
+    check_views,
+    check_equality,
+    check_motion,
+    check_zero_timeouts,
+    check_bearings,
+    check_frames,
+    check_grace,
+    _check_fields,
+    _check_constants,
+    _check_uses,
+    _check_retrieved,
+)
+"""Every static check, in the order its findings are gathered: each takes the file's facts
+and says what it finds (the class's checks find nothing in a file without a skill class)."""
+
+
 def check_skill(
     source: str,
     *,
@@ -2354,7 +2307,9 @@ def check_skill(
     path: str = "skill.py",
     bindings: Mapping[str, str] | None = None,
 ) -> CheckReport:
-    """Runs every static check on the skill ``source``.
+    """Runs every static check on the skill ``source``: parses it once, works out its facts
+    (:class:`~skillwright.validation.facts.SkillFacts`) and hands them to each of
+    :data:`STATIC_CHECKS` in one pass.
 
     The skill's parameters and outputs are bound to the capability's inputs and outputs by
     name, by meaning or as ``bindings`` (the skill's name -> the capability's) say.
@@ -2362,91 +2317,25 @@ def check_skill(
     ``catalog`` enables the grounding checks; ``retrieved`` names the interfaces
     retrieval chose, for the used-versus-retrieved check.
     """
-    ctx = _Context()
     try:
-        tree = ast.parse(source, filename=path)
-    except SyntaxError as error:
-        ctx.findings.append(
-            SYNTAX_ERROR.finding(
-                line=error.lineno or 0,
-                column=error.offset or 0,
-                message=f"syntax error: {error.msg}",
-                data={"detail": error.msg},
-            )
+        facts = SkillFacts.build(
+            source,
+            capability=capability,
+            spec=spec,
+            catalog=catalog,
+            retrieved=retrieved,
+            path=path,
+            bindings=bindings,
         )
-        return CheckReport(path=path, findings=ctx.findings)
-
-    imports = _imports(tree)
-    uses = _uses(tree, imports, ctx)
-    found = _skill_class(tree)
-    binding = bind(
-        [a for a, _ in _annotations(found[0])] if found is not None else [],
-        capability,
-        bindings or {},
-    )
-    held = _input_attributes(found[0], binding) if found is not None else {}
-    _check_input_constants(ctx, tree, capability, spec, held)
-    if found is None:
-        ctx.add(NO_SKILL_CLASS, None, "no class decorated with @skill(...)")
-        ctx.findings += check_names(source, tree, None, imports)
-    else:
-        cls, decorator = found
-        _check_skill_decorator(ctx, cls, decorator, capability, spec)
-        _check_parameters(ctx, cls, capability, binding)
-        methods = _check_states(ctx, cls, spec)
-        _check_placeholders(ctx, tree, source, methods)
-        _check_swallowed_errors(ctx, methods, spec)
-        _check_input_writes(ctx, cls, capability)
-        placeholders = {EMPTY_STATE.code, NOT_IMPLEMENTED.code}
-        if not any(f.code in placeholders for f in ctx.findings):
-            _check_parameter_use(ctx, cls, capability, binding)
-        _check_handles(ctx, cls)
-        _check_goal_results(ctx, cls)
-        _check_timers(ctx, cls)
-        for findings in (
-            check_names(source, tree, cls, imports),
-            check_waits(cls),
-            check_stale_conditions(cls),
-            check_stops(cls),
-            check_filtered_positions(cls),
-            check_angle_units(cls, capability),
-            check_unsent(cls),
-            check_first_messages(cls, methods),
-            check_settling(cls),
-            check_views(cls, tree),
-            check_equality(cls, capability),
-            check_motion(cls, methods, capability),
-            check_zero_timeouts(cls),
-            check_bearings(cls),
-            check_frames(cls),
-            check_grace(cls, methods, spec.states),
-        ):
-            ctx.findings += findings
-        if catalog is not None:
-            _check_fields(ctx, cls, uses, catalog, imports)
-            _check_constants(ctx, cls, catalog, imports)
-    if catalog is not None:
-        _check_uses(ctx, uses, catalog)
-
-    used = sorted({u.name for u in uses})
-    wanted = {_normalise(n) for n in retrieved}
-    if retrieved:
-        for name in sorted(wanted - set(used)):
-            ctx.add(
-                INTERFACE_RETRIEVED_UNUSED,
-                None,
-                f"{name} was retrieved but the code never uses it",
-                data={"name": name},
-            )
-        for use in uses:
-            if use.name not in wanted:
-                where = ast.Constant(value=None, lineno=use.line, col_offset=use.column - 1)
-                ctx.add(
-                    INTERFACE_NOT_RETRIEVED,
-                    where,
-                    f"{use.name} is used but was not retrieved for this capability; "
-                    "check that it is the right interface",
-                    data={"name": use.name},
-                )
-    findings = sorted(ctx.findings, key=lambda f: (f.line, f.column, f.check))
+    except SyntaxError as error:
+        finding = SYNTAX_ERROR.finding(
+            line=error.lineno or 0,
+            column=error.offset or 0,
+            message=f"syntax error: {error.msg}",
+            data={"detail": error.msg},
+        )
+        return CheckReport(path=path, findings=[finding])
+    findings = [finding for check in STATIC_CHECKS for finding in check(facts)]
+    findings.sort(key=lambda f: (f.line, f.column, f.check))
+    used = sorted({u.name for u in facts.interface_uses})
     return CheckReport(path=path, findings=findings, used_interfaces=used)

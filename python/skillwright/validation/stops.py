@@ -20,6 +20,7 @@ import ast
 
 from skillwright.rules.behaviour import STOP_IN_WAIT_LOOP
 from skillwright.rules.finding import Finding
+from skillwright.validation.facts import SkillFacts
 from skillwright.validation.syntax import blocks, error_at, self_method
 
 __all__ = ["check_stops", "loop_publishes", "zero_velocity"]
@@ -27,10 +28,10 @@ __all__ = ["check_stops", "loop_publishes", "zero_velocity"]
 _VELOCITY = frozenset({"Twist", "TwistStamped"})
 
 
-def check_stops(cls: ast.ClassDef) -> list[Finding]:
+def check_stops(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``stops``) for loops that command zero velocity on every pass after
     a motion command started them."""
-    methods = [n for n in cls.body if isinstance(n, ast.FunctionDef)]
+    methods = facts.functions
     stoppers = {m.name: p for m in methods if (p := _stopper(m)) is not None}
     findings = []
     for method in methods:

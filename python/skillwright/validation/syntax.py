@@ -6,20 +6,36 @@ import ast
 import copy
 from collections.abc import Callable
 
-from skillwright.generation.helpers import helper_signature
 from skillwright.rules.finding import Finding
 from skillwright.rules.registry import Rule
 
 __all__ = [
+    "COMPOUND_STATEMENTS",
     "blocks",
+    "called_name",
     "error_at",
-    "helper_argument",
+    "keyword_argument",
+    "self_attribute",
     "self_method",
     "skips_its_end",
     "statement_holding",
+    "string_value",
     "with_node_replaced",
     "with_text_in_place",
+    "written_type",
 ]
+
+COMPOUND_STATEMENTS = (
+    ast.If,
+    ast.For,
+    ast.While,
+    ast.With,
+    ast.Try,
+    ast.FunctionDef,
+    ast.ClassDef,
+    ast.Match,
+)
+"""Statements that hold other statements."""
 
 
 def error_at(
@@ -79,36 +95,55 @@ def skips_its_end(loop: ast.While | ast.For) -> bool:
     return False
 
 
+def self_attribute(node: ast.AST) -> str | None:
+    """``x`` for the expression ``self.x``, else ``None``."""
+    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+        return node.attr if node.value.id == "self" else None
+    return None
+
+
+def keyword_argument(call: ast.Call, name: str) -> ast.expr | None:
+    """What ``call`` passes by the keyword ``name``."""
+    return next((k.value for k in call.keywords if k.arg == name), None)
+
+
+def string_value(node: ast.expr | None) -> str | None:
+    """The text of a string literal."""
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return node.value
+    return None
+
+
+def written_type(node: ast.expr | None) -> str | None:
+    """``Twist`` for ``Twist`` and ``geometry_msgs.msg.Twist``; ``NavigateToPose.Goal`` for
+    ``NavigateToPose.Goal`` (a type and its part, as the skill writes them)."""
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        if node.attr in {"Goal", "Request"}:
+            owner = written_type(node.value)
+            return f"{owner}.{node.attr}" if owner is not None else None
+        return node.attr
+    return None
+
+
+def called_name(call: ast.Call) -> str:
+    """The name ``call`` calls: ``publish`` for ``self.pub.publish(...)``, ``min`` for
+    ``min(...)``; empty for anything else (``f()(...)``)."""
+    func = call.func
+    if isinstance(func, ast.Attribute):
+        return func.attr
+    if isinstance(func, ast.Name):
+        return func.id
+    return ""
+
+
 def self_method(call: ast.Call) -> str | None:
     """The method's name when ``call`` calls a method of the skill (``self.name(...)``)."""
     func = call.func
     if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
         return func.attr if func.value.id == "self" else None
     return None
-
-
-def helper_argument(
-    call: ast.Call, parameter: str, definition: ast.FunctionDef | None = None
-) -> ast.expr | None:
-    """The argument ``call`` of a skeleton helper passes for ``parameter``: by keyword, else
-    at the parameter's position in the skill's own definition of the helper
-    (``definition``, when it has one), else in the skeleton's
-    (:func:`~skillwright.generation.helpers.helper_signature`)."""
-    for keyword in call.keywords:
-        if keyword.arg == parameter:
-            return keyword.value
-    if definition is not None:
-        positional = [a.arg for a in definition.args.args if a.arg != "self"]
-    else:
-        name = self_method(call)
-        try:
-            positional = [] if name is None else list(helper_signature(name).parameters)
-        except LookupError:
-            positional = []
-    if parameter not in positional:
-        return None
-    position = positional.index(parameter)
-    return call.args[position] if position < len(call.args) else None
 
 
 def with_node_replaced(

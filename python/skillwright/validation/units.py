@@ -36,15 +36,15 @@ import ast
 import copy
 import dataclasses
 import math
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 
 from skillwright.capability.model import Capability
 from skillwright.generation.names import snake_case
 from skillwright.rules.behaviour import MIXED_ANGLE_UNITS
 from skillwright.rules.finding import Finding
-from skillwright.validation.names import self_attribute
-from skillwright.validation.syntax import error_at, statement_holding
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import error_at, self_attribute
 
 __all__ = ["check_angle_units"]
 
@@ -100,12 +100,12 @@ class _Scaled:
     distance: tuple[ast.expr, _Unit]
 
 
-def check_angle_units(cls: ast.ClassDef, capability: Capability) -> list[Finding]:
+def check_angle_units(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``units``) for angles in degrees and radians mixed up."""
-    declared = _declared(capability)
+    declared = _declared(facts.capability)
     if not declared:
         return []
-    methods = [n for n in cls.body if isinstance(n, ast.FunctionDef)]
+    methods = facts.functions
     returns: dict[str, _Unit] = {}
     attributes: dict[str, _Unit] = {}
     for _ in range(2):  # the second pass sees what helpers return and attributes hold
@@ -115,7 +115,7 @@ def check_angle_units(cls: ast.ClassDef, capability: Capability) -> list[Finding
     for method in methods:
         reader = _Reader(declared, attributes, returns)
         reader.read_block(method.body)
-        findings += _findings(method, reader, declared, capability_unit)
+        findings += _findings(facts, method, reader, declared, capability_unit)
     return findings
 
 
@@ -139,7 +139,7 @@ def _one_unit(declared: Mapping[str, _Unit]) -> str | None:
 
 
 def _class_units(
-    methods: list[ast.FunctionDef],
+    methods: Sequence[ast.FunctionDef],
     declared: Mapping[str, _Unit],
     returns: Mapping[str, _Unit],
     attributes: Mapping[str, _Unit],
@@ -460,6 +460,7 @@ def _bound_names(statement: ast.For | ast.With) -> list[str]:
 
 
 def _findings(
+    facts: SkillFacts,
     method: ast.FunctionDef,
     reader: _Reader,
     declared: Mapping[str, _Unit],
@@ -469,7 +470,7 @@ def _findings(
     problems: dict[int, _Problem] = {}
 
     def at(node: ast.AST) -> _Problem | None:
-        statement = node if isinstance(node, ast.stmt) else statement_holding(method, node)
+        statement = node if isinstance(node, ast.stmt) else facts.statement_holding(node, method)
         if statement is None:
             return None
         return problems.setdefault(id(statement), _Problem(statement))

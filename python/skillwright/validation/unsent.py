@@ -29,18 +29,24 @@ from collections.abc import Iterator
 
 from skillwright.rules.behaviour import BUILT_NOT_SENT
 from skillwright.rules.finding import Finding
-from skillwright.validation.names import COMPOUND_STATEMENTS, self_attribute
-from skillwright.validation.syntax import blocks, error_at
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import (
+    COMPOUND_STATEMENTS,
+    blocks,
+    error_at,
+    self_attribute,
+    written_type,
+)
 
 __all__ = ["check_unsent"]
 
 
-def check_unsent(cls: ast.ClassDef) -> list[Finding]:
+def check_unsent(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``unsent``) for messages, goals and requests a method builds and never
     sends or passes on."""
-    publishers, goals, requests = _interfaces(cls)
+    publishers, goals, requests = _interfaces(facts)
     findings = []
-    for method in (n for n in cls.body if isinstance(n, ast.FunctionDef)):
+    for method in facts.functions:
         whole = _used_whole(method)
         sending = _senders_called(method)
         reported: set[str] = set()
@@ -66,58 +72,25 @@ def check_unsent(cls: ast.ClassDef) -> list[Finding]:
 
 
 def _interfaces(
-    cls: ast.ClassDef,
+    facts: SkillFacts,
 ) -> tuple[dict[str, list[str]], dict[str, list[str]], dict[str, list[str]]]:
     """(message type -> publishers, ``T.Goal`` -> action clients, ``T.Request`` -> service
-    clients) of the handles the class makes, each handle as ``self.name``."""
+    clients) of the handles the class keeps on itself, each handle as ``self.name``, each
+    type as the skill names it (``Twist``, ``NavigateToPose.Goal``)."""
     publishers: dict[str, list[str]] = defaultdict(list)
     goals: dict[str, list[str]] = defaultdict(list)
     requests: dict[str, list[str]] = defaultdict(list)
-    for node in ast.walk(cls):
-        if not (
-            isinstance(node, ast.Assign)
-            and len(node.targets) == 1
-            and (handle := self_attribute(node.targets[0])) is not None
-            and isinstance(node.value, ast.Call)
-        ):
+    for handle in facts.handles:
+        kind = handle.made.type_written
+        if handle.attribute is None or kind is None:
             continue
-        call = node.value
-        called = call.func.attr if isinstance(call.func, ast.Attribute) else None
-        called = call.func.id if isinstance(call.func, ast.Name) else called
-        # ActionClient(node, ActionType, name): the type comes second
-        position = 1 if called == "ActionClient" else 0
-        keyword = "action_type" if called == "ActionClient" else "msg_type"
-        if called == "create_client":
-            keyword = "srv_type"
-        kind = _type_name(_argument(call, position, keyword))
-        if kind is None:
-            continue
-        if called == "create_publisher":
-            publishers[kind].append(f"self.{handle}")
-        elif called == "ActionClient":
-            goals[f"{kind}.Goal"].append(f"self.{handle}")
-        elif called == "create_client":
-            requests[f"{kind}.Request"].append(f"self.{handle}")
+        if handle.made.maker == "create_publisher":
+            publishers[kind].append(handle.target)
+        elif handle.made.maker == "ActionClient":
+            goals[f"{kind}.Goal"].append(handle.target)
+        elif handle.made.maker == "create_client":
+            requests[f"{kind}.Request"].append(handle.target)
     return publishers, goals, requests
-
-
-def _argument(call: ast.Call, position: int, keyword: str) -> ast.expr | None:
-    if len(call.args) > position:
-        return call.args[position]
-    return next((k.value for k in call.keywords if k.arg == keyword), None)
-
-
-def _type_name(node: ast.expr | None) -> str | None:
-    """``Twist`` for ``Twist`` and ``geometry_msgs.msg.Twist``; ``NavigateToPose.Goal`` for
-    ``NavigateToPose.Goal`` (a type and its part, as the skill writes them)."""
-    if isinstance(node, ast.Name):
-        return node.id
-    if isinstance(node, ast.Attribute):
-        if node.attr in {"Goal", "Request"}:
-            owner = _type_name(node.value)
-            return f"{owner}.{node.attr}" if owner is not None else None
-        return node.attr
-    return None
 
 
 def _built(method: ast.FunctionDef) -> Iterator[tuple[list[ast.stmt], int, str, str]]:
@@ -129,7 +102,7 @@ def _built(method: ast.FunctionDef) -> Iterator[tuple[list[ast.stmt], int, str, 
                 and len(statement.targets) == 1
                 and isinstance(statement.targets[0], ast.Name)
                 and isinstance(statement.value, ast.Call)
-                and (built := _type_name(statement.value.func)) is not None
+                and (built := written_type(statement.value.func)) is not None
             ):
                 yield block, index, statement.targets[0].id, built
 

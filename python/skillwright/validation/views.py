@@ -18,39 +18,35 @@ is read is first read, which is where the other belongs too.
 from __future__ import annotations
 
 import ast
+from dataclasses import dataclass
 
 from skillwright.interfaces.inventory import Interface
 from skillwright.retrieval.semantics import split_view
 from skillwright.rules.behaviour import SCANNER_UNREAD
 from skillwright.rules.finding import Finding
-from skillwright.validation.names import self_attribute, simple_statements
+from skillwright.validation.facts import SkillFacts
+from skillwright.validation.syntax import self_attribute
 
 __all__ = ["check_views"]
 
 
+@dataclass(frozen=True)
 class _Subscription:
-    """A ``create_subscription`` of the class, the statement that makes it and the
-    attributes its callback keeps the message in."""
+    """A subscription of the class to a message topic, the method it hands the messages to
+    and the attributes that method keeps them in."""
 
-    def __init__(self, statement: ast.stmt, interface: Interface, callback: str) -> None:
-        self.statement = statement
-        self.interface = interface
-        self.callback = callback
-        self.kept: set[str] = set()
+    interface: Interface
+    callback: str
+    kept: frozenset[str]
 
 
-def check_views(cls: ast.ClassDef, tree: ast.Module) -> list[Finding]:
+def check_views(facts: SkillFacts) -> list[Finding]:
     """Findings (check ``views``) for the parts of a split view a skill subscribes to and
     never reads while it reads another part."""
-    subscriptions = _subscriptions(cls, _message_types(tree))
+    subscriptions = _subscriptions(facts)
     if len(subscriptions) < 2:
         return []
-    methods = {m.name: m for m in cls.body if isinstance(m, ast.FunctionDef)}
-    for subscription in subscriptions:
-        callback = methods.get(subscription.callback)
-        if callback is not None:
-            subscription.kept = _kept(callback)
-    reads = {s.interface.name: _first_read(s, methods) for s in subscriptions}
+    reads = {s.interface.name: _first_read(facts, s) for s in subscriptions}
     findings = []
     for unread in subscriptions:
         if reads[unread.interface.name] is not None or not unread.kept:
@@ -66,7 +62,7 @@ def check_views(cls: ast.ClassDef, tree: ast.Module) -> list[Finding]:
         kept = sorted(unread.kept)[0]
         names = ", ".join(name for name, _ in parts)
         where = min((read for _, read in parts), key=lambda node: (node.lineno, node.col_offset))
-        fix = _fix(cls, where, kept)
+        fix = _fix(facts, where, kept)
         advice = (
             f"wait for self.{kept} too and pass it to the same call, "
             f"{fix[0]}, which gives the closest reading of both"
@@ -88,14 +84,14 @@ def check_views(cls: ast.ClassDef, tree: ast.Module) -> list[Finding]:
     return findings
 
 
-def _fix(cls: ast.ClassDef, read: ast.Attribute, kept: str) -> tuple[str, str] | None:
+def _fix(facts: SkillFacts, read: ast.Attribute, kept: str) -> tuple[str, str] | None:
     """Where ``read`` is the one argument of the skeleton's ``self._closest_reading(...)`` in
     a statement of its own: the call with ``self.<kept>`` added, and the statement with that
     call, after the wait for its first message."""
-    if not any(isinstance(n, ast.FunctionDef) and n.name == _CLOSEST for n in cls.body):
+    if _CLOSEST not in facts.methods or facts.skill is None:
         return None
-    statement_of = simple_statements(cls)
-    for call in ast.walk(cls):
+    statement_of = facts.statement_of
+    for call in facts.walk(facts.skill):
         if (
             isinstance(call, ast.Call)
             and self_attribute(call.func) == _CLOSEST
@@ -116,83 +112,42 @@ _CLOSEST = "_closest_reading"
 """The skeleton's helper for the nearest reading of one scan or several."""
 
 
-def _message_types(tree: ast.Module) -> dict[str, str]:
-    """Class name -> ROS type name of the message classes the module imports
-    (``from sensor_msgs.msg import LaserScan`` -> ``sensor_msgs/msg/LaserScan``)."""
-    out = {}
-    for node in ast.walk(tree):
-        if isinstance(node, ast.ImportFrom) and node.module and node.module.endswith(".msg"):
-            package = node.module.replace(".", "/")
-            for alias in node.names:
-                out[alias.asname or alias.name] = f"{package}/{alias.name}"
-    return out
+def _subscriptions(facts: SkillFacts) -> list[_Subscription]:
+    """The class's subscriptions to a topic of a message type it imports, named by a literal,
+    whose messages go to a method of the class."""
+    return [
+        _Subscription(
+            Interface(name=made.name, kind="topic", type_name=made.type_name),
+            made.callback,
+            facts.kept_messages(made.callback),
+        )
+        for made in facts.made
+        if made.maker == "create_subscription"
+        and made.name is not None
+        and made.type_name is not None
+        and "/msg/" in made.type_name
+        and made.callback is not None
+        and made.callback in facts.methods
+    ]
 
 
-def _subscriptions(cls: ast.ClassDef, types: dict[str, str]) -> list[_Subscription]:
-    """``self.x = self.node.create_subscription(Type, "/topic", self._on_x, ...)``."""
-    out = []
-    for statement in ast.walk(cls):
-        if not isinstance(statement, ast.stmt):
-            continue
-        call = getattr(statement, "value", None)
-        if not (
-            isinstance(call, ast.Call)
-            and isinstance(call.func, ast.Attribute)
-            and call.func.attr == "create_subscription"
-            and len(call.args) >= 3
-        ):
-            continue
-        kind, topic, callback = call.args[:3]
-        name = self_attribute(callback)
-        if not (
-            isinstance(kind, ast.Name)
-            and kind.id in types
-            and isinstance(topic, ast.Constant)
-            and isinstance(topic.value, str)
-            and name is not None
-        ):
-            continue
-        interface = Interface(name=topic.value, kind="topic", type_name=types[kind.id])
-        out.append(_Subscription(statement, interface, name))
-    return out
-
-
-def _kept(callback: ast.FunctionDef) -> set[str]:
-    """The ``self`` attributes ``callback`` assigns its message parameter to."""
-    parameters = callback.args.args[1:]
-    if not parameters:
-        return set()
-    message = parameters[0].arg
-    kept = set()
-    for node in ast.walk(callback):
-        if (
-            isinstance(node, ast.Assign)
-            and isinstance(node.value, ast.Name)
-            and node.value.id == message
-        ):
-            kept |= {a for t in node.targets if (a := self_attribute(t)) is not None}
-    return kept
-
-
-def _first_read(
-    subscription: _Subscription, methods: dict[str, ast.FunctionDef]
-) -> ast.Attribute | None:
+def _first_read(facts: SkillFacts, subscription: _Subscription) -> ast.Attribute | None:
     """The first place (by line and column; ``ast.walk`` goes breadth first) a method other
     than the callback reads a kept attribute other than to test it against ``None``."""
     reads = []
-    for name, method in methods.items():
+    for name, method in facts.methods.items():
         if name == subscription.callback:
             continue
         tested = {
             id(side)
-            for node in ast.walk(method)
+            for node in facts.walk(method)
             if isinstance(node, ast.Compare)
             and all(isinstance(op, ast.Is | ast.IsNot) for op in node.ops)
             for side in (node.left, *node.comparators)
         }
         reads += [
             node
-            for node in ast.walk(method)
+            for node in facts.walk(method)
             if isinstance(node, ast.Attribute)
             and isinstance(node.ctx, ast.Load)
             and self_attribute(node) in subscription.kept
