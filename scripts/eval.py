@@ -16,8 +16,15 @@ rule (its code) how often the model was told of it, how often it is left in the 
 how often the checks fixed it without the model and how many of those fixes the final skills
 kept.
 
+Each pair is written in every mode asked for with ``--candidates`` (repeatable; default 1 and
+4): 1 is pass@1, the greedy first answer and its repairs; N is best-of-N, N candidate skills
+of the first round sampled in one batch and judged by every stage, repair starting from the
+best (:mod:`skillwright.generation.candidates`). The modes' totals print side by side, each
+with its wall time, and for best-of-N how often the greedy candidate was not the winner.
+Results of mode N go to ``eval-out/n<N>/<split>/<robot>/<name>/``.
+
     python scripts/eval.py [--split dev|test|all] [--only NAME ...] [--attempts N] [--out DIR]
-                           [--model ID]
+                           [--model ID] [--candidates N ...]
 
 ``--only`` takes a pair's name (``strafe``), ``robot/name`` or ``split/robot/name``. This is
 slow by nature (a 1.5B model on the CPU); it is not part of ``make test``.
@@ -67,6 +74,8 @@ class Row:
     split: str
     robot: str
     name: str
+    candidates: int = 1
+    """Candidate skills of the first round (1: pass@1)."""
     passed: bool = False
     errors: int = 0
     warnings: int = 0
@@ -93,6 +102,10 @@ class Row:
     behaved: str = "-"
     """The simulation: oracles passed/applied, or - when it did not run."""
     failure: str | None = None
+    winner: int | None = None
+    """Best-of-N: the winning candidate (0: the greedy one)."""
+    distinct: int | None = None
+    """Best-of-N: candidates whose files differed from every earlier one."""
 
 
 def dev_pairs() -> list[Pair]:
@@ -171,20 +184,21 @@ class Progress:
             )
 
 
-def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
+def run(pair: Pair, out: Path, attempts: int, model: str | None, candidates: int = 1) -> Row:
     from skillwright.errors import SkillwrightError
     from skillwright.pipeline import GenerationRequest, run_generation
 
-    row = Row(pair.split, pair.robot, pair.name)
+    row = Row(pair.split, pair.robot, pair.name, candidates)
     on_event = Progress()
 
     request = GenerationRequest(
         capability=pair.capability,
         spec=pair.spec,
         interfaces=pair.interfaces,
-        out_dir=out / pair.split / pair.robot / pair.name,
+        out_dir=out / f"n{candidates}" / pair.split / pair.robot / pair.name,
         model=model,
         attempts=attempts,
+        candidates=candidates,
         scenario=pair.scenario,
     )
     started = time.perf_counter()
@@ -217,6 +231,10 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None) -> Row:
         row.told = dict(Counter(c for a in record.model.attempts for c in a.problem_codes))
         row.fixed = dict(Counter(f.code for a in record.model.attempts for f in a.fixes))
         row.kept = dict(Counter(f.code for a in record.model.attempts if a.chosen for f in a.fixes))
+        verdicts = record.model.candidates
+        if verdicts:
+            row.winner = next((v.index for v in verdicts if v.won), None)
+            row.distinct = sum(v.duplicate_of is None for v in verdicts)
     else:
         row.failure = "no model: the skeleton was written"
     if record.run is not None and record.run.skipped is None:
@@ -236,9 +254,11 @@ def behaved(row: Row) -> bool:
 
 
 def totals(rows: list[Row]) -> dict[str, object]:
-    """What the targets are judged by, for one split."""
+    """What the targets are judged by, for one split in one mode."""
     seconds = [r.seconds for r in rows if not r.failure]
+    best = [r for r in rows if r.winner is not None]
     return {
+        "candidates": rows[0].candidates if rows else 1,
         "skills": len(rows),
         "static_pass": sum(r.passed for r in rows),
         "ran_clean": sum(r.ran == "pass" for r in rows),
@@ -246,45 +266,47 @@ def totals(rows: list[Row]) -> dict[str, object]:
         "median_seconds": round(statistics.median(seconds), 1) if seconds else None,
         "total_seconds": round(sum(seconds), 1),
         "failures": sum(r.failure is not None for r in rows),
+        "greedy_not_winner": sum(r.winner != 0 for r in best) if best else None,
+        "distinct_candidates": sum(r.distinct or 0 for r in best) if best else None,
     }
 
 
+def modes(rows: list[Row]) -> list[int]:
+    """The modes (candidates per first round) the rows were written in, in order."""
+    return sorted({r.candidates for r in rows})
+
+
 def split_totals(rows: list[Row]) -> dict[str, dict[str, object]]:
-    """:func:`totals` for each split that has rows, development split first."""
+    """:func:`totals` for each split and mode that has rows (``dev n1``, ``dev n4``, ...),
+    development split first."""
     return {
-        split: totals([r for r in rows if r.split == split])
+        f"{split} n{mode}": totals(chosen)
         for split in SPLITS
-        if any(r.split == split for r in rows)
+        for mode in modes(rows)
+        if (chosen := [r for r in rows if r.split == split and r.candidates == mode])
     }
 
 
 def table(rows: list[Row]) -> str:
     head = (
-        f"{'split':<5} {'robot':<10} {'skill':<32} {'checks':<7} {'errors by rule':<28} "
-        f"{'run':<5} {'sim':<9} {'answers':>7} {'repairs':>7} {'fixes':>5} {'tokens':>6} "
-        f"{'seconds':>8}"
+        f"{'split':<5} {'N':>2} {'robot':<10} {'skill':<32} {'checks':<7} "
+        f"{'errors by rule':<28} {'run':<5} {'sim':<9} {'won':>3} {'answers':>7} {'repairs':>7} "
+        f"{'fixes':>5} {'tokens':>6} {'seconds':>8}"
     )
     lines = [head, "-" * len(head)]
     for row in rows:
         kinds = ", ".join(f"{k} {n}" for k, n in sorted(row.kinds.items())) or "-"
         verdict = "pass" if row.passed else ("ERROR" if row.failure else "fail")
+        won = "-" if row.winner is None else str(row.winner)
         lines.append(
-            f"{row.split:<5} {row.robot:<10} {row.name:<32} {verdict:<7} {kinds:<28} "
-            f"{row.ran:<5} {row.behaved:<9} {row.answers:>7} {row.repairs:>7} {row.fixes:>5} "
-            f"{row.tokens:>6} {row.seconds:>8.1f}"
+            f"{row.split:<5} {row.candidates:>2} {row.robot:<10} {row.name:<32} {verdict:<7} "
+            f"{kinds:<28} {row.ran:<5} {row.behaved:<9} {won:>3} {row.answers:>7} "
+            f"{row.repairs:>7} {row.fixes:>5} {row.tokens:>6} {row.seconds:>8.1f}"
         )
         if row.failure:
             lines.append(f"{'':<16} {row.failure}")
     lines.append("-" * len(head))
-    for split, counts in split_totals(rows).items():
-        median = counts["median_seconds"]
-        lines.append(
-            f"{split} split ({counts['skills']} skills): passed every static check "
-            f"{counts['static_pass']}; ran clean {counts['ran_clean']}; behaved in every "
-            f"scenario {counts['behaved']}; seconds per skill: median "
-            + ("-" if median is None else f"{median:.1f}")
-            + f", total {counts['total_seconds']:.1f}"
-        )
+    lines += side_by_side(rows)
     seconds = [r.seconds for r in rows if not r.failure]
     lines += [
         f"answers cut at the token limit: {sum(r.hit_limit for r in rows)}; "
@@ -297,6 +319,33 @@ def table(rows: list[Row]) -> str:
         else "seconds per skill: -",
     ]
     return "\n".join([*lines, "", *rule_table(rows)])
+
+
+def side_by_side(rows: list[Row]) -> list[str]:
+    """One line per split and mode: the totals the targets are judged by, the wall time, and
+    for best-of-N how often the greedy candidate did not win."""
+    head = (
+        f"{'split':<5} {'mode':<9} {'skills':>6} {'static':>6} {'ran':>4} {'behaved':>7} "
+        f"{'median s':>8} {'wall s':>8}  greedy not the winner"
+    )
+    lines = [head]
+    for key, counts in split_totals(rows).items():
+        split, mode = key.split()
+        n = int(mode[1:])
+        median = counts["median_seconds"]
+        spread = (
+            "-"
+            if counts["greedy_not_winner"] is None
+            else f"{counts['greedy_not_winner']} of {counts['skills']} "
+            f"({counts['distinct_candidates']} distinct candidates)"
+        )
+        lines.append(
+            f"{split:<5} {'pass@1' if n == 1 else f'best-of-{n}':<9} {counts['skills']:>6} "
+            f"{counts['static_pass']:>6} {counts['ran_clean']:>4} {counts['behaved']:>7} "
+            f"{'-' if median is None else f'{median:.1f}':>8} {counts['total_seconds']:>8.1f}  "
+            f"{spread}"
+        )
+    return lines
 
 
 def summary(rows: list[Row]) -> dict[str, object]:
@@ -340,15 +389,29 @@ def main() -> int:
     parser.add_argument("--attempts", type=int, default=3, help="answers per method")
     parser.add_argument("--out", type=Path, default=ROOT / "eval-out", help="results folder")
     parser.add_argument("--model", default=None, help="models.toml id (default model)")
+    parser.add_argument(
+        "--candidates",
+        type=int,
+        action="append",
+        default=[],
+        help="a mode: candidate skills of the first round, 1 for pass@1 (repeatable; "
+        "default: 1 and 4, side by side)",
+    )
     args = parser.parse_args()
     chosen = pairs(set(args.only), args.split)
     if not chosen:
         print(f"error: no pair of the {args.split} split(s) matches --only", file=sys.stderr)
         return 2
+    counts = sorted(set(args.candidates)) or [1, 4]
+    if any(n < 1 or n > 8 for n in counts):
+        print("error: --candidates takes 1 to 8", file=sys.stderr)
+        return 2
     rows = []
-    for index, pair in enumerate(chosen, start=1):
-        print(f"[{index}/{len(chosen)}] {pair.key()}", file=sys.stderr, flush=True)
-        rows.append(run(pair, args.out, args.attempts, args.model))
+    jobs = [(n, pair) for n in counts for pair in chosen]
+    for index, (n, pair) in enumerate(jobs, start=1):
+        mode = "pass@1" if n == 1 else f"best-of-{n}"
+        print(f"[{index}/{len(jobs)}] {pair.key()} ({mode})", file=sys.stderr, flush=True)
+        rows.append(run(pair, args.out, args.attempts, args.model, n))
         print(
             f"    -> {'pass' if rows[-1].passed else 'fail'} in {rows[-1].seconds:.1f} s",
             file=sys.stderr,
@@ -358,7 +421,7 @@ def main() -> int:
     target = args.out / "summary.json"
     target.write_text(json.dumps(summary(rows), indent=2) + "\n", encoding="utf-8")
     print(table(rows))
-    print(f"results: {args.out} (summary.json, one folder per skill under <split>/<robot>/)")
+    print(f"results: {args.out} (summary.json, one folder per skill under n<N>/<split>/<robot>/)")
     return 0 if all(not r.failure for r in rows) else 1
 
 

@@ -89,7 +89,11 @@ def test_a_test_pair_reaches_the_pipeline_with_its_scenario_file(
     [request] = seen
     assert request.scenario == pair.scenario
     assert request.interfaces == pair.interfaces
-    assert request.out_dir == tmp_path / "test" / "tb4" / "rotate-degrees"
+    assert request.out_dir == tmp_path / "n1" / "test" / "tb4" / "rotate-degrees"
+    assert request.candidates == 1
+    evaluation.run(pair, tmp_path, 1, None, 4)
+    assert seen[-1].candidates == 4
+    assert seen[-1].out_dir == tmp_path / "n4" / "test" / "tb4" / "rotate-degrees"
 
 
 def test_the_table_and_the_summary_total_each_split_on_its_own(evaluation: ModuleType) -> None:
@@ -102,7 +106,8 @@ def test_the_table_and_the_summary_total_each_split_on_its_own(evaluation: Modul
         row("test", "tiago", "get-position", failure="the model file is missing", seconds=1.0),
     ]
     summary = evaluation.summary(rows)
-    assert summary["splits"]["dev"] == {
+    assert summary["splits"]["dev n1"] == {
+        "candidates": 1,
         "skills": 2,
         "static_pass": 1,
         "ran_clean": 1,
@@ -110,21 +115,60 @@ def test_the_table_and_the_summary_total_each_split_on_its_own(evaluation: Modul
         "median_seconds": 100.0,
         "total_seconds": 200.0,
         "failures": 0,
+        "greedy_not_winner": None,
+        "distinct_candidates": None,
     }
-    test = summary["splits"]["test"]
+    test = summary["splits"]["test n1"]
     assert (test["skills"], test["static_pass"], test["ran_clean"], test["behaved"]) == (3, 2, 2, 1)
     assert test["median_seconds"] == 75.0
     assert test["failures"] == 1
     assert [s["split"] for s in summary["skills"]] == ["dev", "dev", "test", "test", "test"]
     text = evaluation.table(rows)
-    assert (
-        "dev split (2 skills): passed every static check 1; ran clean 1; behaved in every "
-        "scenario 1; seconds per skill: median 100.0, total 200.0"
-    ) in text
-    assert (
-        "test split (3 skills): passed every static check 2; ran clean 2; behaved in every scenario 1"
-        in text
+    lines = text.splitlines()
+    assert any(
+        line.split()[:8] == ["dev", "pass@1", "2", "1", "1", "1", "100.0", "200.0"]
+        for line in lines
     )
+    assert any(line.split()[:6] == ["test", "pass@1", "3", "2", "2", "1"] for line in lines)
     assert "the model file is missing" in text
     only_test = evaluation.summary(rows[2:])
-    assert list(only_test["splits"]) == ["test"]
+    assert list(only_test["splits"]) == ["test n1"]
+
+
+def test_best_of_n_prints_beside_pass_at_1_with_how_often_greedy_lost(
+    evaluation: ModuleType,
+) -> None:
+    row = evaluation.Row
+    rows = [
+        row("test", "mr1", "strafe", 1, passed=True, behaved="9/10 fail", seconds=60.0),
+        row(
+            "test",
+            "mr1",
+            "strafe",
+            4,
+            passed=True,
+            behaved="10/10",
+            seconds=90.0,
+            winner=2,
+            distinct=3,
+        ),
+        row(
+            "test",
+            "tb4",
+            "rotate-degrees",
+            4,
+            passed=True,
+            behaved="5/5",
+            seconds=70.0,
+            winner=0,
+            distinct=4,
+        ),
+    ]
+    counts = evaluation.summary(rows)["splits"]
+    assert list(counts) == ["test n1", "test n4"]
+    assert counts["test n4"]["behaved"] == 2
+    assert counts["test n4"]["greedy_not_winner"] == 1
+    assert counts["test n4"]["distinct_candidates"] == 7
+    text = evaluation.table(rows)
+    assert "best-of-4" in text
+    assert "1 of 2 (7 distinct candidates)" in text

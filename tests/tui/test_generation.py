@@ -272,6 +272,29 @@ async def test_the_tiny_model_streams_its_tokens_and_reports_each_stage(
         assert ("✗ generation" if record.model.states_missing else "✓ generation") in text
 
 
+async def test_best_of_n_is_chosen_beside_the_model_and_every_candidate_is_recorded(
+    workspace: Path, models_file: Path
+) -> None:
+    preset_session(workspace, candidates=2, **INPUTS)
+    app = app_for(workspace, models_file)
+    async with running(app, (160, 48)) as pilot:
+        pane = await _ready(pilot, app)
+        assert app.query_one("#generation-candidates", Select).value == 2
+        await pilot.press("ctrl+g")
+        await wait_until(pilot, lambda: pane.outcome is not None, timeout=MODEL_RUN)
+        [result] = _results(workspace)
+        record = GenerationRecord.load(result / "record.json")
+        assert record.model is not None
+        assert record.model.candidates_asked == 2
+        assert [v.index for v in record.model.candidates] == [0, 1]
+        assert sum(v.won for v in record.model.candidates) == 1
+        starting = [a for a in record.model.attempts if a.target == "starting"]
+        assert sorted(a.candidate for a in starting if a.candidate is not None) == [0, 1]
+        # Only the greedy candidate's text is streamed to the screen.
+        greedy = "".join(a.response for a in record.model.attempts if a.candidate in (0, None))
+        assert pane.streamed == greedy
+
+
 async def test_the_ui_keeps_working_while_the_model_runs_and_esc_cancels_it(
     workspace: Path, tmp_path: Path, tiny_gguf: Path
 ) -> None:

@@ -39,6 +39,7 @@ from skillwright.generation.assemble import (
     parse_method,
     usage,
 )
+from skillwright.generation.candidates import candidate_options, choose_candidate
 from skillwright.generation.card import CardInterface, task_card
 from skillwright.generation.conversation import (
     STOP,
@@ -50,9 +51,16 @@ from skillwright.generation.conversation import (
     state_ask,
 )
 from skillwright.generation.guard import RepetitionGuard
-from skillwright.generation.model import Attempt, AttemptFinish, InterfaceRef, Skeleton
+from skillwright.generation.model import (
+    Attempt,
+    AttemptFinish,
+    CandidateVerdict,
+    InterfaceRef,
+    Skeleton,
+)
 from skillwright.generation.repair import Judgement, repair_skill
 from skillwright.llm.base import GenerationOptions, TextGenerator
+from skillwright.llm.batch import BatchAnswer, generate_each
 from skillwright.rules.finding import Finding
 from skillwright.spec.model import SkillSpec
 from skillwright.validation.syntax import self_attribute
@@ -112,6 +120,13 @@ class AuthorSettings:
     """Temperature of the sampled repairs (the third attempt on)."""
     seed: int = 42
     """Base seed of sampled repairs (plus the attempt number)."""
+    candidates: int = 1
+    """Candidate skills of the first round (best-of-N,
+    :mod:`~skillwright.generation.candidates`): every state is asked for this many answers
+    in one batch, the greedy one and sampled ones, and repair starts from the candidate file
+    the judge ranks best. 1: the greedy answer alone."""
+    candidate_temperature: float = 0.7
+    """Temperature of the sampled candidates (the greedy one is candidate 0)."""
 
 
 @dataclass(frozen=True)
@@ -147,6 +162,9 @@ class Authored:
     transcript: str
     """Every request and answer, in order (for ``prompt.txt``)."""
     notes: list[str] = field(default_factory=list)
+    candidates: list[CandidateVerdict] = field(default_factory=list)
+    """Every candidate of a best-of-N first round and its verdict (empty: one first
+    answer)."""
 
 
 @dataclass
@@ -160,6 +178,8 @@ class _Target:
     attempts: list[Attempt] = field(default_factory=list)
     problems: list[str] = field(default_factory=list)
     """Every problem found in its answers so far, in order."""
+    first_round: int = 1
+    """Answers of its first round (more than one: best-of-N candidates)."""
 
 
 def _state_prefill(state: str, skeleton: Skeleton) -> str:
@@ -206,9 +226,11 @@ class _Author:
         # Greedy decoding gives the first answer, and the first repair of an answer that was
         # written out; an answer that looped or ran too long would only come back the same
         # way, so its repair samples at once. Fixes the checks made count as the answer
-        # they fixed.
+        # they fixed; a best-of-N first round counts as one answer, its winner's.
         answers = [a for a in target.attempts if a.finish != "fixed"]
-        greedy = not answers or (len(answers) == 1 and answers[0].finish not in _DEAD_ENDS)
+        greedy = not answers or (
+            len(answers) == target.first_round and answers[-1].finish not in _DEAD_ENDS
+        )
         temperature = 0.0 if greedy else self.settings.repair_temperature
         seed = self.settings.seed + number
         budget = self.settings.budget(target.kind, target.name)
@@ -233,30 +255,103 @@ class _Author:
                 stream.close()
                 break
         self.check_cancel()
-        response = "".join(parts)
-        finish, note, code = self._judge(
-            target, prefill + response, stream.finish_reason, guard, looped
-        )
-        attempt = Attempt(
-            target=target.name,
-            kind=target.kind,
-            number=number,
-            temperature=temperature,
-            seed=seed,
-            finish=finish,
-            note=note,
-            code=code,
-            response=response,
+        answer = BatchAnswer(
+            text="".join(parts),
+            finish_reason=stream.finish_reason,
             prompt_tokens=stream.prompt_tokens,
             reused_tokens=stream.reused_tokens,
             completion_tokens=stream.completion_tokens or stream.completion_chunks,
             seconds=round(time.perf_counter() - started, 3),
             prefix_cache=stream.prefix_cache,
+        )
+        return self._attempt(target, ask, prefill, options, answer, guard if looped else None)
+
+    def answer_many(
+        self, conversation: Conversation, target: _Target, ask: str, prefill: str, count: int
+    ) -> list[Attempt]:
+        """Asks the model for ``count`` answers of the target's first request at once (a
+        best-of-N first round, see :func:`~skillwright.generation.candidates.candidate_options`),
+        each with its own repetition guard; only the greedy answer's text is streamed to
+        the caller, the others are announced when they end."""
+        self.check_cancel()
+        budget = self.settings.budget(target.kind, target.name)
+        options = candidate_options(
+            count,
+            max_tokens=budget,
+            temperature=self.settings.candidate_temperature,
+            seed=self.settings.seed,
+            stop=STOP,
+        )
+        first = len(target.attempts) + 1
+        for index in range(count):
+            self.emit(AttemptStarted(target.name, target.kind, first + index, budget))
+        prompt = conversation.prompt(ask, prefill, upto=target.turn_index)
+        guards = [RepetitionGuard() for _ in options]
+        looped: set[int] = set()
+
+        def on_chunk(index: int, chunk: str) -> bool:
+            if index == 0:
+                self.emit(chunk)
+            if guards[index].feed(chunk):
+                looped.add(index)
+                return True
+            return False
+
+        answers = generate_each(
+            self.generator, prompt, options, on_chunk=on_chunk, cancel=self.cancel
+        )
+        self.check_cancel()
+        target.first_round = count
+        return [
+            self._attempt(
+                target,
+                ask,
+                prefill,
+                option,
+                answer,
+                guards[index] if index in looped else None,
+                candidate=index,
+            )
+            for index, (option, answer) in enumerate(zip(options, answers, strict=True))
+        ]
+
+    def _attempt(
+        self,
+        target: _Target,
+        ask: str,
+        prefill: str,
+        options: GenerationOptions,
+        answer: BatchAnswer,
+        looped: RepetitionGuard | None,
+        candidate: int | None = None,
+    ) -> Attempt:
+        """The answer judged as a method, recorded as the target's next attempt."""
+        number = len(target.attempts) + 1
+        response = answer.text
+        reason = None if answer.finish_reason == "stopped" else answer.finish_reason
+        finish, note, code = self._judge(target, prefill + response, reason, looped)
+        attempt = Attempt(
+            target=target.name,
+            kind=target.kind,
+            number=number,
+            temperature=options.temperature or 0.0,
+            seed=options.seed or 0,
+            finish=finish,
+            note=note,
+            code=code,
+            response=response,
+            prompt_tokens=answer.prompt_tokens,
+            reused_tokens=answer.reused_tokens,
+            completion_tokens=answer.completion_tokens,
+            seconds=answer.seconds,
+            prefix_cache=answer.prefix_cache,
             kept_lines=prefill.count("\n") - target.prefill.count("\n"),
+            candidate=candidate,
         )
         target.attempts.append(attempt)
+        label = f"attempt {number}" + (f", candidate {candidate}" if candidate is not None else "")
         self.log.append(
-            f"===== user =====\n{ask}\n\n===== assistant (attempt {number}) =====\n"
+            f"===== user =====\n{ask}\n\n===== assistant ({label}) =====\n"
             f"```python\n{prefill}{response}"
         )
         self.emit(AttemptFinished(attempt))
@@ -267,11 +362,10 @@ class _Author:
         target: _Target,
         text: str,
         reason: str | None,
-        guard: RepetitionGuard,
-        looped: bool,
+        looped: RepetitionGuard | None,
     ) -> tuple[AttemptFinish, str | None, str | None]:
-        if looped:
-            return "repetition", f"the answer repeated {guard.reason} and was stopped", None
+        if looped is not None:
+            return "repetition", f"the answer repeated {looped.reason} and was stopped", None
         if reason == "length":
             return (
                 "length",
@@ -423,23 +517,71 @@ class _Skill:
             Turn(target.ask, attempt.code or target.prefill + attempt.response)
         )
 
-    def write_states(self, spec: SkillSpec) -> None:
+    def write_states(self, spec: SkillSpec, candidates: int = 1) -> None:
+        """Asks for every specified state in turn; with ``candidates`` above 1, that many
+        answers of each at once, the greedy one of each earlier state standing in the
+        conversation (:meth:`adopt` puts the winner's there)."""
         for state, text in spec.states.items():
             prefill = _state_prefill(state, self.full)
             turn = len(self.conversation.turns)
-            self.first_answer(_Target(state, "state", state_ask(state, text), prefill, turn))
+            target = _Target(state, "state", state_ask(state, text), prefill, turn)
+            if candidates <= 1:
+                self.first_answer(target)
+                continue
+            self.targets[state] = target
+            greedy = self.author.answer_many(
+                self.conversation, target, target.ask, target.prefill, candidates
+            )[0]
+            self.conversation.turns.append(
+                Turn(target.ask, greedy.code or target.prefill + greedy.response)
+            )
+
+    def adopt(self, index: int) -> None:
+        """Makes candidate ``index``'s answer each state's latest (repair goes on from it)
+        and the one the conversation shows."""
+        for target in self.targets.values():
+            own = [a for a in target.attempts if a.candidate == index]
+            if not own:
+                continue
+            target.attempts.remove(own[0])
+            target.attempts.append(own[0])
+            if target.kind == "state":
+                self.conversation.turns[target.turn_index] = Turn(
+                    target.ask, own[0].code or target.prefill + own[0].response
+                )
+
+    def _written_sets(self) -> list[dict[str, str]]:
+        """The method code of each file the latest round can make: the latest answers, or
+        in a best-of-N first round each candidate's."""
+        rounds = max((t.first_round for t in self.targets.values()), default=1)
+        fresh = all(len(t.attempts) <= t.first_round for t in self.targets.values())
+        if rounds <= 1 or not fresh:
+            return [{t.name: c for t in self.targets.values() if (c := t.attempts[-1].code)}]
+        sets = []
+        for index in range(rounds):
+            written: dict[str, str] = {}
+            for target in self.targets.values():
+                own = [a for a in target.attempts if a.candidate in (index, None)]
+                if own and own[0].code:
+                    written[target.name] = own[0].code
+            sets.append(written)
+        return sets
 
     def write_helpers(self) -> None:
-        """Asks for helpers the methods call but nobody wrote (helpers may need helpers)."""
+        """Asks for helpers the methods call but nobody wrote (helpers may need helpers); in
+        a best-of-N first round, those any candidate calls, each asked for once."""
         for _ in range(2):
-            written = {t.name: code for t in self.targets.values() if (code := t.attempts[-1].code)}
             known = _class_methods(self.full) | set(self.targets)
             # A call copied from a worked example (its stopping's self._cancel_dock_robot_goal)
             # is not asked for: the examples are of an invented robot, so their helpers drive
             # interfaces this skill does not have. The checks flag the call instead, naming
             # the helpers this skill has.
             known |= example_helpers() - _class_methods(self.full)
-            missing = _missing_helpers(written, known, _assigned_attributes(written))
+            missing: list[_Missing] = []
+            for written in self._written_sets():
+                found = _missing_helpers(written, known, _assigned_attributes(written))
+                missing += [m for m in found if m.name not in {n.name for n in missing}]
+            missing = missing[:_MAX_HELPERS]
             if not missing:
                 return
             for item in missing:
@@ -460,6 +602,13 @@ class _Skill:
 
     def judge(self, picked: Mapping[str, Attempt | None]) -> Judgement:
         """Assembles the ``picked`` answers (by method) and validates the file."""
+        skeleton, assembly = self.assembled(picked)
+        return Judgement(
+            skeleton, assembly, self.validate(assembly.code, skeleton), frozenset(self.targets)
+        )
+
+    def assembled(self, picked: Mapping[str, Attempt | None]) -> tuple[Skeleton, Assembly]:
+        """The file of the ``picked`` answers (by method), on the skeleton of what they use."""
         states: dict[str, str] = {}
         helpers: dict[str, str] = {}
         for target in self.targets.values():
@@ -477,9 +626,7 @@ class _Skill:
             author=self.model_name,
             classes=self.classes,
         )
-        return Judgement(
-            skeleton, assembly, self.validate(assembly.code, skeleton), frozenset(self.targets)
-        )
+        return skeleton, assembly
 
     def ask_again(
         self, name: str, problems: Sequence[str], prefill: str, codes: Sequence[str] = ()
@@ -517,9 +664,19 @@ def author_skill(
     settings = settings or AuthorSettings()
     author = _Author(generator, settings, on_event, cancel)
     skill = _Skill(author, build_skeleton, capability, interfaces, validate)
-    skill.write_states(spec)
+    skill.write_states(spec, settings.candidates)
     skill.write_helpers()
-    judgement = repair_skill(skill, attempts=settings.attempts, run_repairs=settings.run_repairs)
+    initial: Judgement | None = None
+    verdicts: list[CandidateVerdict] = []
+    if settings.candidates > 1:
+        temperatures = [
+            (0.0 if index == 0 else settings.candidate_temperature, settings.seed + index)
+            for index in range(settings.candidates)
+        ]
+        initial, verdicts = choose_candidate(skill, temperatures)
+    judgement = repair_skill(
+        skill, attempts=settings.attempts, run_repairs=settings.run_repairs, initial=initial
+    )
     return Authored(
         code=judgement.assembly.code,
         findings=judgement.findings,
@@ -529,6 +686,7 @@ def author_skill(
         card=skill.conversation.card,
         transcript=_transcript(skill.conversation, author.log),
         notes=_notes(skill.full, judgement.skeleton),
+        candidates=verdicts,
     )
 
 

@@ -148,3 +148,36 @@ class Attempt(BaseModel):
         "get that far (a static error anywhere in it).",
     )
     chosen: bool = Field(default=False, description="Whether the final skill holds it.")
+    candidate: int | None = Field(
+        default=None,
+        description="The candidate skill it belongs to, when several were sampled for the "
+        "first round (0: the greedy one); null for a single first answer, a repair or a fix.",
+    )
+
+
+class CandidateVerdict(BaseModel):
+    """One candidate skill of a best-of-N first round, as the judge saw it."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    index: int = Field(description="0 for the greedy candidate, then one per sampled sequence.")
+    temperature: float = Field(description="Sampling temperature of its answers (0: greedy).")
+    seed: int = Field(description="Sampling seed of its answers.")
+    duplicate_of: int | None = Field(
+        default=None,
+        description="The earlier candidate whose file it assembles to, character for "
+        "character (then it was not judged again).",
+    )
+    errors: int | None = Field(
+        default=None, description="Errors the static checks found in its file."
+    )
+    behaviour_errors: int | None = Field(
+        default=None,
+        description="Errors the run and the simulation found (null: the static checks "
+        "stopped it, so it did not run).",
+    )
+    warnings: int | None = Field(default=None, description="Warnings in its file.")
+    codes: list[str] = Field(
+        default_factory=list, description="The rules of its errors, sorted, each once."
+    )
+    won: bool = Field(default=False, description="Whether repair started from this one.")

@@ -47,7 +47,7 @@ from skillwright.rules.interfaces import ARGUMENT_TYPE_MISMATCH
 from skillwright.rules.registry import rule_of
 from skillwright.validation.static import local_name
 
-__all__ = ["Judgement", "Method", "Writer", "repair_skill"]
+__all__ = ["Judgement", "Method", "Writer", "is_later", "judged", "repair_skill"]
 
 _MAX_PROBLEMS = 6
 """Problems told per answer, and of the problems found so far, the latest told in a repair's
@@ -167,10 +167,14 @@ def _method_at(spans: Mapping[str, tuple[int, int]], line: int) -> str | None:
     return next((name for name, (first, last) in spans.items() if first <= line <= last), None)
 
 
-def repair_skill(writer: Writer, *, attempts: int, run_repairs: int) -> Judgement:
+def repair_skill(
+    writer: Writer, *, attempts: int, run_repairs: int, initial: Judgement | None = None
+) -> Judgement:
     """Repairs ``writer``'s methods (see the module docstring) and returns the judgement of
-    the final file, made of each method's best answer, whose attempts are marked chosen."""
-    judgement = _judged(writer, _latest)
+    the final file, made of each method's best answer, whose attempts are marked chosen;
+    ``initial`` is the judgement of the latest answers when the caller has made it already
+    (best-of-N judged its winner)."""
+    judgement = initial if initial is not None else judged(writer, _latest)
     rounds = fixes = later = 0
     # The checks' own fixes cost no model time, so they also follow the last repairs.
     while _failing(writer, judgement):
@@ -187,11 +191,11 @@ def repair_skill(writer: Writer, *, attempts: int, run_repairs: int) -> Judgemen
             _repair_failing(writer, judgement)
         else:
             break
-        judgement = _judged(writer, _latest)
+        judgement = judged(writer, _latest)
     # The final file takes each method's best answer (fewest errors, then warnings), chosen
     # once: judging the final file counts again and may move a score, not the choice.
     choices = {method.name: _best(method) or _latest(method) for method in writer.methods()}
-    judgement = _judged(writer, lambda method: choices[method.name])
+    judgement = judged(writer, lambda method: choices[method.name])
     for method in writer.methods():
         kept = judgement.mine(method.name) is not None
         for attempt in method.attempts:
@@ -199,14 +203,14 @@ def repair_skill(writer: Writer, *, attempts: int, run_repairs: int) -> Judgemen
     return judgement
 
 
-def _judged(writer: Writer, pick: _Pick) -> Judgement:
+def judged(writer: Writer, pick: _Pick) -> Judgement:
     """The writer's judgement of the file of the picked answers, each answer scored by the
     findings on its lines."""
     picked = {method.name: pick(method) for method in writer.methods()}
     judgement = writer.judge(picked)
     # The run and the simulation follow only a file without static errors: in any other,
     # an answer's behaviour is not known, which is not the same as none found.
-    measured = not any(f.severity == "error" and not _later(f) for f in judgement.findings)
+    measured = not any(f.severity == "error" and not is_later(f) for f in judgement.findings)
     for method in writer.methods():
         attempt = picked[method.name]
         mine = judgement.mine(method.name)
@@ -215,7 +219,7 @@ def _judged(writer: Writer, pick: _Pick) -> Judgement:
         errors = [f for f in mine if f.severity == "error"]
         attempt.errors = len(errors)
         attempt.warnings = len(mine) - attempt.errors
-        attempt.behaviour_errors = sum(_later(f) for f in errors) if measured else None
+        attempt.behaviour_errors = sum(is_later(f) for f in errors) if measured else None
     return judgement
 
 
@@ -529,7 +533,7 @@ def _only_later_stages(judgement: Judgement) -> bool:
     """Whether the file passed the static checks and only the run or simulation found
     errors."""
     errors = [f for f in judgement.findings if f.severity == "error"]
-    return bool(errors) and all(_later(f) for f in errors)
+    return bool(errors) and all(is_later(f) for f in errors)
 
 
 def _score(attempt: Attempt) -> tuple[int, int, int, int]:
@@ -548,7 +552,7 @@ def _score(attempt: Attempt) -> tuple[int, int, int, int]:
     return (0, attempt.errors - later, later, attempt.warnings or 0)
 
 
-def _later(finding: Finding) -> bool:
+def is_later(finding: Finding) -> bool:
     """Whether ``finding`` comes from running the skill (the run, the simulation) rather
     than from reading it."""
     rule = rule_of(finding)
@@ -559,7 +563,7 @@ def _execute_owns(finding: Finding) -> bool:
     """Whether ``finding``, outside any written method (at an input's or output's getter:
     an input never read, an output never set), is ``execute``'s to fix."""
     rule = rule_of(finding)
-    return _later(finding) or (rule is not None and rule.group in ("inputs", "outputs"))
+    return is_later(finding) or (rule is not None and rule.group in ("inputs", "outputs"))
 
 
 def _latest(method: Method) -> Attempt | None:
@@ -568,6 +572,8 @@ def _latest(method: Method) -> Attempt | None:
 
 def _best(method: Method) -> Attempt | None:
     """The answer with the best score; of equals the latest, which was told more of what was
-    wrong (its count may include findings another method's answer caused)."""
+    wrong (its count may include findings another method's answer caused), or of a best-of-N
+    first round the winner's, which the writer put last."""
+    order = {id(a): position for position, a in enumerate(method.attempts)}
     judged = [a for a in method.attempts if a.code is not None and a.errors is not None]
-    return min(judged, key=lambda a: (_score(a), -a.number)) if judged else None
+    return min(judged, key=lambda a: (_score(a), -order[id(a)])) if judged else None

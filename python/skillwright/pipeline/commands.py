@@ -268,6 +268,16 @@ def _behaviour_summary(console: Console, outcome: Outcome) -> None:
     "(and one more for the run's and simulation's findings once the static checks pass).",
 )
 @click.option(
+    "--candidates",
+    default=1,
+    show_default=True,
+    type=click.IntRange(1, 8),
+    help="Candidate skills of the first round: each state is asked for this many answers at "
+    "once (the greedy one and sampled ones; a local model decodes them in one batch), every "
+    "distinct candidate is judged by the checks, the run and the simulation, and repair "
+    "starts from the best. The record keeps every candidate's verdict.",
+)
+@click.option(
     "--no-run",
     is_flag=True,
     help="Do not run the skill in the sandbox after the static checks (stage `run`).",
@@ -317,6 +327,7 @@ def generate(
     dense: bool,
     rerank: bool,
     attempts: int,
+    candidates: int,
     no_run: bool,
     no_sim: bool,
     scenario_file: Path | None,
@@ -347,6 +358,8 @@ def generate(
     try:
         if skeleton and model_id is not None:
             raise InvalidArgumentError("--skeleton and --model exclude each other; choose one")
+        if skeleton and candidates > 1:
+            raise InvalidArgumentError("--candidates needs the model that --skeleton leaves out")
         if skeleton and rerank:
             raise InvalidArgumentError("--rerank needs the model that --skeleton leaves out")
         if out_dir is None:
@@ -371,6 +384,7 @@ def generate(
             dense=dense,
             rerank=rerank,
             attempts=attempts,
+            candidates=candidates,
             run=not no_run,
             simulate=not no_sim,
             scenario=scenario_file,

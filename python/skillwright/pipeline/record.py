@@ -15,7 +15,7 @@ from typing import Any, Final, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from skillwright.errors import FileFormatError, InputFileError, InputFileNotFoundError
-from skillwright.generation.model import Attempt
+from skillwright.generation.model import Attempt, CandidateVerdict
 from skillwright.rules.finding import Finding
 
 __all__ = [
@@ -175,6 +175,14 @@ class ModelRecord(_Model):
         default=None,
         description="Repairs beyond attempts_allowed once only the run's or simulation's "
         "findings are left.",
+    )
+    candidates_asked: int | None = Field(
+        default=None,
+        description="Candidate skills asked for in the first round (1: the greedy answer).",
+    )
+    candidates: list[CandidateVerdict] = Field(
+        default_factory=list,
+        description="Every candidate of a best-of-N first round, its verdict and the winner.",
     )
     card: str | None = Field(default=None, description="The task card the model was given.")
     attempts: list[Attempt] = Field(

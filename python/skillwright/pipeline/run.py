@@ -118,6 +118,9 @@ class GenerationRequest:
     (:mod:`skillwright.retrieval.rerank`); the model is then loaded during retrieval."""
     attempts: int = 3
     """Answers the model may give per method: the first, then repairs from the findings."""
+    candidates: int = 1
+    """Candidate skills of the first round, sampled in one batch and judged by every stage;
+    repair starts from the best (:mod:`skillwright.generation.candidates`). 1: greedy only."""
     run: bool = True
     """Run a skill that passes the static checks in the sandbox (stage ``run``)."""
     simulate: bool = True
@@ -520,7 +523,11 @@ def _generate(
     from skillwright.generation.skeleton import build_skeleton
 
     entry = registry.generation_model(request.model)
-    settings = AuthorSettings(attempts=request.attempts, max_tokens=entry.sampling.max_tokens)
+    settings = AuthorSettings(
+        attempts=request.attempts,
+        max_tokens=entry.sampling.max_tokens,
+        candidates=request.candidates,
+    )
     written = 0
     seconds_writing = 0.0
     first_cache: list[str] = []
@@ -618,6 +625,8 @@ def _generate(
         max_tokens=settings.max_tokens,
         short_max_tokens=settings.short_budget,
         attempts_allowed=settings.attempts,
+        candidates_asked=settings.candidates,
+        candidates=authored.candidates,
         run_repairs_allowed=settings.run_repairs,
         card=authored.card,
         attempts=authored.attempts,

@@ -83,6 +83,8 @@ class SessionState:
     """Use the embedding model in retrieval (else lexical only)."""
     attempts: int = 3
     """Answers the model may give per method: the first, then repairs."""
+    candidates: int = 1
+    """Candidate skills of the first round (best-of-N); 1: the greedy answer alone."""
     last_result: str | None = None
     """The result folder the Generation tab showed last, shown again on start."""
     ranked: bool = False
@@ -142,6 +144,7 @@ def _check_types(state: SessionState) -> None:
         "k": int,
         "dense": bool,
         "attempts": int,
+        "candidates": int,
         "last_result": (str, type(None)),
         "ranked": bool,
     }

@@ -57,6 +57,8 @@ if TYPE_CHECKING:
 __all__ = ["JUDGING", "SKELETON", "GenerationPane", "stage_text"]
 
 SKELETON = "skeleton"
+CANDIDATE_CHOICES = (1, 2, 4, 8)
+"""Candidate skills of the first round the selector offers (best-of-N; 1: greedy only)."""
 """Value of the model selector that asks for the deterministic skeleton only."""
 
 JUDGING = ("checks", "run", "simulate")
@@ -165,6 +167,16 @@ class GenerationPane(Pane):
     def compose(self) -> ComposeResult:
         with Horizontal(id="generation-bar", classes="bar"):
             yield Select[str]([], prompt="model", id="generation-model", compact=True)
+            yield Select[int](
+                [("1 candidate", 1)]
+                + [(f"best of {n} candidates", n) for n in CANDIDATE_CHOICES if n > 1],
+                value=self.sw.session.candidates
+                if self.sw.session.candidates in CANDIDATE_CHOICES
+                else 1,
+                allow_blank=False,
+                id="generation-candidates",
+                compact=True,
+            )
             yield Button("Generate ^G", id="generation-start", variant="primary", compact=True)
             yield Button("Cancel Esc", id="generation-cancel", compact=True)
         yield Static(_IDLE, id="generation-header", markup=False)
@@ -220,6 +232,11 @@ class GenerationPane(Pane):
             select.set_options(options)
             if chosen in ids:
                 select.value = chosen
+
+    @on(Select.Changed, "#generation-candidates")
+    def _candidates_chosen(self, event: Select.Changed) -> None:
+        if isinstance(event.value, int):
+            self.sw.update_session(candidates=event.value)
 
     @on(Select.Changed, "#generation-model")
     def _model_chosen(self, event: Select.Changed) -> None:
@@ -296,6 +313,7 @@ class GenerationPane(Pane):
             "models_file": self.sw.models_file,
             "dense": session.dense,
             "attempts": session.attempts,
+            "candidates": 1 if session.skeleton else session.candidates,
         }
         self._reset()
         self._cancel = threading.Event()
