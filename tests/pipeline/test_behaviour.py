@@ -220,3 +220,32 @@ def test_the_scenarios_come_from_the_file_the_request_names_else_the_shipped_one
     )
     with pytest.raises(FileFormatError, match="not for"):
         behaviour(other).scenarios()
+
+
+def test_best_of_n_judges_each_candidate_by_its_run_and_repairs_from_the_winner(
+    tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The greedy candidate's completing raises at run time, the sampled one does not: only
+    # running tells them apart (both pass the static checks).
+    failing = """        percent = int(str(self.out_linear_velocity))
+        self.node.get_logger().info(f"measured {percent} m/s")
+```"""
+    answers = {**SET_VELOCITY, "completing": [failing, *SET_VELOCITY["completing"]]}
+    model = MethodScript(answers, model_id="tiny")
+    use_model(monkeypatch, model)
+    outcome = run_generation(
+        request(tmp_path / "out", models_file=models_file, run=True, attempts=2, candidates=2)
+    )
+    record = outcome.record.model
+    assert record is not None
+    assert record.candidates_asked == 2
+    first, second = record.candidates
+    assert first.errors == 0
+    assert first.behaviour_errors
+    assert not first.won
+    assert second.won
+    assert second.behaviour_errors == 0
+    assert model.asked.count("completing") == 2  # both candidates, no repair needed
+    assert outcome.record.run is not None
+    assert outcome.record.run.passed, outcome.record.run.findings
+    assert "int(str(" not in outcome.skill_path.read_text(encoding="utf-8")

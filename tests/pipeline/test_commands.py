@@ -215,6 +215,30 @@ def test_a_scenario_file_given_to_generate_reaches_the_request(
     assert seen == [scenario, None]
 
 
+def test_candidates_reach_the_request_and_need_a_model(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from skillwright.errors import InvalidArgumentError
+    from skillwright.pipeline import run as pipeline_run
+
+    seen = []
+
+    def capture(request: pipeline_run.GenerationRequest, **_: object) -> None:
+        seen.append(request.candidates)
+        raise InvalidArgumentError("stopped by the test")
+
+    monkeypatch.setattr(pipeline_run, "run_generation", capture)
+    CliRunner().invoke(main, args(tmp_path / "out", "--candidates", "4"))
+    CliRunner().invoke(main, args(tmp_path / "out"))
+    assert seen == [4, 1]
+    result = CliRunner().invoke(main, args(tmp_path / "out", "--skeleton", "--candidates", "2"))
+    assert result.exit_code == 2
+    assert "--candidates needs the model that --skeleton leaves out" in result.stderr
+    result = CliRunner().invoke(main, args(tmp_path / "out", "--candidates", "9"))
+    assert result.exit_code == 2
+    assert "--candidates" in result.stderr
+
+
 def test_generate_waits_for_a_model_in_use_and_ctrl_c_ends_the_wait_with_130(
     tmp_path: Path, models_file: Path, wordy_gguf: Path
 ) -> None:
