@@ -142,6 +142,30 @@ def test_a_while_true_left_by_a_branch_that_stops_is_a_waiting_loop(
     assert finding.replacement is None  # an `if` comes first: the message says what to do
 
 
+def _stop_helper(source: str, body: str) -> str:
+    """``source`` with a method ``_halt`` publishing ``body`` called right before the loop
+    that waits."""
+    helper = f"    def _halt(self) -> None:\n        self.cmd_vel_publisher.publish({body})\n\n"
+    return source.replace("    @starting\n", helper + "    @starting\n", 1).replace(
+        "        self.cmd_vel_publisher.publish(command)\n        while",
+        "        self.cmd_vel_publisher.publish(command)\n        self._halt()\n        while",
+        1,
+    )
+
+
+def test_a_wait_after_the_skills_own_stop_helper_is_no_one_shot(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    # A helper that publishes only a zero velocity stops the base: the loop after it waits
+    # for the base to come to rest, which needs no repeated command.
+    source = _stop_helper(_published_once_before_the_loop(), "Twist()")
+    assert "self._halt()\n        while" in source
+    assert not [f for f in _motion(source, move_forward) if "goes out once" in f.message]
+    # A helper that commands motion is no stop: the command before the loop is still one shot.
+    moving = _stop_helper(_published_once_before_the_loop(), "Twist(linear=Vector3(x=0.2))")
+    assert [f for f in _motion(moving, move_forward) if "goes out once" in f.message]
+
+
 @pytest.mark.parametrize(
     ("old", "new"),
     [

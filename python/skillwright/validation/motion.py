@@ -136,7 +136,7 @@ def _repeated_nowhere(facts: SkillFacts, publishers: set[str]) -> list[Finding]:
             for index, statement in enumerate(block):
                 duration = _long_sleep(statement)
                 if duration is not None and id(block) not in looped:
-                    sent = _last_motion(block[:index], handles)
+                    sent = _last_motion(block[:index], handles, methods)
                     if sent is not None:
                         findings.append(_sleep_finding(statement, duration, *sent))
                     continue
@@ -144,7 +144,7 @@ def _repeated_nowhere(facts: SkillFacts, publishers: set[str]) -> list[Finding]:
                     continue
                 if not _awaits_motion(statement, is_measured):
                     continue
-                sent = _last_motion(block[:index], handles)
+                sent = _last_motion(block[:index], handles, methods)
                 if (
                     sent is None
                     or _commands(statement, methods)
@@ -222,23 +222,49 @@ def _awaits_motion(loop: ast.While, is_measured: Callable[[ast.expr], bool]) -> 
     return waits and (forever or _progress_test(loop, is_measured) is not None)
 
 
-def _last_motion(before: list[ast.stmt], handles: set[str]) -> tuple[str, ast.Call] | None:
+def _last_motion(
+    before: list[ast.stmt], handles: set[str], methods: Mapping[str, ast.FunctionDef]
+) -> tuple[str, ast.Call] | None:
     """(handle, call) of the last velocity command published in ``before``, when it is not a
-    stop."""
-    calls = [
-        (handle, node)
-        for statement in before
-        for node in ast.walk(statement)
+    stop. A call of a method of the skill that publishes only zero velocities on these
+    handles (the skeleton's ``_stop_base``, a model's ``_publish_zero``) is a stop too: after
+    it the base is told to stand still, which it also does when no command follows (the
+    driver's timeout), so a loop that waits for it to come to rest needs no repetition."""
+    calls: list[tuple[str, ast.Call, bool]] = []
+    for statement in before:
+        for node in ast.walk(statement):
+            if not isinstance(node, ast.Call):
+                continue
+            if (
+                isinstance(node.func, ast.Attribute)
+                and node.func.attr == "publish"
+                and (handle := ast.unparse(node.func.value)) in handles
+                and len(node.args) == 1
+            ):
+                calls.append((handle, node, _is_stop(node.args[0])))
+            elif (called := self_method(node)) in methods and _stops_only(
+                methods[called], handles
+            ):
+                calls.append(("", node, True))
+    if not calls:
+        return None
+    handle, last, stop = max(calls, key=lambda c: (c[1].lineno, c[1].col_offset))
+    return None if stop else (handle, last)
+
+
+def _stops_only(method: ast.FunctionDef, handles: set[str]) -> bool:
+    """Whether ``method`` publishes on ``handles`` and every message it publishes there is a
+    zero velocity."""
+    published = [
+        node.args[0]
+        for node in ast.walk(method)
         if isinstance(node, ast.Call)
         and isinstance(node.func, ast.Attribute)
         and node.func.attr == "publish"
-        and (handle := ast.unparse(node.func.value)) in handles
+        and ast.unparse(node.func.value) in handles
         and len(node.args) == 1
     ]
-    if not calls:
-        return None
-    handle, last = max(calls, key=lambda c: (c[1].lineno, c[1].col_offset))
-    return None if _is_stop(last.args[0]) else (handle, last)
+    return bool(published) and all(_is_stop(message) for message in published)
 
 
 def _is_stop(message: ast.expr) -> bool:
