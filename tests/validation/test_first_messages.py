@@ -169,3 +169,37 @@ def test_one_statement_reading_two_first_messages_gets_both_waits_in_one_finding
     scan_wait = WAIT.replace("odom_msg", "scan_msg")
     assert "self.odom_msg and self.scan_msg stay None" in finding.message
     assert finding.replacement == f"{WAIT}\n{scan_wait}\n{read.strip()}"
+
+
+@pytest.mark.parametrize(
+    ("poll", "waits"),
+    [
+        (
+            "        for _ in range(40):\n"
+            "            if self.odom_msg is not None:\n"
+            "                break\n"
+            "            time.sleep(0.05)\n",
+            True,
+        ),
+        (
+            "        for _ in range(40):\n"
+            "            rclpy.spin_once(self.node, timeout_sec=0.05)\n"
+            "            if self.odom_msg:\n"
+            "                break\n",
+            True,
+        ),
+        # it neither sleeps nor spins: the executor never gets to deliver the message
+        (
+            "        for _ in range(40):\n            if self.odom_msg is not None:\n                break\n",
+            False,
+        ),
+    ],
+)
+def test_a_bounded_poll_for_the_first_message_counts_as_waiting_for_it(
+    move_forward: tuple[Capability, SkillSpec], poll: str, waits: bool
+) -> None:
+    read = "        speed = self.odom_msg.twist.twist.linear.x\n"
+    source = _execute_starting_with(poll + read, starting_waits=False)
+    line = source.splitlines().index(read.rstrip("\n")) + 1
+    flagged = [f for f in _waits(source, move_forward) if f.line == line]
+    assert bool(flagged) is not waits

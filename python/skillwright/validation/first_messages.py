@@ -15,8 +15,9 @@ message only once discovery has matched the publisher, which takes a moment. The
 puts the wait before the statement that reads it.
 
 A message counts as waited for once a state on the normal path (``starting``, ``execute``,
-``completing``) before the guard waited for it: a ``_wait_until`` or a loop whose condition
-reads it, directly or in a method of the class it calls.
+``completing``) before the guard waited for it: a ``_wait_until``, a loop whose condition
+reads it, or a bounded poll (``for _ in range(n)`` that sleeps and leaves once the message is
+there), directly or in a method of the class it calls.
 """
 
 from __future__ import annotations
@@ -47,6 +48,8 @@ def _waits_for(
     for inner in ast.walk(node):
         if isinstance(inner, ast.While) and _mentions(inner.test, attribute):
             return True
+        if isinstance(inner, ast.For) and _polls(inner, attribute):
+            return True
         if not isinstance(inner, ast.Call):
             continue
         called = self_attribute(inner.func)
@@ -56,6 +59,28 @@ def _waits_for(
         if callee is not None and depth > 0 and _waits_for(callee, attribute, methods, depth - 1):
             return True
     return False
+
+
+def _polls(loop: ast.For, attribute: str) -> bool:
+    """Whether ``loop`` is a bounded poll for ``self.<attribute>``: a ``for`` over a count
+    (``for _ in range(50)``) that sleeps or spins on every pass and leaves, by ``break`` or
+    ``return``, in a branch whose test reads the attribute. rclpy fills a subscription's
+    latest message from its executor while the state sleeps, so such a loop waits as
+    ``_wait_until`` does (what happens when it runs out is the run's to judge)."""
+    sleeps = any(
+        isinstance(n, ast.Call)
+        and isinstance(n.func, ast.Attribute | ast.Name)
+        and (n.func.attr if isinstance(n.func, ast.Attribute) else n.func.id)
+        in {"sleep", "spin_once"}
+        for n in ast.walk(loop)
+    )
+    leaves = any(
+        isinstance(n, ast.If)
+        and _mentions(n.test, attribute)
+        and any(isinstance(s, ast.Break | ast.Return) for s in n.body)
+        for n in ast.walk(loop)
+    )
+    return sleeps and leaves
 
 
 def _wait_for(attribute: str) -> str:
