@@ -267,6 +267,20 @@ def test_the_papers_robot_runs_in_the_same_worlds(shared_data: Path) -> None:
     transforms = [t["header"]["frame_id"] for _, m in host.messages("/tf") for t in m["transforms"]]
     assert "map" not in transforms, "the paper's robot has no localisation"
     assert world.truth.at(1.0).x > 0.2
+    # What the oracles need to judge it by what it can know.
+    assert world.truth.localised is False
+    assert world.truth.map_savers == []
+    assert world.truth.noise["scan"] == Noise().scan
+    assert world.truth.odometry_period == pytest.approx(0.02)
+
+
+def test_the_mr1_localises_and_its_world_says_what_it_serves(mr1_inventory: Inventory) -> None:
+    world, _host = _world(mr1_inventory, "open_floor", noise=Noise(scan=0.05))
+    bindings = bind_interfaces(mr1_inventory)
+    assert world.truth.localised is bindings.has_localisation
+    assert world.truth.noise["scan"] == 0.05
+    savers = sorted(n for n, k in bindings.services.items() if k.endswith("save_map"))
+    assert world.truth.map_savers == savers
 
 
 def test_the_papers_two_corner_scanners_each_see_one_half_and_the_truth_sees_both(
