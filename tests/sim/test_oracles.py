@@ -680,3 +680,29 @@ def test_a_saved_map_is_asked_for_only_where_the_robot_has_a_map_saver(
     )["output:outMap"]
     assert verdict.passed is passed
     assert words in verdict.message
+
+
+def test_a_failed_run_says_why_the_world_aborted_its_goals(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    truth = _truth(0.0)
+    truth.goals = [
+        {
+            "action": "/move_action",
+            "accepted": 1.0,
+            "outcome": "aborted",
+            "finished": 1.0,
+            "reason": "unknown planning group 'manipulator'; the robot's groups are 'mr1_arm'",
+        }
+    ]
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["move-to-point"],
+            Scenario(name="s"),
+            _run({}, ended="aborted"),
+            truth,
+            "completed",
+        )
+    )["outcome"]
+    assert verdict.passed is False
+    assert "the robot's groups are 'mr1_arm'" in verdict.message

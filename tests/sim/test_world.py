@@ -384,3 +384,32 @@ def test_the_map_is_traced_only_when_someone_needs_it_and_comes_out_the_same(
     assert unwatched.truth.extent_at(3.0) == published.truth.extent_at(3.0)
     assert len(unwatched.truth.extents) >= 3
     assert unwatched.truth.extents == published.truth.extents
+
+
+def test_the_arm_serves_the_groups_of_the_robots_recorded_srdf(mr1_inventory: Inventory) -> None:
+    bindings = bind_interfaces(mr1_inventory)
+    facts = recorded_facts(mr1_inventory, bindings)
+    facts.arm_groups = {"manipulator": "tool0"}
+    world = MujocoWorld(WorldConfig(resolve_world("open_floor")), bindings, facts)
+    host = FakeHost(mr1_inventory)
+    host.attach(world)
+    codes = {}
+    for group in ("manipulator", "mr1_arm"):
+        region = {"primitive_poses": [{"position": {"x": 0.4, "y": 0.0, "z": 0.3}}]}
+        constraint = {"header": {"frame_id": "arm_base_link"}, "link_name": "tool0"}
+        request = {
+            "request": {
+                "group_name": group,
+                "goal_constraints": [
+                    {"position_constraints": [{**constraint, "constraint_region": region}]}
+                ],
+            },
+        }
+        goal = host.send_goal("/move_action", request)
+        host.run_until(host.now + 3.0)
+        result = host.goals[goal.goal_id].result
+        assert result is not None
+        codes[group] = result["error_code"]["val"]
+    assert codes == {"manipulator": 1, "mr1_arm": -15}
+    reasons = [g.get("reason", "") for g in world.truth.goals if g.get("outcome") == "aborted"]
+    assert "the robot's groups are 'manipulator'" in reasons[-1]

@@ -1254,12 +1254,29 @@ def _rest_verdict(context: _Context, state: str) -> Verdict:
     )
 
 
+def _refused_goals(truth: GroundTruth) -> list[str]:
+    """Why the world's action servers aborted goals, as their servers said (an unknown
+    planning group, a frame TF cannot transform, a target out of reach): a skill usually
+    fails because of it, and the reason is otherwise only in the trace."""
+    found = []
+    for goal in truth.goals:
+        if goal.get("outcome") == "aborted" and goal.get("reason"):
+            found.append(
+                f"{goal.get('action')} aborted the goal sent at t={float(goal['accepted']):.2f} s: "
+                f"{goal['reason']}"
+            )
+    return list(dict.fromkeys(found))[:3]
+
+
 def _outcome_verdict(context: _Context, expected: str) -> Verdict:
     run = context.run
     passed = run.ended == expected
     message = f"the run {run.ended}" + (f" ({run.message})" if run.message else "")
     if not passed:
         message += f"; the scenario expects it to have {expected}"
+        refused = _refused_goals(context.truth)
+        if refused:
+            message += "; " + "; ".join(refused)
     failing = next((s for s in run.states if s.outcome != "returned"), None)
     return Verdict(
         oracle="outcome",

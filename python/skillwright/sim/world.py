@@ -1075,9 +1075,13 @@ class MujocoWorld:
         return handle
 
     def _arm_config(self) -> ArmConfig:
+        """The arm as the robot's own description says: the planning groups (and their tip
+        links) of its recorded SRDF where there is one, else the group and tip the world's
+        robot model names."""
         home = self._numeric("arm_home", 3)
         return ArmConfig(
             group=self._text("arm_group", "arm"),
+            groups=dict(self.facts.arm_groups) or None,
             tip_link=self._text("arm_tip_link", "tool0"),
             base_frame=self._text("arm_base_frame", "arm_base_link"),
             reach=self._numeric("arm_reach", 1)[0],
