@@ -116,7 +116,8 @@ def judge(path: Path, stem: str, pool: ChildPool) -> tuple[dict[str, str], list[
     )
     failed = simulated.failed_oracles()
     outcome = any(o.endswith("/outcome") for o in failed)
-    verdict["behaviour"] = "F" if simulated.passed else "N" if outcome or not failed else "P"
+    # Behaviour is what the oracles judge; a state that raised in a run is executability's.
+    verdict["behaviour"] = "F" if not failed else "N" if outcome else "P"
     why = sorted(
         {f.code for f in [*static, *run.findings] if f.severity == "error"}
         | {o.rsplit("/", 1)[-1] for o in failed}

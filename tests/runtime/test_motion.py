@@ -3,6 +3,7 @@ world that moves the base exactly as commanded."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -440,3 +441,18 @@ def test_the_yaw_of_a_quaternion(orientation: object, yaw: float) -> None:
 )
 def test_angles_wrap_into_half_a_turn_either_way(angle: float, wrapped: float) -> None:
     assert wrap_pi(angle) == pytest.approx(wrapped)
+
+
+def test_the_robots_srdf_groups_are_served_each_with_its_tip_and_others_named() -> None:
+    config = dataclasses.replace(ARM, group="mr1_arm", groups={"arm": "tool0", "wrist": "flange"})
+    world, server = _arm(config)
+    goal, _ = _move(server, _arm_request((0.4, 0.0, 0.3), group="wrist", link="flange"))
+    world.run(server, 3.0)
+    assert goal.status == GoalStatus.SUCCEEDED
+    _, sink = _move(server, _arm_request((0.4, 0.0, 0.3), group="wrist", link="tool0"))
+    assert _code(sink) == MOVEIT_INVALID_LINK_NAME
+    _, sink = _move(server, _arm_request((0.4, 0.0, 0.3), group="mr1_arm"))
+    assert _code(sink) == MOVEIT_INVALID_GROUP_NAME
+    reasons = [g["reason"] for g in world.goals if g.get("outcome") == "aborted"]
+    assert "the robot's groups are 'arm', 'wrist'" in reasons[-1]
+    assert "'flange'" in reasons[0]

@@ -124,3 +124,33 @@ def test_an_inventory_without_a_base_says_what_is_missing() -> None:
     assert bindings.command_topic is None
     assert any("no velocity command topic" in note for note in bindings.notes)
     assert any("no Odometry topic" in note for note in bindings.notes)
+
+
+SRDF = """<?xml version="1.0"?>
+<robot name="mmo700">
+  <group name="arm"><chain base_link="arm_base_link" tip_link="tool0"/></group>
+  <group name="gripper"><link name="finger_left"/><link name="finger_right"/></group>
+  <group name="arm_with_gripper"><group name="arm"/><group name="gripper"/></group>
+  <group_state name="home" group="arm"/>
+</robot>"""
+
+
+def test_planning_groups_and_their_tips_come_from_the_srdf() -> None:
+    from skillwright.sim.bindings import srdf_groups
+
+    assert srdf_groups(SRDF) == {"arm": "tool0", "gripper": None, "arm_with_gripper": "tool0"}
+    assert srdf_groups("not xml") == {}
+
+
+def test_the_srdf_topic_is_the_string_topic_move_group_publishes(
+    mr1_inventory: Inventory,
+) -> None:
+    from skillwright.interfaces.inventory import Interface
+    from skillwright.sim.bindings import semantic_topic
+
+    assert semantic_topic(mr1_inventory) is None  # the MR-1's recording has no SRDF
+    srdf = Interface(
+        name="/robot_description_semantic", kind="topic", type_name="std_msgs/msg/String"
+    )
+    with_srdf = mr1_inventory.model_copy(update={"interfaces": [*mr1_inventory.interfaces, srdf]})
+    assert semantic_topic(with_srdf) == "/robot_description_semantic"

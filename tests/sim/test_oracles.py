@@ -466,3 +466,243 @@ def test_a_bearing_passes_where_the_nearest_obstacle_is_as_near(
     )["output:outAngle"]
     assert verdict.passed is passed
     assert ("as near" in verdict.message) is (passed and reported not in (-90.0, 0.0))
+
+
+def _braking_truth(
+    *, settles: bool = True, start: tuple[float, float, float] = (0, 0, 0)
+) -> GroundTruth:
+    """The base drives at 0.4 m/s from 1.35 s, is told to stop at 4.9 s and brakes at 1 m/s^2
+    until it rests at 5.3 s, 1.5 m from where it began (``settles`` false: it never stops)."""
+    truth = GroundTruth(start=start)
+    x = 0.0
+    for k in range(301):
+        t = k * 0.02
+        if t <= 1.35:
+            speed = 0.0
+        elif t <= 4.9 or not settles:
+            speed = 0.4
+        else:
+            speed = max(0.4 - (t - 4.9), 0.0)
+        if k:
+            x += speed * 0.02
+        truth.add(Sample(t, x, 0.0, 0.0, speed, 0.0, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    truth.commands = [CommandRecord(1.35, "/cmd_vel", 0.4, 0.0, 0.0)]
+    if settles:
+        truth.commands.append(CommandRecord(4.9, "/cmd_vel", 0.0, 0.0, 0.0))
+    truth.drive = [(c.t, c.vx, c.vy, c.wz, "skill") for c in truth.commands]
+    return truth
+
+
+def test_a_travelled_distance_is_measured_once_the_base_has_settled(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    truth = _braking_truth()
+    final = truth.samples[-1].x
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": final, "outLinearVelocity": 0.0}),
+            truth,
+            "completed",
+        )
+    )
+    output = verdicts["output:outDistance"]
+    assert output.passed is True
+    assert output.measured["measured"] == pytest.approx(final)
+    # Execute returned at 5.0 s while the base still braked: both are in the verdict's data.
+    assert output.measured["at_return"] == pytest.approx(truth.at(5.0).x)
+    assert output.measured["at_return"] < final - 0.03
+    assert output.measured["settled_at"] == pytest.approx(5.3, abs=0.03)
+    assert "at rest from t=5.3" in output.message
+    assert verdicts["truth:distanceCovered"].passed is True
+
+
+def test_a_distance_far_from_where_the_base_came_to_rest_fails(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.2, "outLinearVelocity": 0.0}),
+            _braking_truth(),
+            "completed",
+        )
+    )
+    assert verdicts["output:outDistance"].passed is False
+    assert verdicts["truth:distanceCovered"].passed is True
+
+
+@pytest.mark.parametrize(("settles", "passed"), [(True, True), (False, False)])
+def test_an_asserted_stop_passes_with_a_velocity_read_while_the_base_braked(
+    mr1_capabilities: dict[str, Capability], settles: bool, passed: bool
+) -> None:
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5, "outLinearVelocity": 0.25}),
+            _braking_truth(settles=settles),
+            "completed",
+        )
+    )["assured:outLinearVelocity"]
+    assert verdict.passed is passed
+    if passed:
+        assert "while it braked" in verdict.message
+        assert verdict.measured["settled"] == pytest.approx(0.0, abs=0.01)
+
+
+@pytest.mark.parametrize(("settles", "passed"), [(True, True), (False, False)])
+def test_an_asserted_output_the_skill_lacks_is_judged_by_the_promise(
+    mr1_capabilities: dict[str, Capability], settles: bool, passed: bool
+) -> None:
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["move-forward"],
+            MOVE,
+            _run({"outDistance": 1.5}),
+            _braking_truth(settles=settles),
+            "completed",
+        )
+    )["assured:outLinearVelocity"]
+    assert verdict.passed is passed
+    assert "reports no outLinearVelocity" in verdict.message
+
+
+POSITION = Scenario(
+    name="s", ground_truth={"outPositionX": "position_x", "outPositionY": "position_y"}
+)
+
+
+def _parked(start: tuple[float, float, float], localised: bool) -> GroundTruth:
+    """The base stands 0.5 m ahead of where it started, facing the way it started."""
+    truth = GroundTruth(start=start, localised=localised)
+    x0, y0, yaw = start
+    x, y = x0 + 0.5 * math.cos(yaw), y0 + 0.5 * math.sin(yaw)
+    for k in range(301):
+        truth.add(Sample(k * 0.02, x, y, yaw, 0.0, 0.0, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    return truth
+
+
+@pytest.mark.parametrize(
+    ("localised", "reported", "passed"),
+    [
+        (False, (0.5, 0.0), True),  # odometry: where the robot is from where it started
+        (False, (2.0, 1.5), False),
+        (True, (2.0, 1.5), True),  # localised: the map frame
+        (True, (0.5, 0.0), False),
+    ],
+)
+def test_a_position_is_judged_in_the_frame_the_robot_can_know(
+    mr1_capabilities: dict[str, Capability],
+    localised: bool,
+    reported: tuple[float, float],
+    passed: bool,
+) -> None:
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["get-position"],
+            POSITION,
+            _run({"outPositionX": reported[0], "outPositionY": reported[1], "outHeading": 0.0}),
+            _parked((2.0, 1.0, math.pi / 2), localised),
+            "completed",
+        )
+    )
+    for name in ("outPositionX", "outPositionY"):
+        assert verdicts[f"output:{name}"].passed is passed
+        assert verdicts[f"output:{name}"].measured["frame"] == ("map" if localised else "odom")
+    if not localised:
+        assert "odometry frame" in verdicts["output:outPositionX"].message
+
+
+def test_a_heading_without_localisation_is_the_odometry_frames(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    scenario = Scenario(name="s", ground_truth={"outHeading": "heading"})
+    truth = _parked((0.0, 0.0, 1.0), localised=False)
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["get-position"],
+            scenario,
+            _run({"outPositionX": 0.5, "outPositionY": 0.0, "outHeading": 0.0}),
+            truth,
+            "completed",
+        )
+    )
+    assert verdicts["output:outHeading"].passed is True
+
+
+@pytest.mark.parametrize(("sigma", "passed"), [(0.01, False), (0.03, True)])
+def test_a_range_is_judged_to_at_least_three_sigmas_of_the_scan_noise(
+    mr1_capabilities: dict[str, Capability], sigma: float, passed: bool
+) -> None:
+    truth = _flat_wall_and_post(False)
+    truth.noise = {"scan": sigma}
+    verdicts = _by_oracle(
+        judge(
+            mr1_capabilities["get-distance-to-nearest-object"],
+            NEAREST,
+            # 0.08 m long, at a bearing whose range is 0.064 m farther than the nearest
+            _run({"outDistance": 1.08, "outAngle": math.radians(-70.0)}),
+            truth,
+            "completed",
+        )
+    )
+    distance, bearing = verdicts["output:outDistance"], verdicts["output:outAngle"]
+    assert distance.tolerance == pytest.approx(max(0.03, 3 * sigma))
+    assert distance.passed is passed
+    assert bearing.passed is passed
+
+
+MAP = Scenario(name="s", ground_truth={"outMap": "map_file"})
+
+
+@pytest.mark.parametrize(
+    ("savers", "reported", "passed", "words"),
+    [
+        ([], "occupancy grid 60x60 at 0.05 m", True, "has no map-saving service"),
+        ([], "", False, "reported no map"),
+        (["/slam_toolbox/save_map"], "map", False, "no map was saved"),
+    ],
+)
+def test_a_saved_map_is_asked_for_only_where_the_robot_has_a_map_saver(
+    mr1_capabilities: dict[str, Capability],
+    savers: list[str],
+    reported: str,
+    passed: bool,
+    words: str,
+) -> None:
+    truth = _truth(1.0)
+    truth.map_savers = savers
+    verdict = _by_oracle(
+        judge(mr1_capabilities["mapping"], MAP, _run({"outMap": reported}), truth, "completed")
+    )["output:outMap"]
+    assert verdict.passed is passed
+    assert words in verdict.message
+
+
+def test_a_failed_run_says_why_the_world_aborted_its_goals(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    truth = _truth(0.0)
+    truth.goals = [
+        {
+            "action": "/move_action",
+            "accepted": 1.0,
+            "outcome": "aborted",
+            "finished": 1.0,
+            "reason": "unknown planning group 'manipulator'; the robot's groups are 'mr1_arm'",
+        }
+    ]
+    verdict = _by_oracle(
+        judge(
+            mr1_capabilities["move-to-point"],
+            Scenario(name="s"),
+            _run({}, ended="aborted"),
+            truth,
+            "completed",
+        )
+    )["outcome"]
+    assert verdict.passed is False
+    assert "the robot's groups are 'mr1_arm'" in verdict.message

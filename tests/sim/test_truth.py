@@ -77,3 +77,33 @@ def test_the_range_toward_a_bearing_is_read_from_the_last_scan_by_then() -> None
     ]
     assert truth.range_toward(0.5, 0.0) == 5.0
     assert truth.range_toward(1.0, 0.0) == 6.0
+
+
+def test_the_base_settles_when_it_stays_slow_for_a_while() -> None:
+    truth = GroundTruth()
+    speeds = [0.4] * 10 + [0.2, 0.005, 0.3, 0.1] + [0.001] * 20
+    for k, speed in enumerate(speeds):
+        truth.add(Sample(0.02 * k, 0.0, 0.0, 0.0, speed, 0.0, 0.0, (0, 0, 0), (0, 0, 0)))
+    # A moment slower than the threshold (0.005 at 0.22 s) is not rest: it sped up again.
+    assert truth.settled(0.0, 1.0, 0.01, 0.02) == pytest.approx(0.28)
+    assert truth.settled(0.0, 0.25, 0.01, 0.02) is None
+    assert truth.settled(0.0, 0.2, 0.01, 0.02) is None
+
+
+def test_the_stop_the_skill_commanded_follows_a_motion() -> None:
+    truth = GroundTruth()
+    truth.commands = [
+        CommandRecord(0.1, "/cmd_vel", 0.0, 0.0, 0.0),
+        CommandRecord(1.0, "/cmd_vel", 0.3, 0.0, 0.0),
+        CommandRecord(3.0, "/cmd_vel", 0.0, 0.0, 0.0),
+        CommandRecord(3.1, "/cmd_vel", 0.0, 0.0, 0.0),
+    ]
+    assert truth.stop_commanded(0.0, 5.0) == pytest.approx(3.0)
+    assert truth.stop_commanded(0.0, 2.0) is None
+
+
+def test_a_pose_in_the_odometry_frame_is_from_where_the_robot_started() -> None:
+    truth = GroundTruth(start=(2.0, 1.0, math.pi / 2))
+    sample = Sample(0.0, 2.0, 1.5, math.pi / 2 + 0.25, 0.0, 0.0, 0.0, (0, 0, 0), (0, 0, 0))
+    x, y, yaw = truth.in_odometry_frame(sample)
+    assert (x, y, yaw) == pytest.approx((0.5, 0.0, 0.25))

@@ -267,6 +267,20 @@ def test_the_papers_robot_runs_in_the_same_worlds(shared_data: Path) -> None:
     transforms = [t["header"]["frame_id"] for _, m in host.messages("/tf") for t in m["transforms"]]
     assert "map" not in transforms, "the paper's robot has no localisation"
     assert world.truth.at(1.0).x > 0.2
+    # What the oracles need to judge it by what it can know.
+    assert world.truth.localised is False
+    assert world.truth.map_savers == []
+    assert world.truth.noise["scan"] == Noise().scan
+    assert world.truth.odometry_period == pytest.approx(0.02)
+
+
+def test_the_mr1_localises_and_its_world_says_what_it_serves(mr1_inventory: Inventory) -> None:
+    world, _host = _world(mr1_inventory, "open_floor", noise=Noise(scan=0.05))
+    bindings = bind_interfaces(mr1_inventory)
+    assert world.truth.localised is bindings.has_localisation
+    assert world.truth.noise["scan"] == 0.05
+    savers = sorted(n for n, k in bindings.services.items() if k.endswith("save_map"))
+    assert world.truth.map_savers == savers
 
 
 def test_the_papers_two_corner_scanners_each_see_one_half_and_the_truth_sees_both(
@@ -370,3 +384,32 @@ def test_the_map_is_traced_only_when_someone_needs_it_and_comes_out_the_same(
     assert unwatched.truth.extent_at(3.0) == published.truth.extent_at(3.0)
     assert len(unwatched.truth.extents) >= 3
     assert unwatched.truth.extents == published.truth.extents
+
+
+def test_the_arm_serves_the_groups_of_the_robots_recorded_srdf(mr1_inventory: Inventory) -> None:
+    bindings = bind_interfaces(mr1_inventory)
+    facts = recorded_facts(mr1_inventory, bindings)
+    facts.arm_groups = {"manipulator": "tool0"}
+    world = MujocoWorld(WorldConfig(resolve_world("open_floor")), bindings, facts)
+    host = FakeHost(mr1_inventory)
+    host.attach(world)
+    codes = {}
+    for group in ("manipulator", "mr1_arm"):
+        region = {"primitive_poses": [{"position": {"x": 0.4, "y": 0.0, "z": 0.3}}]}
+        constraint = {"header": {"frame_id": "arm_base_link"}, "link_name": "tool0"}
+        request = {
+            "request": {
+                "group_name": group,
+                "goal_constraints": [
+                    {"position_constraints": [{**constraint, "constraint_region": region}]}
+                ],
+            },
+        }
+        goal = host.send_goal("/move_action", request)
+        host.run_until(host.now + 3.0)
+        result = host.goals[goal.goal_id].result
+        assert result is not None
+        codes[group] = result["error_code"]["val"]
+    assert codes == {"manipulator": 1, "mr1_arm": -15}
+    reasons = [g.get("reason", "") for g in world.truth.goals if g.get("outcome") == "aborted"]
+    assert "the robot's groups are 'manipulator'" in reasons[-1]

@@ -502,6 +502,10 @@ class ArmConfig:
     default_velocity_scaling: float = 0.1
     """MoveIt's ``default_velocity_scaling_factor``, used when a request leaves
     ``max_velocity_scaling_factor`` at 0 (0.1 in MoveIt's own defaults)."""
+    groups: Mapping[str, str | None] | None = None
+    """Every planning group the robot's semantic description (SRDF) declares, with the tip
+    link of its chain (``None``: not a chain); when given, move_group serves a request for
+    any of them (it plans for every group of its SRDF) and :attr:`group` is not asked for."""
 
 
 class ArmServer:
@@ -586,8 +590,23 @@ class ArmServer:
         if not isinstance(request, Mapping):
             return MOVEIT_INVALID_GOAL_CONSTRAINTS, "the request is not a MotionPlanRequest", None
         group = str(request.get("group_name", ""))
-        if self.config.group is not None and group != self.config.group:
-            return MOVEIT_INVALID_GROUP_NAME, f"unknown planning group {group!r}", None
+        tip = self.config.tip_link
+        known = self.config.groups
+        if known:
+            if group not in known:
+                return (
+                    MOVEIT_INVALID_GROUP_NAME,
+                    f"unknown planning group {group!r}; the robot's groups are "
+                    + ", ".join(repr(g) for g in sorted(known)),
+                    None,
+                )
+            tip = known[group] or tip
+        elif self.config.group is not None and group != self.config.group:
+            return (
+                MOVEIT_INVALID_GROUP_NAME,
+                f"unknown planning group {group!r}; the robot's group is {self.config.group!r}",
+                None,
+            )
         constraints = request.get("goal_constraints") or []
         positions: list[Any] = []
         for item in constraints if isinstance(constraints, list) else []:
@@ -601,8 +620,12 @@ class ArmServer:
             )
         constraint = positions[0]
         link = str(constraint.get("link_name", ""))
-        if self.config.tip_link is not None and link != self.config.tip_link:
-            return MOVEIT_INVALID_LINK_NAME, f"unknown link {link!r}", None
+        if tip is not None and link != tip:
+            return (
+                MOVEIT_INVALID_LINK_NAME,
+                f"link {link!r} is not the tip of group {group!r}, which is {tip!r}",
+                None,
+            )
         frame = str((constraint.get("header") or {}).get("frame_id", "")) or self.config.base_frame
         offset = self.frame_offset(frame)
         if offset is None:

@@ -88,6 +88,10 @@ class RecordedFacts:
     base_frame: str | None = None
     map_frame: str | None = None
     map_resolution: float | None = None
+    arm_groups: dict[str, str | None] = field(default_factory=dict)
+    """The planning groups of the robot's semantic description (SRDF, as MoveIt's
+    move_group publishes it on ``robot_description_semantic``), each with the tip link of
+    its chain (``None`` when the group is not a chain); empty when none was recorded."""
     notes: list[str] = field(default_factory=list)
 
 
@@ -283,6 +287,48 @@ def _first_messages(
     return found
 
 
+_STRING = "std_msgs/msg/String"
+
+
+def semantic_topic(inventory: Inventory) -> str | None:
+    """The topic the robot's SRDF is published on: a ``std_msgs/msg/String`` topic named
+    ``robot_description_semantic`` (move_group publishes it so since ROS 2 Iron)."""
+    names = [
+        i.name
+        for i in inventory.interfaces
+        if i.kind == "topic"
+        and i.type_name == _STRING
+        and _segment(i.name) == "robot_description_semantic"
+    ]
+    return min(names, key=len, default=None)
+
+
+def srdf_groups(text: str) -> dict[str, str | None]:
+    """Planning group -> the tip link of its chain (``None``: not a chain), from an SRDF
+    document (``<group name=...><chain base_link=... tip_link=.../></group>``); a group
+    made of other groups takes the tip of the first of them that is a chain. Empty when the
+    text is not an SRDF."""
+    from xml.etree import ElementTree
+
+    try:
+        root = ElementTree.fromstring(text)
+    except ElementTree.ParseError:
+        return {}
+    groups: dict[str, str | None] = {}
+    members: dict[str, list[str]] = {}
+    for group in root.findall("group"):
+        name = group.get("name")
+        if not name:
+            continue
+        chain = group.find("chain")
+        groups[name] = chain.get("tip_link") if chain is not None else None
+        members[name] = [g.get("name") or "" for g in group.findall("group")]
+    for name, parts in members.items():
+        if groups[name] is None:
+            groups[name] = next((groups[p] for p in parts if groups.get(p)), None)
+    return groups
+
+
 def recorded_facts(
     inventory: Inventory, bindings: Bindings, recording: Path | None = None
 ) -> RecordedFacts:
@@ -298,6 +344,9 @@ def recorded_facts(
     wanted.update(dict.fromkeys(bindings.odometry_topics, "nav_msgs/msg/Odometry"))
     if bindings.map_topic:
         wanted[bindings.map_topic] = "nav_msgs/msg/OccupancyGrid"
+    semantic = semantic_topic(inventory)
+    if semantic is not None:
+        wanted[semantic] = _STRING
     defaults = default_geometries(bindings.scan_topics)
     if path is None or not wanted:
         if bindings.scan_topics:
@@ -341,4 +390,6 @@ def recorded_facts(
         grid = first[bindings.map_topic]
         facts.map_frame = str(grid["header"]["frame_id"]) or None
         facts.map_resolution = float(grid["info"]["resolution"]) or None
+    if semantic is not None and semantic in first:
+        facts.arm_groups = srdf_groups(str(first[semantic].get("data", "")))
     return facts

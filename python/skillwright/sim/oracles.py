@@ -27,7 +27,17 @@ For one run of a skill in a scenario:
   not asserted to be zero, as set-velocity's).
 
 Resource properties that are actual values (``heading``, ``positionX``) take the measured
-value of the moment execute began; outputs are measured when execute returned.
+value of the moment execute began. Outputs of the end state (:data:`END_STATE`: a pose, a
+distance travelled, a turn, a mapped extent) are measured once the base has settled after
+execute returned (within the scenario's time), and a value the base had while it braked
+after the skill's stop passes too; instant values (a velocity, the nearest obstacle) are
+measured when execute returned. Both are in each verdict's data.
+
+Judged by what the robot can know: on a robot without localisation (nothing publishes
+``map -> odom``) a pose is compared in the odometry frame, which starts where the robot
+started; no tolerance is less than :data:`NOISE_SIGMAS` standard deviations of the noise of
+the sensor the value comes from (:func:`noise_floor`); a saved map is asked for only of a
+robot with a map-saving service.
 """
 
 from __future__ import annotations
@@ -192,6 +202,37 @@ class _Context:
     tolerances: dict[str, float]
     exec_start: float
     exec_end: float
+    settle_time: float = 0.0
+    """When the base came to rest after execute returned (see :func:`_settling`); the end
+    state is measured then."""
+    settled: bool = True
+    """False when the base had not come to rest within the scenario's time."""
+    brake_start: float = 0.0
+    """When the skill commanded the stop that ended its motion (its last zero velocity
+    command up to execute's return), else when execute returned: from then on until
+    :attr:`settle_time` the base brakes at its driver's deceleration limit."""
+
+    @property
+    def odometry_frame(self) -> bool:
+        """Whether poses are judged in the odometry frame (the robot has no localisation)."""
+        return not self.truth.localised
+
+    def end_of(self, quantity: str) -> float:
+        """The moment ``quantity`` is measured at: once the base settled for a quantity of
+        the end state, else when execute returned."""
+        return self.settle_time if quantity in END_STATE else self.exec_end
+
+    def measure(self, quantity: str, unit: str | None) -> Value | None:
+        """The simulator's value of ``quantity`` for this run's execute (end state settled,
+        poses in the frame the robot can know)."""
+        return measure(
+            quantity,
+            self.truth,
+            self.exec_start,
+            self.end_of(quantity),
+            unit,
+            odometry_frame=self.odometry_frame,
+        )
 
 
 def _elements(capability: Capability, direction: str) -> list[tuple[DataElement, Any]]:
@@ -203,13 +244,53 @@ _DEGREES = ("deg", "°", "degree")
 _ANGLES = ("heading", "nearest_obstacle_bearing", "angular_velocity", "turned")
 
 
+END_STATE = frozenset(
+    {
+        "position_x",
+        "position_y",
+        "heading",
+        "travelled_distance",
+        "displacement",
+        "path_length",
+        "turned",
+        "tcp_position_x",
+        "tcp_position_y",
+        "tcp_position_z",
+        "map_length",
+        "map_width",
+    }
+)
+"""Quantities that describe where a motion ended (a pose, a distance travelled, a heading
+reached, the area mapped), not how the robot is moving at an instant. A base brakes for a
+while after its last command (a velocity controller ramps down at its deceleration limit),
+so they are measured once it has come to rest, not the moment execute returns."""
+
+_POSE = ("position_x", "position_y", "heading")
+
+
 def measure(
-    quantity: str, truth: GroundTruth, start: float, end: float, unit: str | None = None
+    quantity: str,
+    truth: GroundTruth,
+    start: float,
+    end: float,
+    unit: str | None = None,
+    *,
+    odometry_frame: bool = False,
 ) -> Value | None:
     """The simulator's value of a quantity (see :data:`~skillwright.sim.scenario.QUANTITIES`)
     for an execute state that ran from ``start`` to ``end``, in ``unit`` where that is
-    degrees (the simulator measures in radians)."""
-    value = _measure(quantity, truth, start, end)
+    degrees (the simulator measures in radians).
+
+    With ``odometry_frame`` a pose (``position_x``, ``position_y``, ``heading``) is the true
+    pose in the odometry frame, which starts where the robot started: a robot without
+    localisation (nothing publishes ``map -> odom``) can know its pose only there."""
+    if odometry_frame and quantity in _POSE:
+        x, y, yaw = truth.in_odometry_frame(truth.at(end))
+        value: Value | None = {"position_x": x, "position_y": y, "heading": wrap_two_pi(yaw)}[
+            quantity
+        ]
+    else:
+        value = _measure(quantity, truth, start, end)
     base = (unit or "").split("/")[0]
     if quantity in _ANGLES and base in _DEGREES and isinstance(value, float):
         value = math.degrees(value)
@@ -280,7 +361,12 @@ def _values(context: _Context, outputs: Mapping[str, Value | None]) -> dict[str,
                 if quantity is None:
                     continue
                 measured = measure(
-                    quantity, context.truth, context.exec_start, context.exec_start, instance.unit
+                    quantity,
+                    context.truth,
+                    context.exec_start,
+                    context.exec_start,
+                    instance.unit,
+                    odometry_frame=context.odometry_frame,
                 )
                 if measured is not None:
                     values[instance.iri] = measured
@@ -299,11 +385,53 @@ def _units(capability: Capability) -> dict[str, str | None]:
     return units
 
 
-def _tolerance_for(context: _Context, name: str, unit: str | None) -> float:
+NOISE_SIGMAS = 3.0
+"""How many standard deviations of a sensor's noise a measured value may be off: a correct
+skill's reading lies within three of them 99.7 % of the time."""
+
+
+def noise_floor(context: _Context, quantity: str | None, unit: str | None) -> float:
+    """The least tolerance a value of ``quantity`` can be judged to, given the noise of the
+    sensor a skill has to read it from in this scenario (:class:`NoiseSpec`):
+    :data:`NOISE_SIGMAS` standard deviations of the lidar's range noise for a range; of the
+    odometry's drift over the run (its wheel-speed noise integrated once per driver period,
+    a random walk) for a distance, a turn or, on a robot without localisation, a pose; of
+    the localisation's pose noise for a pose in the map frame. 0 for anything else."""
+    noise = context.truth.noise
+    elapsed = max(context.settle_time - context.exec_start, 0.0)
+    walk = math.sqrt(elapsed * context.truth.odometry_period)
+    base = (unit or "").strip().split("/")[0]
+    sigma = 0.0
+    if quantity == "nearest_obstacle_distance":
+        sigma = noise.get("scan", 0.0)
+    elif quantity in ("travelled_distance", "displacement", "path_length") or (
+        quantity in ("position_x", "position_y") and context.odometry_frame
+    ):
+        sigma = noise.get("odometry_linear", 0.0) * walk
+    elif quantity in ("position_x", "position_y"):
+        sigma = noise.get("localisation", 0.0)
+    elif quantity in ("heading", "turned"):
+        sigma = (
+            noise.get("odometry_angular", 0.0) * walk
+            if context.odometry_frame or quantity == "turned"
+            else noise.get("localisation", 0.0) / 10.0
+        )
+        if base in _DEGREES:
+            sigma = math.degrees(sigma)
+    if base in ("mm", "cm") and quantity not in ("heading", "turned"):
+        sigma *= 1000.0 if base == "mm" else 100.0
+    return NOISE_SIGMAS * sigma
+
+
+def _tolerance_for(
+    context: _Context, name: str, unit: str | None, quantity: str | None = None
+) -> float:
+    """The scenario's tolerance for ``name``, else its unit's, and never less than the noise
+    of the sensor ``quantity`` is read from (:func:`noise_floor`)."""
     scenario_tolerances = context.scenario.tolerances
     if name in scenario_tolerances:
         return scenario_tolerances[name]
-    return context.tolerances.get(unit or "", 0.0)
+    return max(context.tolerances.get(unit or "", 0.0), noise_floor(context, quantity, unit))
 
 
 def _constraint_verdicts(context: _Context) -> list[Verdict]:
@@ -313,16 +441,21 @@ def _constraint_verdicts(context: _Context) -> list[Verdict]:
     quantities = context.scenario.ground_truth
     units = {e.name: e.unit for e, _ in _elements(capability, "output")}
     measured: dict[str, Value | None] = {
-        name: measure(q, context.truth, context.exec_start, context.exec_end, units.get(name))
-        for name, q in quantities.items()
+        name: context.measure(q, units.get(name)) for name, q in quantities.items()
     }
     verdicts: list[Verdict] = []
     # Preconditions (on inputs alone) first: they say whether the rest can hold at all.
     ordered = sorted(
         capability.constraints, key=lambda c: is_output_variable(c.expression, output_iris)
     )
+    floors: dict[str, float] = {}
+    for name, quantity in quantities.items():
+        unit = (units.get(name) or "").strip()
+        floors[unit] = max(floors.get(unit, 0.0), noise_floor(context, quantity, unit))
     for constraint in ordered:
         tolerances = dict(context.tolerances)
+        for unit, floor in floors.items():
+            tolerances[unit] = max(tolerances.get(unit, 0.0), floor)
         if constraint.name in context.scenario.tolerances:
             for unit in UNIT_TOLERANCES:
                 tolerances[unit] = context.scenario.tolerances[constraint.name]
@@ -336,7 +469,7 @@ def _constraint_verdicts(context: _Context) -> list[Verdict]:
             if e.iri and _mentions(constraint, e.iri)
         }
         if names and all(measured.get(n) is not None for n in names):
-            verdicts.append(_judge(constraint, "truth", context, measured, tolerances))
+            verdicts.append(_truth_verdict(constraint, context, names, units, tolerances))
         else:
             missing = sorted(n for n in names if measured.get(n) is None)
             verdicts.append(
@@ -350,6 +483,49 @@ def _constraint_verdicts(context: _Context) -> list[Verdict]:
                 )
             )
     return verdicts
+
+
+def _truth_verdict(
+    constraint: Constraint,
+    context: _Context,
+    names: set[str],
+    units: Mapping[str, str | None],
+    tolerances: Mapping[str, float],
+) -> Verdict:
+    """``constraint`` on the outputs as measured once the base settled; when that fails and
+    an output is of the end state, it also holds if it held at a moment the base braked
+    after the skill's stop (:func:`_window`): the driver's braking is not the skill's."""
+    quantities = context.scenario.ground_truth
+    measured = {n: context.measure(quantities[n], units.get(n)) for n in names}
+    verdict = _judge(constraint, "truth", context, measured, tolerances)
+    if verdict.passed is not False or not any(quantities[n] in END_STATE for n in names):
+        return verdict
+    for t in _braking(context, points=30):
+        at = {
+            n: measure(
+                quantities[n],
+                context.truth,
+                context.exec_start,
+                t if quantities[n] in END_STATE else context.exec_end,
+                units.get(n),
+                odometry_frame=context.odometry_frame,
+            )
+            for n in names
+        }
+        if any(v is None for v in at.values()):
+            continue
+        braking = _judge(constraint, "truth", context, at, tolerances)
+        if braking.passed:
+            return braking.model_copy(
+                update={
+                    "message": f"{braking.message} at t={t:.2f} s, while the base braked "
+                    f"after the skill's stop; at rest (t={context.settle_time:.2f} s): "
+                    + verdict.message,
+                    "measured": {**braking.measured, "at": t, "settled": verdict.measured},
+                    "time": t,
+                }
+            )
+    return verdict
 
 
 def _mentions(constraint: Constraint, iri: str) -> bool:
@@ -422,11 +598,17 @@ def _asked_verdicts(context: _Context) -> list[Verdict]:
         if quantity is None or not isinstance(asked, float):
             continue
         unit = element.unit
-        seen = measure(quantity, context.truth, context.exec_start, context.exec_end, unit)
+        seen = context.measure(quantity, unit)
         if not isinstance(seen, float):
             continue
-        tolerance = _tolerance_for(context, element.name, unit)
+        tolerance = _tolerance_for(context, element.name, unit, quantity)
         passed = abs(seen - asked) <= tolerance
+        at_rest = seen
+        if not passed and quantity in END_STATE:
+            window = _window(context, quantity, unit)
+            best = min(window, key=lambda tv: abs(tv[1] - asked), default=None)
+            if best is not None and abs(best[1] - asked) <= tolerance:
+                passed, seen = True, best[1]
         how = "" if passed or seen * asked > 0 else ", the other way round"
         verdicts.append(
             Verdict(
@@ -435,8 +617,19 @@ def _asked_verdicts(context: _Context) -> list[Verdict]:
                 check=f"{quantity} = {element.name}",
                 passed=passed,
                 message=f"{quantity} {seen:.4g} {unit or ''} during execute for {element.name} "
-                f"{asked:g}{how} (within {tolerance:g})",
-                measured={"measured": seen, "asked": asked},
+                f"{asked:g}{how} (within {tolerance:g})"
+                + (
+                    f"; {at_rest:.4g} once at rest (t={context.settle_time:.2f} s), the rest "
+                    "the base's braking after the skill's stop"
+                    if at_rest != seen
+                    else ""
+                ),
+                measured={
+                    "measured": seen,
+                    "asked": asked,
+                    "settled": at_rest,
+                    "settled_at": context.settle_time if context.settled else None,
+                },
                 tolerance=tolerance,
                 time=context.exec_end,
                 state="execute",
@@ -445,19 +638,104 @@ def _asked_verdicts(context: _Context) -> list[Verdict]:
     return verdicts
 
 
+def _braking(context: _Context, points: int = 60) -> list[float]:
+    """Moments from the skill's stop command (or execute's return) until the base settled,
+    at most about ``points`` of them, both ends included."""
+    samples = context.truth.between(context.brake_start, context.settle_time)
+    stride = max(1, len(samples) // points)
+    return sorted({s.t for s in samples[::stride]} | {context.brake_start, context.settle_time})
+
+
+def _window(context: _Context, quantity: str, unit: str | None) -> list[tuple[float, float]]:
+    """``quantity``'s value at the moments of :func:`_braking`: what a reading of it could
+    have shown while the base braked after the skill told it to stop. Through a velocity
+    command a skill cannot brake harder than the base's driver does, so any of them is where
+    the skill's motion ended."""
+    times = _braking(context)
+    found = []
+    for t in times:
+        value = measure(
+            quantity,
+            context.truth,
+            context.exec_start,
+            t,
+            unit,
+            odometry_frame=context.odometry_frame,
+        )
+        if isinstance(value, float):
+            found.append((t, value))
+    return found
+
+
 def _assured_verdicts(context: _Context) -> list[Verdict]:
-    """Outputs whose value the model asserts (``outLinearVelocity`` Assurance ``= 0.0``)."""
+    """Outputs whose value the model asserts (``outLinearVelocity`` Assurance ``= 0.0``).
+
+    An asserted velocity is a promise about how the motion ends (the base stops), and a base
+    brakes at its deceleration limit after its last command: a skill that reads its odometry
+    as execute returns reports the velocity of the braking, which is true of that moment. So
+    a measured velocity (the scenario binds the output to one) that is not the asserted one
+    passes when the base did settle to the asserted value within the scenario's time and the
+    reported value is the base's velocity at some moment between execute's return and then.
+    A skill without an output for it (the annotation checks report that) is judged by the
+    promise itself: the measured velocity settled to the asserted value."""
     verdicts = []
     for element, _parameter in _elements(context.capability, "output"):
         if element.value is None or element.expression_goal != "Assurance":
             continue
         name = element.name
         unit = (element.unit or "").strip() or None
-        tolerance = _tolerance_for(context, name, unit)
+        quantity = context.scenario.ground_truth.get(name)
+        tolerance = _tolerance_for(context, name, unit, quantity)
         reported = as_value(context.run.outputs.get(name))
         expected = as_value(element.value)
-        if isinstance(reported, float) and isinstance(expected, float):
+        measured: dict[str, Any] = {"reported": reported, "asserted": element.value}
+        message = f"reported {reported!r}, the model asserts {element.value!r}"
+        if reported is None and quantity in _VELOCITY_QUANTITIES and isinstance(expected, float):
+            final = measure(quantity, context.truth, context.exec_start, context.settle_time, unit)
+            passed = (
+                context.settled
+                and isinstance(final, float)
+                and abs(final - expected) <= tolerance + 1e-9
+            )
+            measured.update(settled_at=context.settle_time, settled=final)
+            message = (
+                f"the skill reports no {name} (the annotation checks say so); the model asserts "
+                f"{element.value!r} and the base's {quantity} "
+                + (
+                    f"settled to {final:.3g} at t={context.settle_time:.2f} s"
+                    if context.settled and isinstance(final, float)
+                    else f"had not settled by t={context.settle_time:.2f} s"
+                )
+                + f" (tolerance {tolerance:g})"
+            )
+        elif isinstance(reported, float) and isinstance(expected, float):
             passed = abs(reported - expected) <= tolerance + 1e-9
+            if not passed and quantity in _VELOCITY_QUANTITIES and context.settled:
+                final = measure(
+                    quantity, context.truth, context.exec_start, context.settle_time, unit
+                )
+                # After the stop command: the velocity the base had before it is not braking.
+                window = [
+                    tv
+                    for tv in _window(context, quantity, unit)
+                    if tv[0] > context.brake_start + 1e-9 or tv[0] >= context.settle_time
+                ]
+                nearest = min(window, key=lambda tv: abs(tv[1] - reported), default=None)
+                measured.update(settled_at=context.settle_time, settled=final)
+                if (
+                    isinstance(final, float)
+                    and abs(final - expected) <= tolerance + 1e-9
+                    and nearest is not None
+                    and abs(nearest[1] - reported) <= tolerance + 1e-9
+                ):
+                    passed = True
+                    measured["read_at"] = nearest[0]
+                    message += (
+                        f": the base's velocity was {nearest[1]:.3g} at t={nearest[0]:.2f} s "
+                        f"while it braked, and it settled to {final:.3g} at "
+                        f"t={context.settle_time:.2f} s"
+                    )
+            message += f" (tolerance {tolerance:g})"
         else:
             passed = reported == expected
         verdicts.append(
@@ -466,15 +744,62 @@ def _assured_verdicts(context: _Context) -> list[Verdict]:
                 kind="output",
                 check=f"{name} {element.logic_interpretation or '='} {element.value} (Assurance)",
                 passed=passed,
-                message=f"reported {reported!r}, the model asserts {element.value!r}"
-                + (f" (tolerance {tolerance:g})" if isinstance(expected, float) else ""),
-                measured={"reported": reported, "asserted": element.value},
+                message=message,
+                measured=measured,
                 tolerance=tolerance,
                 time=context.exec_end,
                 state="execute",
             )
         )
     return verdicts
+
+
+_VELOCITY_QUANTITIES = ("linear_velocity_x", "linear_velocity_y", "angular_velocity")
+
+
+def _map_file_verdict(context: _Context, name: str, reported: Any) -> Verdict:
+    """A map output: it names the map saved through the robot's map saver; on a robot with
+    no map-saving service in its inventory (neither Nav2's nor the SLAM Toolbox's
+    ``SaveMap``) a skill cannot save one, so the map it reports (e.g. the occupancy grid it
+    asked for) must only be there."""
+    check = f"{name} = map_file"
+    saved = context.measure("map_file", None)
+    value = as_value(reported)
+    values = {"reported": reported, "measured": saved, "map_savers": context.truth.map_savers}
+    if not context.truth.map_savers:
+        passed = value is not None and value != ""
+        message = (
+            "the robot has no map-saving service, so no saved file is asked for; "
+            + (f"the skill reported a map ({len(str(value))} characters)" if passed else "")
+            + ("" if passed else f"but the skill reported no map (got {reported!r})")
+        )
+    elif saved is None:
+        passed = False
+        message = "no map was saved through the map-saver service " + ", ".join(
+            context.truth.map_savers
+        )
+    elif value is None:
+        passed = False
+        message = f"the skill did not report {name} (got {reported!r})"
+    else:
+        from skillwright.sim.mapfiles import safe_map_name
+
+        passed = isinstance(value, str) and safe_map_name(value) == saved
+        message = (
+            f"reported {value!r} names the saved map {saved!r}"
+            if passed
+            else f"reported {value!r}, but the map saved was {saved!r}"
+        )
+    return Verdict(
+        oracle=f"output:{name}",
+        kind="output",
+        check=check,
+        passed=passed,
+        message=message,
+        measured=values,
+        time=context.exec_end,
+        state="execute",
+    )
 
 
 def _output_verdicts(context: _Context) -> list[Verdict]:
@@ -510,23 +835,33 @@ def _output_verdicts(context: _Context) -> list[Verdict]:
                 )
             )
             continue
+        if quantity == "map_file":
+            verdicts.append(_map_file_verdict(context, name, reported))
+            continue
         unit = (element.unit or "").strip() or None
-        measured = measure(quantity, context.truth, context.exec_start, context.exec_end, unit)
-        tolerance = _tolerance_for(context, name, unit)
+        measured = context.measure(quantity, unit)
+        tolerance = _tolerance_for(context, name, unit, quantity)
         check = f"{name} = {quantity}"
-        values = {"reported": reported, "measured": measured}
+        values: dict[str, Any] = {"reported": reported, "measured": measured}
+        if quantity in END_STATE:
+            values["at_return"] = measure(
+                quantity,
+                context.truth,
+                context.exec_start,
+                context.exec_end,
+                unit,
+                odometry_frame=context.odometry_frame,
+            )
+            values["settled_at"] = context.settle_time if context.settled else None
+            values["frame"] = "odom" if context.odometry_frame and quantity in _POSE else "map"
         if measured is None:
             verdicts.append(
                 Verdict(
                     oracle=oracle,
                     kind="output",
                     check=check,
-                    passed=False if quantity == "map_file" else None,
-                    message=(
-                        "no map was saved through the map-saver service"
-                        if quantity == "map_file"
-                        else f"nothing measured for {quantity} (the world has no such sensor)"
-                    ),
+                    passed=None,
+                    message=f"nothing measured for {quantity} (the world has no such sensor)",
                     measured=values,
                     state="execute",
                 )
@@ -547,34 +882,9 @@ def _output_verdicts(context: _Context) -> list[Verdict]:
                 )
             )
             continue
-        if quantity == "map_file":
-            from skillwright.sim.mapfiles import safe_map_name
-
-            passed = isinstance(value, str) and safe_map_name(value) == measured
-            message = (
-                f"reported {value!r} names the saved map {measured!r}"
-                if passed
-                else f"reported {value!r}, but the map saved was {measured!r}"
-            )
-        elif isinstance(value, bool | str) or isinstance(measured, bool | str):
-            passed = value == measured
-            message = f"reported {value!r}, measured {measured!r}"
-        else:
-            gap = difference(value, float(measured), unit)
-            passed = gap <= tolerance + 1e-9
-            message = (
-                f"reported {value:.4g}, measured {float(measured):.4g}: "
-                f"{'within' if passed else 'off by'} {gap:.3g}"
-                f"{' ' + unit if unit else ''} (tolerance {tolerance:g})"
-            )
-            if not passed and quantity == "nearest_obstacle_bearing":
-                as_near = _as_near(context, value, unit)
-                if as_near is not None:
-                    passed = True
-                    message = (
-                        f"reported {value:.4g}, measured {float(measured):.4g}: {gap:.3g}"
-                        f"{' ' + unit if unit else ''} apart, but {as_near}"
-                    )
+        passed, message = _compare_output(
+            context, quantity, unit, value, measured, values, tolerance
+        )
         verdicts.append(
             Verdict(
                 oracle=oracle,
@@ -591,6 +901,88 @@ def _output_verdicts(context: _Context) -> list[Verdict]:
     return verdicts
 
 
+def _compare_output(
+    context: _Context,
+    quantity: str,
+    unit: str | None,
+    value: Value,
+    measured: Value,
+    values: dict[str, Any],
+    tolerance: float,
+) -> tuple[bool, str]:
+    """Whether a reported output equals its measured value, and the verdict in words: within
+    the tolerance of the settled end state, or of a moment the base still braked; a bearing
+    also when the range that way is as near (:func:`_as_near`)."""
+    if isinstance(value, bool | str) or isinstance(measured, bool | str):
+        passed = value == measured
+        message = f"reported {value!r}, measured {measured!r}"
+    else:
+        gap = difference(value, float(measured), unit)
+        passed = gap <= tolerance + 1e-9
+        where = _where_measured(context, quantity)
+        message = (
+            f"reported {value:.4g}, measured {float(measured):.4g}{where}: "
+            f"{'within' if passed else 'off by'} {gap:.3g}"
+            f"{' ' + unit if unit else ''} (tolerance {tolerance:g})"
+        )
+        if not passed and quantity in END_STATE:
+            # A reading taken while the base still braked is true of its moment.
+            window = _window(context, quantity, unit)
+            best = min(window, key=lambda tv: difference(value, tv[1], unit), default=None)
+            if best is not None and difference(value, best[1], unit) <= tolerance + 1e-9:
+                passed = True
+                values["read_at"] = best[0]
+                message += (
+                    f"; but it was {best[1]:.4g} at t={best[0]:.2f} s while the base "
+                    "braked after the skill told it to stop"
+                )
+        if not passed and quantity == "nearest_obstacle_bearing":
+            as_near = _as_near(context, value, unit)
+            if as_near is not None:
+                passed = True
+                message = (
+                    f"reported {value:.4g}, measured {float(measured):.4g}: {gap:.3g}"
+                    f"{' ' + unit if unit else ''} apart, but {as_near}"
+                )
+    return passed, message
+
+
+def _where_measured(context: _Context, quantity: str) -> str:
+    """When and in which frame ``quantity`` was measured, in words (empty for an instant
+    value measured as execute returned)."""
+    parts = []
+    if quantity in END_STATE:
+        parts.append(
+            f"at rest from t={context.settle_time:.2f} s"
+            if context.settled
+            else f"at t={context.settle_time:.2f} s, still moving"
+        )
+    if quantity in _POSE:
+        parts.append(
+            "in the odometry frame (the robot has no localisation)"
+            if context.odometry_frame
+            else "in the map frame"
+        )
+    return f" ({', '.join(parts)})" if parts else ""
+
+
+def _settling(
+    capability: Capability, scenario: Scenario, truth: GroundTruth, exec_end: float
+) -> tuple[float, bool]:
+    """When the base came to rest after execute returned, and whether it did: the first
+    moment it stays slower than :data:`REST_LINEAR` and :data:`REST_ANGULAR`, looked for
+    until the scenario's time (or the record) ends; the last moment recorded when it did
+    not. A capability that leaves the base moving (:func:`_promises_motion`) ends when
+    execute returns."""
+    if _promises_motion(capability) is not None or not truth.samples:
+        return exec_end, True
+    limit = max(exec_end, min(truth.end, scenario.duration))
+    at = truth.settled(exec_end, limit, REST_LINEAR, REST_ANGULAR)
+    if at is None:
+        return limit, False
+    return max(at, exec_end), True
+
+
 def _as_near(context: _Context, bearing: float, unit: str | None) -> str | None:
     """Why ``bearing`` points at the nearest obstacle too, when the true range that way is
     within the distance tolerance of the nearest return (else ``None``).
@@ -605,11 +997,14 @@ def _as_near(context: _Context, bearing: float, unit: str | None) -> str | None:
         return None
     allowance = next(
         (
-            _tolerance_for(context, element.name, "m")
+            _tolerance_for(context, element.name, "m", "nearest_obstacle_distance")
             for element, _p in _elements(context.capability, "output")
             if context.scenario.ground_truth.get(element.name) == "nearest_obstacle_distance"
         ),
-        context.tolerances.get("m", UNIT_TOLERANCES["m"]),
+        max(
+            context.tolerances.get("m", UNIT_TOLERANCES["m"]),
+            noise_floor(context, "nearest_obstacle_distance", "m"),
+        ),
     )
     farther = toward - nearest[0]
     if farther > allowance + 1e-9:
@@ -647,7 +1042,7 @@ def _requirement_verdicts(context: _Context) -> list[Verdict]:
         allowance = (
             speed * speed / (2.0 * truth.braking)
             + speed * truth.reaction
-            + _tolerance_for(context, element.name, "m")
+            + _tolerance_for(context, element.name, "m", "nearest_obstacle_distance")
         )
         passed = closest >= required - allowance
         verdicts.append(
@@ -859,12 +1254,29 @@ def _rest_verdict(context: _Context, state: str) -> Verdict:
     )
 
 
+def _refused_goals(truth: GroundTruth) -> list[str]:
+    """Why the world's action servers aborted goals, as their servers said (an unknown
+    planning group, a frame TF cannot transform, a target out of reach): a skill usually
+    fails because of it, and the reason is otherwise only in the trace."""
+    found = []
+    for goal in truth.goals:
+        if goal.get("outcome") == "aborted" and goal.get("reason"):
+            found.append(
+                f"{goal.get('action')} aborted the goal sent at t={float(goal['accepted']):.2f} s: "
+                f"{goal['reason']}"
+            )
+    return list(dict.fromkeys(found))[:3]
+
+
 def _outcome_verdict(context: _Context, expected: str) -> Verdict:
     run = context.run
     passed = run.ended == expected
     message = f"the run {run.ended}" + (f" ({run.message})" if run.message else "")
     if not passed:
         message += f"; the scenario expects it to have {expected}"
+        refused = _refused_goals(context.truth)
+        if refused:
+            message += "; " + "; ".join(refused)
     failing = next((s for s in run.states if s.outcome != "returned"), None)
     return Verdict(
         oracle="outcome",
@@ -897,6 +1309,9 @@ def judge(
     names |= {c.name for c in capability.constraints}
     tolerances = dict(UNIT_TOLERANCES)
     tolerances.update({k: v for k, v in scenario.tolerances.items() if k not in names})
+    settle_time, settled = _settling(capability, scenario, truth, exec_end)
+    stopped = truth.stop_commanded(exec_start, exec_end)
+    brake_start = stopped if stopped is not None else exec_end
     context = _Context(
         capability=capability,
         scenario=scenario,
@@ -906,6 +1321,9 @@ def judge(
         tolerances=tolerances,
         exec_start=exec_start,
         exec_end=exec_end,
+        settle_time=settle_time,
+        settled=settled,
+        brake_start=min(brake_start, settle_time),
     )
     verdicts = [_outcome_verdict(context, expected)]
     if run.ended == expected == "completed":

@@ -129,6 +129,17 @@ class GroundTruth:
     """The base driver's deceleration [m/s^2]."""
     reaction: float = 0.1
     """The lidar's scan period [s]: how late a skill can know of an obstacle."""
+    localised: bool = True
+    """Whether the robot can know where it is in the map frame: something publishes a pose
+    or a map (``map -> odom``). Without it a skill knows its pose only in the odometry
+    frame, which starts at :attr:`start`."""
+    noise: dict[str, float] = field(default_factory=dict)
+    """Standard deviations of the sensors' noise the world drew (``scan`` [m],
+    ``odometry_linear`` [m/s], ``odometry_angular`` [rad/s], ``localisation`` [m])."""
+    odometry_period: float = 0.02
+    """How often the odometry integrates its wheel speeds [s]."""
+    map_savers: list[str] = field(default_factory=list)
+    """The robot's map-saving services the world serves (none: it cannot save a map)."""
     catch_up: Callable[[], None] | None = field(default=None, repr=False, compare=False)
     """Brings :attr:`extents` up to date (the world traces its map only when asked)."""
     _times: list[float] = field(default_factory=list, repr=False)
@@ -155,6 +166,32 @@ class GroundTruth:
     def end(self) -> float:
         """Time of the last sample."""
         return self._times[-1] if self._times else 0.0
+
+    def settled(
+        self, t0: float, t1: float, linear: float, angular: float, hold: float = 0.1
+    ) -> float | None:
+        """The first time in ``[t0, t1]`` from which the base stays slower than ``linear``
+        [m/s] and ``angular`` [rad/s] for ``hold`` seconds (or until the record ends);
+        ``None`` when it never comes to rest in that time."""
+        candidate: float | None = None
+        for sample in self.between(t0, t1):
+            still = sample.speed < linear and abs(sample.wz) < angular
+            if not still:
+                candidate = None
+                continue
+            if candidate is None:
+                candidate = sample.t
+            if sample.t - candidate >= hold - 1e-9:
+                return candidate
+        return candidate
+
+    def in_odometry_frame(self, sample: Sample) -> tuple[float, float, float]:
+        """``sample``'s true pose in the odometry frame (which starts at :attr:`start`):
+        the pose a robot without localisation can know, less its odometry's drift."""
+        sx, sy, syaw = self.start
+        c, s = math.cos(syaw), math.sin(syaw)
+        dx, dy = sample.x - sx, sample.y - sy
+        return (c * dx + s * dy, -s * dx + c * dy, sample.yaw - syaw)
 
     def displacement(self, t0: float, t1: float) -> float:
         """Straight-line distance of the base between two times [m]."""
@@ -184,6 +221,20 @@ class GroundTruth:
             if command.t > t + 1e-9:
                 break
             found = command
+        return found
+
+    def stop_commanded(self, t0: float, t1: float) -> float | None:
+        """When the skill last told the base to stop between two times: its last zero
+        velocity command after a non-zero one (``None``: it commanded no stop then)."""
+        found = None
+        moving = False
+        for command in self.commands:
+            if command.t < t0 - 1e-9 or command.t > t1 + 1e-9:
+                continue
+            zero = abs(command.vx) < 1e-6 and abs(command.vy) < 1e-6 and abs(command.wz) < 1e-6
+            if zero and moving:
+                found = command.t
+            moving = not zero
         return found
 
     def command_duration(self, t0: float, t1: float) -> float:

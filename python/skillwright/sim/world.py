@@ -194,9 +194,7 @@ class MujocoWorld:
         self.data.qpos[self._qpos] = (x, y, yaw)
         mujoco.mj_forward(self.model, self.data)
         self.kinematics, self.driver, self.nav_config = self._drive()
-        self.truth.braking = self.driver.limits.accel_linear
-        scan_rates = [bindings.rates[t] for t in bindings.scan_topics]
-        self.truth.reaction = 1.0 / min(scan_rates) if scan_rates else 0.1
+        self._describe_robot(config, bindings)
         self.frames = self._frames()
         self.map_frame = facts.map_frame or "map"
         self.odom_frame = facts.odom_frame or "odom"
@@ -355,6 +353,29 @@ class MujocoWorld:
         self._chassis = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "chassis")
         if self._chassis < 0:
             raise FileFormatError("the robot model has no geom named 'chassis' (its footprint)")
+
+    def _describe_robot(self, config: WorldConfig, bindings: Bindings) -> None:
+        """What the oracles need to know of the robot beside its motion: whether it can
+        localise, how hard it brakes, its sensors' rates and noise, its odometry's period and
+        its map savers."""
+        self.truth.braking = self.driver.limits.accel_linear
+        scan_rates = [bindings.rates[t] for t in bindings.scan_topics]
+        self.truth.reaction = 1.0 / min(scan_rates) if scan_rates else 0.1
+        self.truth.localised = bindings.has_localisation
+        noise = config.noise
+        self.truth.noise = {
+            "scan": noise.scan,
+            "odometry_linear": noise.odometry_linear,
+            "odometry_angular": noise.odometry_angular,
+            "localisation": noise.localisation,
+        }
+        # The odometry integrates the noisy wheel speeds once per driver period.
+        self.truth.odometry_period = self.control_period
+        self.truth.map_savers = sorted(
+            name
+            for name, kind in bindings.services.items()
+            if kind in ("nav2_save_map", "slam_save_map")
+        )
 
     def _numeric(self, name: str, size: int) -> list[float]:
         mujoco, model = self._mj, self.model
@@ -1054,9 +1075,13 @@ class MujocoWorld:
         return handle
 
     def _arm_config(self) -> ArmConfig:
+        """The arm as the robot's own description says: the planning groups (and their tip
+        links) of its recorded SRDF where there is one, else the group and tip the world's
+        robot model names."""
         home = self._numeric("arm_home", 3)
         return ArmConfig(
             group=self._text("arm_group", "arm"),
+            groups=dict(self.facts.arm_groups) or None,
             tip_link=self._text("arm_tip_link", "tool0"),
             base_frame=self._text("arm_base_frame", "arm_base_link"),
             reach=self._numeric("arm_reach", 1)[0],
