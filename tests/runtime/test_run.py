@@ -440,3 +440,47 @@ def test_a_value_of_the_wrong_type_names_the_field_its_type_and_the_value_s(
         "given": "str",
     }
     assert not [f for f in report.findings if f.code == "SW614"]
+
+
+_TIMER_OUTPUT = """
+from pyskillup.decorators.decorators import *
+from pyskillup.decorator_check.decorator_check import ROS2Skill
+from pyskillup.decorators.skill_interface import SkillInterface
+
+
+@skill(skill_interface=SkillInterface.REST, skill_iri="urn:s", module_iri="urn:m",
+       capability_iri="urn:c", description="a test skill")
+class Subject(ROS2Skill):
+    def __init__(self) -> None:
+        super().__init__("subject")
+        self.out_ticks = 0
+        self.timer = None
+
+    @skill_output(is_required=True, name="outTicks", description="Ticks so far.")
+    def get_out_ticks(self) -> int:
+        return self.out_ticks
+
+    @execute
+    def execute(self) -> None:
+        self.timer = self.node.create_timer(100.0, self.on_timer)
+
+    def on_timer(self) -> None:
+        self.out_ticks += 1
+
+    @resetting
+    def resetting(self) -> None:
+        self.timer.cancel()
+"""
+
+
+def test_an_output_a_callback_sets_counts_as_set_though_it_did_not_fire(
+    tmp_path: Path, mr1_inventory: Inventory
+) -> None:
+    skill = tmp_path / "subject.py"
+    skill.write_text(_TIMER_OUTPUT, encoding="utf-8")
+    report = run_skill(skill, mr1_inventory, world="none")
+    assert [f.code for f in report.findings if f.code == "SW620"] == []
+    unset = tmp_path / "unset.py"
+    unset.write_text(_TIMER_OUTPUT.replace("self.out_ticks += 1", "pass"), encoding="utf-8")
+    report = run_skill(unset, mr1_inventory, world="none")
+    assert [f.code for f in report.findings if f.code == "SW620"] == ["SW620"]

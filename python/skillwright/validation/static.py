@@ -1755,6 +1755,11 @@ def _check_parameter_use(facts: SkillFacts) -> list[Finding]:
         getters[method.name] = (kind, name, path, getter.decorator, detail, meant)
     uses = _attribute_uses(facts, {*getters, "__init__"})
     reads, idle, checked = uses.reads, uses.idle, uses.checked
+    for method_name, (kind, _, attr, _, _, _) in getters.items():
+        if kind == "skill_parameter" and method_name in reads:
+            # A method that calls the input's own getter (self.get_distance_x()) reads what
+            # it returns: the getter is plain Python, pySkillUp only adds the annotation.
+            reads.add(attr)
     for kind, name, attr, where, detail, meant in getters.values():
         about = f" ({detail})" if detail else ""
         if kind == "skill_parameter" and attr not in reads and attr in idle:
