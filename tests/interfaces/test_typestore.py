@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import threading
 from pathlib import Path
-from typing import Any
 
 import pytest
 
@@ -75,18 +74,22 @@ def test_unknown_type_is_marked_unknown_without_fields() -> None:
     assert len(custom.notes) == 1  # filling twice does not repeat the note
 
 
-@pytest.mark.parametrize(
-    ("kind", "type_name"),
-    [("service", "std_srvs/srv/Trigger"), ("action", "nav2_msgs/action/NavigateToPose")],
-)
-def test_services_and_actions_the_stores_lack_name_their_interface_type(
-    kind: Any, type_name: str
-) -> None:
-    interface = Interface(name="/x", kind=kind, type_name=type_name)
+def test_a_core_service_is_filled_in_from_the_installed_interface_packages() -> None:
+    trigger = Interface(name="/x", kind="service", type_name="std_srvs/srv/Trigger")
+    assert fill_missing_definitions([trigger]) == 2
+    response = trigger.definitions["response"]
+    assert [f.name for f in response.fields or []] == ["success", "message"]
+    assert response.notes[0] == "filled in from the installed ROS 2 Jazzy interface packages"
+    assert trigger.notes == []
+
+
+def test_an_action_outside_the_core_packages_names_its_interface_type() -> None:
+    interface = Interface(name="/x", kind="action", type_name="nav2_msgs/action/NavigateToPose")
     fill_missing_definitions([interface])
     assert interface.definitions == {}
     assert interface.notes == [
-        f"definition unknown: {type_name} is not in the offline type stores (Jazzy, Humble)"
+        "definition unknown: nav2_msgs/action/NavigateToPose is not in the offline type "
+        "stores (Jazzy, Humble)"
     ]
 
 

@@ -10,7 +10,7 @@ import pytest
 
 from skillwright.interfaces.inventory import Inventory
 from skillwright.runtime.api import ActionGoal, GoalStatus, ServiceReply
-from skillwright.runtime.graph import GraphHost
+from skillwright.runtime.graph import GraphHost, SentMessageError
 from skillwright.runtime.recorder import Recorder
 from skillwright.runtime.run import recording_files
 from skillwright.runtime.scenario import ActionScript, RunScenario, ServiceScript, TopicScript
@@ -209,8 +209,21 @@ def test_the_skills_publications_are_checked_recorded_and_looped_back(
     ]
     assert graph.published["/cmd_vel"][0][1]["angular"] == {"x": 0.0, "y": 0.0, "z": 0.0}
     assert any(e["kind"] == "publish" and e["line"] == 12 for e in recorder.entries)
-    with pytest.raises(ValueError, match="no field 'speed'"):
+    with pytest.raises(SentMessageError, match="no field 'speed'"):
         graph.child_publish(publisher, {"speed": 1.0}, 13, "execute")
+
+
+def test_a_sent_message_of_the_wrong_type_names_the_field_and_both_types(
+    mr1_inventory: Inventory,
+) -> None:
+    graph, _ = make_graph(mr1_inventory)
+    publisher = endpoint(graph, "publisher", "/cmd_vel", "geometry_msgs/msg/Twist")
+    with pytest.raises(SentMessageError) as raised:
+        graph.child_publish(publisher, {"linear": {"x": "fast"}}, 14, "execute")
+    assert str(raised.value) == (
+        "message on /cmd_vel.linear.x: expected a number (float64), got str"
+    )
+    assert graph.published.get("/cmd_vel") is None
 
 
 def test_services_answer_with_success_after_their_delay_unless_scripted_otherwise(

@@ -411,3 +411,76 @@ def test_tf_transformations_turns_a_quaternion_into_roll_pitch_and_yaw(
     report = _run_edited(tmp_path, mr1_inventory, text)
     assert report.passed, report.findings
     assert report.trace.episodes[0].outputs["outDistance"] == pytest.approx(2.5 - 2.0 + 10.0)
+
+
+def test_a_value_of_the_wrong_type_names_the_field_its_type_and_the_value_s(
+    tmp_path: Path, mr1_inventory: Inventory
+) -> None:
+    """rosidl's own words, then the field's message type and path, its type and the type
+    of what the skill gave it (a str where a float64 is)."""
+    text = (SKILLS / "move_forward.py").read_text(encoding="utf-8")
+    old = "command.linear.x = min(speed, max(braking, self.FINAL_SPEED))"
+    assert old in text
+    skill = tmp_path / "move_forward.py"
+    skill.write_text(text.replace(old, 'command.linear.x = "fast"'), encoding="utf-8")
+    report = run_skill(
+        skill,
+        mr1_inventory,
+        inputs={"inDistance": 0.3, "inLinearVelocity": 0.2},
+        world="kinematic",
+    )
+    [field] = [f for f in report.findings if f.code == "SW604"]
+    assert field.message == (
+        "execute raised InvalidFieldValue: The 'x' field must be of type 'float' "
+        "(geometry_msgs/msg/Vector3.x is float64; the value given is a str)"
+    )
+    assert field.data == {
+        "field": "geometry_msgs/msg/Vector3.x",
+        "expected": "float64",
+        "given": "str",
+    }
+    assert not [f for f in report.findings if f.code == "SW614"]
+
+
+_TIMER_OUTPUT = """
+from pyskillup.decorators.decorators import *
+from pyskillup.decorator_check.decorator_check import ROS2Skill
+from pyskillup.decorators.skill_interface import SkillInterface
+
+
+@skill(skill_interface=SkillInterface.REST, skill_iri="urn:s", module_iri="urn:m",
+       capability_iri="urn:c", description="a test skill")
+class Subject(ROS2Skill):
+    def __init__(self) -> None:
+        super().__init__("subject")
+        self.out_ticks = 0
+        self.timer = None
+
+    @skill_output(is_required=True, name="outTicks", description="Ticks so far.")
+    def get_out_ticks(self) -> int:
+        return self.out_ticks
+
+    @execute
+    def execute(self) -> None:
+        self.timer = self.node.create_timer(100.0, self.on_timer)
+
+    def on_timer(self) -> None:
+        self.out_ticks += 1
+
+    @resetting
+    def resetting(self) -> None:
+        self.timer.cancel()
+"""
+
+
+def test_an_output_a_callback_sets_counts_as_set_though_it_did_not_fire(
+    tmp_path: Path, mr1_inventory: Inventory
+) -> None:
+    skill = tmp_path / "subject.py"
+    skill.write_text(_TIMER_OUTPUT, encoding="utf-8")
+    report = run_skill(skill, mr1_inventory, world="none")
+    assert [f.code for f in report.findings if f.code == "SW620"] == []
+    unset = tmp_path / "unset.py"
+    unset.write_text(_TIMER_OUTPUT.replace("self.out_ticks += 1", "pass"), encoding="utf-8")
+    report = run_skill(unset, mr1_inventory, world="none")
+    assert [f.code for f in report.findings if f.code == "SW620"] == ["SW620"]

@@ -70,3 +70,39 @@ def test_sources_without_a_runnable_skill_say_why(source: str, check: str, line:
     with pytest.raises(SkillSourceError) as raised:
         read_skill(source)
     assert (raised.value.rule.group, raised.value.line) == (check, line)
+
+
+_CALLBACKS = """
+@skill(skill_interface=None, skill_iri="urn:s", module_iri="urn:m", capability_iri="urn:c")
+class Subject(ROS2Skill):
+    @execute
+    def execute(self):
+        self.node.create_subscription(Odometry, "odom", self.on_odom, 10)
+        self.node.create_timer(0.1, lambda: self.tick())
+        future = self.client.call_async(request)
+        def done(f):
+            self.out_done = True
+        future.add_done_callback(done)
+        self.node.create_subscription(LaserScan, "scan", lambda m: setattr(self, "x", 1), 10)
+        self.in_state = 1
+
+    def on_odom(self, msg):
+        self.out_x = msg.pose.pose.position.x
+        self._remember(msg)
+
+    def _remember(self, msg):
+        self.last_odom = msg
+
+    def tick(self):
+        self.ticks = 1
+
+    def unused(self):
+        self.never = 1
+"""
+
+
+def test_the_attributes_callbacks_assign_are_known() -> None:
+    """Methods handed to rclpy (directly, in a lambda, or a nested function) and the
+    methods they call; not what a state or an unused method assigns itself."""
+    info = read_skill(_CALLBACKS)
+    assert info.callback_stores == {"out_x", "last_odom", "ticks", "out_done"}

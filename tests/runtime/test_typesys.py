@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from skillwright.interfaces.inventory import Inventory
+from skillwright.interfaces.load import discover_path
 from skillwright.interfaces.ros2msg import BUILTIN_TYPES
 from skillwright.runtime.typesys import TypeRegistry, is_zero_motion
 
@@ -137,3 +140,70 @@ def test_conform_takes_a_large_array_whole_and_still_names_a_bad_element(
 )
 def test_zero_motion_means_every_velocity_is_zero(message: dict[str, object], zero: bool) -> None:
     assert is_zero_motion(message) is zero
+
+
+_SLAM_NAV2 = Path(__file__).resolve().parents[1] / "fixtures" / "slam_nav2_report.json"
+
+
+@pytest.fixture(scope="module")
+def slam_nav2() -> Inventory:
+    return discover_path(_SLAM_NAV2)
+
+
+@pytest.fixture(scope="module")
+def base_only(slam_nav2: Inventory) -> TypeRegistry:
+    """The paper robot without its SLAM Toolbox and Nav2 interfaces."""
+    kept = [
+        i
+        for i in slam_nav2.interfaces
+        if not i.name.startswith(("/slam_toolbox/", "/navigate_to_pose"))
+    ]
+    return TypeRegistry(slam_nav2.model_copy(update={"interfaces": kept}))
+
+
+def test_a_core_service_is_standard_without_the_inventory_defining_it(
+    base_only: TypeRegistry,
+) -> None:
+    answer = base_only.describe("nav_msgs/srv/GetMap")
+    assert answer["ok"], answer
+    assert answer["parts"] == {
+        "Request": "nav_msgs/srv/GetMap_Request",
+        "Response": "nav_msgs/srv/GetMap_Response",
+    }
+    grid = base_only.default("nav_msgs/srv/GetMap_Response")["map"]
+    assert set(grid) == {"header", "info", "data"}
+    assert base_only.describe("std_srvs/srv/SetBool")["ok"]
+    assert base_only.describe("action_msgs/srv/CancelGoal")["ok"]
+
+
+@pytest.mark.parametrize("name", ["nav2_msgs/action/NavigateToPose", "slam_toolbox/srv/SaveMap"])
+def test_navigation_stack_types_are_not_standard(base_only: TypeRegistry, name: str) -> None:
+    answer = base_only.describe(name)
+    assert not answer["ok"]
+    assert answer["error"] == (
+        f"the robot has no type {name}: it is not among its interfaces' definitions nor a "
+        "standard ROS 2 Jazzy type"
+    )
+
+
+@pytest.mark.parametrize(
+    ("name", "parts"),
+    [
+        ("nav2_msgs/action/NavigateToPose", {"Goal", "Result", "Feedback"}),
+        ("slam_toolbox/srv/SaveMap", {"Request", "Response"}),
+        ("slam_toolbox/srv/SerializePoseGraph", {"Request", "Response"}),
+    ],
+)
+def test_the_slam_nav2_inventory_defines_its_navigation_stack_types(
+    slam_nav2: Inventory, name: str, parts: set[str]
+) -> None:
+    registry = TypeRegistry(slam_nav2)
+    answer = registry.describe(name)
+    assert answer["ok"], answer
+    assert set(answer["parts"]) == parts
+    goal = registry.message("nav2_msgs/action/NavigateToPose_Goal")
+    assert goal is not None
+    assert [f.name for f in goal.fields] == ["pose", "behavior_tree"]
+    result = registry.message("slam_toolbox/srv/SaveMap_Response")
+    assert result is not None
+    assert ("RESULT_SUCCESS", 0) in result.constants

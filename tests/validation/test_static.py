@@ -1440,3 +1440,47 @@ def test_a_bound_or_tolerance_the_input_is_held_to_is_no_stand_in_for_it(
     )
     [stand_in] = [f for f in run(instead, move_forward).findings if f.code == "SW501"]
     assert stand_in.data["input"] == "inLinearVelocity"
+
+
+def test_a_limit_assigned_to_the_input_under_a_test_of_it_is_a_clamp_not_a_stand_in(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    """``if self.in_linear_velocity > 0.5: self.in_linear_velocity = self.MAX`` saturates
+    the input at the capability's limit, as ``min`` does; the same assignment unguarded
+    replaces the input whatever its value."""
+    lowered = GOOD.replace(
+        "    LINEAR_VELOCITY_MAX = 0.8  # resource requirement: linearVelocity <= 0.8 m/s\n",
+        "    LINEAR_VELOCITY_MAX = 0.5\n",
+    )
+    clamp = "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)"
+    assert clamp in lowered
+    guarded = lowered.replace(
+        f"speed = {clamp}",
+        "if self.in_linear_velocity > 0.5:\n"
+        "            self.in_linear_velocity = self.LINEAR_VELOCITY_MAX\n"
+        "        speed = abs(self.in_linear_velocity)",
+    )
+    assert [f for f in run(guarded, move_forward).findings if f.code == "SW501"] == []
+    unguarded = lowered.replace(
+        f"speed = {clamp}",
+        "self.in_linear_velocity = self.LINEAR_VELOCITY_MAX\n"
+        "        speed = abs(self.in_linear_velocity)",
+    )
+    [stand_in] = [f for f in run(unguarded, move_forward).findings if f.code == "SW501"]
+    assert stand_in.data["input"] == "inLinearVelocity"
+
+
+def test_an_input_read_through_its_own_getter_is_read(
+    move_forward: tuple[Capability, SkillSpec],
+) -> None:
+    """pySkillUp's getter is a plain method: ``self.get_in_linear_velocity()`` in execute
+    reads the attribute it returns; the same value read from nowhere is never read."""
+    read = "min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)"
+    assert read in GOOD
+    through_getter = GOOD.replace(
+        read, "min(abs(self.get_in_linear_velocity()), self.LINEAR_VELOCITY_MAX)"
+    )
+    assert [f for f in run(through_getter, move_forward).findings if f.code == "SW505"] == []
+    ignored = GOOD.replace(read, "self.LINEAR_VELOCITY_MAX")
+    [never] = [f for f in run(ignored, move_forward).findings if f.code == "SW505"]
+    assert never.data["attribute"] == "in_linear_velocity"

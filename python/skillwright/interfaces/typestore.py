@@ -8,8 +8,9 @@ distribution; this module fills them in, marked ``origin="type_store"`` with a n
 the store. A type no store has is marked unknown; nothing is ever guessed.
 
 The stores hold the field lists and constants of messages, not their comments or default
-values (the note says so), and no ``.srv`` / ``.action`` types: a service or action is
-filled only where a store defines its parts (``pkg/srv/T_Request`` ...).
+values (the note says so), and no ``.srv`` / ``.action`` types: a service's or action's
+parts (``pkg/srv/T_Request`` ...) come from the installed interface packages' ament index
+(:mod:`skillwright.interfaces.rosidl_index`), using the store's messages.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from typing import Any, Final
 from skillwright.cancel import raise_if_cancelled
 from skillwright.interfaces.inventory import Interface, InterfaceKind, MessageDefinition
 from skillwright.interfaces.ros2msg import definition_from_text, normalize_type_name
+from skillwright.interfaces.rosidl_index import index_texts
 
 __all__ = [
     "FALLBACK_DISTROS",
@@ -61,13 +63,29 @@ def _rosbags_store(distro: str) -> Any | None:
 
 def store_texts(distro: str) -> dict[str, str]:
     """Every type of a distribution's store as full ros2msg text (``MSG:`` blocks
-    included), by type name; empty when rosbags has no store for ``distro``."""
-    store = _rosbags_store(distro.strip().lower())
+    included), by type name, with the services' and actions' parts of the installed
+    interface packages (:mod:`skillwright.interfaces.rosidl_index`); empty when neither
+    has anything for ``distro``."""
+    texts = dict(_rosbags_texts(distro.strip().lower()))
+    for name, text in _indexed(distro.strip().lower()).items():
+        texts.setdefault(name, text)
+    return texts
+
+
+@cache
+def _rosbags_texts(distro: str) -> dict[str, str]:
+    store = _rosbags_store(distro)
     if store is None:
         return {}
     return {
         name: str(store.generate_msgdef(name, ros_version=2)[0]) for name in sorted(store.fielddefs)
     }
+
+
+@cache
+def _indexed(distro: str) -> dict[str, str]:
+    """The index's types of ``distro``, their messages completed from rosbags' store."""
+    return index_texts(distro, _rosbags_texts(distro))
 
 
 @dataclass(frozen=True)
@@ -92,6 +110,9 @@ class TypeStore:
             if store is not None and wanted in store.fielddefs:
                 text, _ = store.generate_msgdef(wanted, ros_version=2)
                 return str(text), distro
+            indexed = _indexed(distro).get(wanted)
+            if indexed is not None:
+                return indexed, distro
         return None
 
     def definition(self, type_name: str) -> MessageDefinition | None:
@@ -105,6 +126,8 @@ class TypeStore:
         note = (
             f"filled in from the offline ROS 2 {distro.capitalize()} type store (rosbags); "
             "it has no comments or default values"
+            if normalize_type_name(type_name) in _rosbags_texts(distro)
+            else f"filled in from the installed ROS 2 {distro.capitalize()} interface packages"
         )
         if self.distro and distro != self.distro.strip().lower():
             note += f" (the source's distribution {self.distro} does not define the type)"

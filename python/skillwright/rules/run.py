@@ -95,6 +95,7 @@ RUN_FIELD = Rule(
     why="rclpy's generated classes refuse an unknown field (AttributeError) and a value of the "
     "wrong type (an int where a float64 is: AssertionError) when the line runs.",
     example="twist.linear.x = 1  # an int",
+    data=("field", "expected", "given"),
     grounds=("rclpy",),
 )
 
@@ -457,12 +458,15 @@ RUN_INPUT_UNBOUND = Rule(
     "run-input-unbound",
     group="run.binding",
     stage="run",
-    severity="error",
+    severity="warning",
     summary="Every input the scenario gives by its capability name reaches a parameter of the "
     "skill: one of that name, one whose name and description mean it, or one --bind names.",
     why="pySkillUp sets a skill's inputs by the names its @skill_parameter decorators give; "
     "a capability input no parameter stands for is never given to the skill, which then runs "
-    "with what its __init__ put there.",
+    "with what its __init__ put there. The skill still executes with the parameters it "
+    "declares, so the run warns and goes on: the missing or ambiguous annotation is the "
+    "static checks' finding (SW107 parameter-unannotated, SW116 annotation-ambiguous), and "
+    "an ignored input shows in the behaviour its oracles judge.",
     example="@skill_parameter(name='speed', description='how fast')  # inVelocityX or inVelocityY?",
     data=("input", "candidates"),
     grounds=("pySkillUp", "the capability"),

@@ -53,7 +53,7 @@ if TYPE_CHECKING:
     from skillwright.runtime.recorder import Recorder
     from skillwright.runtime.typesys import TypeRegistry
 
-__all__ = ["Endpoint", "GraphHost", "Replay"]
+__all__ = ["Endpoint", "GraphHost", "Replay", "SentMessageError"]
 
 Message = dict[str, Any]
 _DEFAULT_RATE_HZ: Final = 10.0
@@ -64,6 +64,12 @@ _BATCH: Final = 64
 _MAX_STEPS: Final = 200_000
 """Events one advance may process before the graph calls a world broken (a world whose
 ``next_event`` never moves on)."""
+
+
+class SentMessageError(ValueError):
+    """A message, request or goal of the skill that does not fit its ROS 2 type: the skill's
+    field or type error (named with the field's path, the type expected and the value's
+    type), not a break of the runtime's protocol."""
 
 
 @dataclass
@@ -799,10 +805,19 @@ class GraphHost:
             raise ValueError(f"no {kind} with id {handle!r}")
         return endpoint
 
+    def _sent(self, type_name: str, value: Any, where: str) -> dict[str, Any]:
+        """A message the skill sent, checked against its type: :class:`SentMessageError`
+        names the field that does not fit (rclpy's publish, call and send_goal refuse such
+        a message in the skill's own process)."""
+        try:
+            return self.registry.conform(type_name, value, where)
+        except ValueError as error:
+            raise SentMessageError(str(error)) from error
+
     def child_publish(self, handle: Any, message: Any, line: int, state: str | None) -> None:
         """The skill published a message."""
         endpoint = self._endpoint(handle, "publisher")
-        data = self.registry.conform(endpoint.type_name, message, f"message on {endpoint.name}")
+        data = self._sent(endpoint.type_name, message, f"message on {endpoint.name}")
         self._recorder.record("publish", topic=endpoint.name, message=data, line=line)
         self.published.setdefault(endpoint.name, []).append(
             (self._now, data, line, state, self.publish_count)
@@ -871,9 +886,7 @@ class GraphHost:
     def child_call(self, handle: Any, sequence: Any, request: Any, line: int) -> None:
         """The skill called a service."""
         endpoint = self._endpoint(handle, "client")
-        data = self.registry.conform(
-            endpoint.type_name + "_Request", request, f"request to {endpoint.name}"
-        )
+        data = self._sent(endpoint.type_name + "_Request", request, f"request to {endpoint.name}")
         self._recorder.record("call", service=endpoint.name, request=data, line=line)
         if not endpoint.connected or not self.exists("service", endpoint.name):
             self._recorder.record(
@@ -904,9 +917,7 @@ class GraphHost:
     ) -> None:
         """The skill sent an action goal."""
         endpoint = self._endpoint(handle, "action_client")
-        data = self.registry.conform(
-            endpoint.type_name + "_Goal", request, f"goal to {endpoint.name}"
-        )
+        data = self._sent(endpoint.type_name + "_Goal", request, f"goal to {endpoint.name}")
         goal = ActionGoal(
             action=endpoint.name, goal_id=next(self._goal_ids), request=data, _sink=self
         )

@@ -455,7 +455,11 @@ def _analyse(
                 line=info.states.get("execute", info.class_line),
             )
         for variable in info.outputs:
-            if variable.attr is not None and variable.attr not in result.writes:
+            if (
+                variable.attr is not None
+                and variable.attr not in result.writes
+                and variable.attr not in info.callback_stores
+            ):
                 recorder.finding(
                     RUN_OUTPUT_UNSET,
                     f"output {variable.name} is never set: no state assigns self.{variable.attr}, "

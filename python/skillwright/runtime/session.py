@@ -41,7 +41,7 @@ from skillwright.rules.run import (
     RUN_SYS_EXIT,
     RUN_TIMEOUT,
 )
-from skillwright.runtime.graph import GraphHost
+from skillwright.runtime.graph import GraphHost, SentMessageError
 from skillwright.runtime.isolation import layout
 from skillwright.runtime.protocol import ProtocolError, Wire
 from skillwright.runtime.recorder import Recorder
@@ -83,6 +83,22 @@ GAVE_UP_NOTE = "; it gave up after "
 """How the note begins that a run adds to a state's giving up while its motion was under way."""
 _LOAD_DEADLINE = 30.0
 """Virtual seconds the module import and ``__init__`` may wait."""
+
+
+def _field_data(frame: dict[str, Any]) -> dict[str, object]:
+    """The field, its type and the given value's type the message stand-ins attach to a
+    value rosidl's setter refuses; empty for an unknown field (rosidl names it itself)."""
+    extra = frame.get("data")
+    if not isinstance(extra, dict):
+        return {}
+    keys = ("field", "expected", "given")
+    if not all(isinstance(extra.get(k), str) for k in keys):
+        return {}
+    return {k: str(extra[k]) for k in keys}
+
+
+def _article(word: str) -> str:
+    return "an" if word[:1].lower() in "aeiou" else "a"
 
 
 def _outer(frames: list[Any]) -> tuple[int, ...]:
@@ -353,6 +369,9 @@ class Episode:
                 continue
             try:
                 reply = self._handle(frame)
+            except SentMessageError as error:
+                self._sent_wrong(str(frame.get("op")), str(error))
+                reply = None
             except (KeyError, TypeError, ValueError) as error:
                 self._protocol(f"a {frame.get('op')!r} frame is malformed: {error}")
                 return
@@ -369,6 +388,19 @@ class Episode:
         rule = RUN_TIMEOUT if reason == "run" else _INTERRUPTED[self._interrupt_reason]
         self._recorder.finding(rule, f"{state}: {message}", data={"state": state})
         self._end_state("killed", reason)
+
+    def _sent_wrong(self, op: str, message: str) -> None:
+        """A message the skill sent that does not fit its type: the run's field error, and
+        the message is dropped (rclpy raises in the sending call; the run goes on, since the
+        child sent the frame without waiting)."""
+        state = self._recorder.state or "load"
+        verb = {"publish": "published", "call": "sent", "goal": "sent"}.get(op, "sent")
+        self._recorder.finding(
+            RUN_FIELD,
+            f"{state} {verb} a message that does not fit its type ({message}); rclpy refuses "
+            "it and nothing reaches the robot: give each field a value of the type its "
+            "message definition has",
+        )
 
     def _protocol(self, message: str) -> None:
         self._result.trace.ended = "protocol"
@@ -651,15 +683,17 @@ class Episode:
             )
             text += self._still_running(message)
         frames = [f for f in frame.get("frames", []) if isinstance(f, list) and len(f) == 2]
-        self._recorder.finding(
-            rule,
-            text,
-            line=line,
-            stack=_outer(frames),
-            data=self._error_data(frame, phase, type_name, message)
-            if rule is RUN_EXCEPTION
-            else {},
-        )
+        data: dict[str, object] = {}
+        if rule is RUN_EXCEPTION:
+            data = self._error_data(frame, phase, type_name, message)
+        elif rule is RUN_FIELD:
+            data = _field_data(frame)
+            if data:
+                text += (
+                    f" ({data['field']} is {data['expected']}; the value given is "
+                    f"{_article(str(data['given']))} {data['given']})"
+                )
+        self._recorder.finding(rule, text, line=line, stack=_outer(frames), data=data)
 
     def _error_data(
         self, frame: dict[str, Any], phase: str, type_name: str, message: str

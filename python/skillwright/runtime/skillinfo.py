@@ -8,6 +8,7 @@ getter's return annotation (to give inputs their type), and the state methods pr
 from __future__ import annotations
 
 import ast
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
 
 from skillwright.rules.run import RUN_STRUCTURE, RUN_SYNTAX
@@ -78,6 +79,8 @@ class SkillInfo:
     outputs: list[Variable] = field(default_factory=list)
     states: dict[str, int] = field(default_factory=dict)
     """State name -> line of its method."""
+    callback_stores: frozenset[str] = frozenset()
+    """The attributes its callbacks assign (see :func:`callback_stores`)."""
 
 
 def decorator_name(node: ast.expr) -> str:
@@ -156,6 +159,77 @@ def _variable(function: ast.FunctionDef, call: ast.Call) -> Variable:
     )
 
 
+def _self_method(node: ast.expr, methods: AbstractSet[str]) -> str | None:
+    if (
+        isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id == "self"
+        and node.attr in methods
+    ):
+        return node.attr
+    return None
+
+
+def _stores(node: ast.AST) -> set[str]:
+    return {
+        n.attr
+        for n in ast.walk(node)
+        if isinstance(n, ast.Attribute)
+        and isinstance(n.ctx, ast.Store)
+        and isinstance(n.value, ast.Name)
+        and n.value.id == "self"
+    }
+
+
+def callback_stores(cls: ast.ClassDef) -> frozenset[str]:
+    """The attributes the class's callbacks assign: rclpy runs a callback handed to
+    ``create_subscription``, ``create_timer``, ``send_goal_async(feedback_callback=...)`` or
+    a future's ``add_done_callback`` while the states run, so what it stores is set by the
+    skill even when no state assigns it. A callback is a method passed as an argument of
+    any call (``self._on_odom``), a lambda passed so (the methods it calls) or a function
+    defined in a method and passed by name; methods a callback calls count too."""
+    methods = {
+        item.name: item
+        for item in cls.body
+        if isinstance(item, ast.FunctionDef | ast.AsyncFunctionDef)
+    }
+    called: set[str] = set()
+    stores: set[str] = set()
+    for method in methods.values():
+        nested = {
+            n.name: n
+            for n in ast.walk(method)
+            if isinstance(n, ast.FunctionDef | ast.AsyncFunctionDef) and n is not method
+        }
+        for call in (n for n in ast.walk(method) if isinstance(n, ast.Call)):
+            for argument in [*call.args, *(k.value for k in call.keywords)]:
+                name = _self_method(argument, methods.keys())
+                if name is not None:
+                    called.add(name)
+                elif isinstance(argument, ast.Lambda):
+                    stores |= _stores(argument)
+                    called |= {
+                        m
+                        for n in ast.walk(argument.body)
+                        if isinstance(n, ast.Call)
+                        for m in [_self_method(n.func, methods.keys())]
+                        if m is not None
+                    }
+                elif isinstance(argument, ast.Name) and argument.id in nested:
+                    stores |= _stores(nested[argument.id])
+    pending = list(called)
+    while pending:
+        method = methods[pending.pop()]
+        stores |= _stores(method)
+        for n in ast.walk(method):
+            if isinstance(n, ast.Call):
+                name = _self_method(n.func, methods.keys())
+                if name is not None and name not in called:
+                    called.add(name)
+                    pending.append(name)
+    return frozenset(stores)
+
+
 def read_skill(source: str, filename: str = "skill.py") -> SkillInfo:
     """The skill class of ``source``; :class:`SkillSourceError` when there is none."""
     try:
@@ -181,6 +255,7 @@ def read_skill(source: str, filename: str = "skill.py") -> SkillInfo:
                     info.parameters.append(_variable(item, decorator))
                 elif name == "skill_output" and isinstance(decorator, ast.Call):
                     info.outputs.append(_variable(item, decorator))
+        info.callback_stores = callback_stores(node)
         if "execute" not in info.states:
             raise SkillSourceError(
                 f"class {node.name} has no @execute method, so there is nothing to run",

@@ -129,9 +129,11 @@ def standard_texts(distro: str) -> dict[str, str]:
     """The standard message texts of ``distro`` by type name, cached on disk (and kept in
     memory once read; the caller must not change the mapping)."""
     from skillwright.fileio import write_atomic
+    from skillwright.interfaces.rosidl_index import index_fingerprint
     from skillwright.paths import cache_dir
 
-    path = cache_dir() / "runtime" / f"types-{distro}-rosbags-{_rosbags_version()}.json"
+    stem = f"types-{distro}-rosbags-{_rosbags_version()}-index-{index_fingerprint(distro)}"
+    path = cache_dir() / "runtime" / f"{stem}.json"
     known = _READ.get(str(path))
     if known is not None:
         return known

@@ -439,6 +439,45 @@ def _bounding_names(
             meant = matching(name)
             if meant is not None and meant in variables and (name.isupper() or "tol" in name):
                 found.add((name, meant))
+    found |= _guarded_clamps(facts, matching)
+    return found
+
+
+def _names_in(facts: SkillFacts, node: ast.AST) -> list[str]:
+    return [
+        name
+        for part in facts.walk(node)
+        if isinstance(part, ast.Name | ast.Attribute)
+        for name in [_target_name(part)]
+        if name is not None
+    ]
+
+
+def _guarded_clamps(
+    facts: SkillFacts, matching: Callable[[str], str | None]
+) -> set[tuple[str, str]]:
+    """(name, input) for a constant assigned to the input's value under a test of that
+    value: ``if abs(self.velocity_cmd.angular.z) > 0.5: self.velocity_cmd.angular.z =
+    math.copysign(self.MAX_ANGULAR_VELOCITY, ...)`` saturates the input at the capability's
+    limit (a clamp written as an ``if``, the same as ``min``); a stand-in replaces the
+    input's value whatever it is, so it is never guarded by a test of it."""
+    found: set[tuple[str, str]] = set()
+    for node in facts.walk(facts.tree):
+        if not isinstance(node, ast.If) or not isinstance(node.test, ast.Compare):
+            continue
+        tested = {matching(n) for n in _names_in(facts, node.test) if not n.isupper()}
+        if not tested - {None}:
+            continue
+        for statement in node.body:
+            if not isinstance(statement, ast.Assign):
+                continue
+            targets = {
+                matching(name) for target in statement.targets for name in _names_in(facts, target)
+            }
+            for meant in {m for m in tested & targets if m is not None}:
+                for name in _names_in(facts, statement.value):
+                    if name.isupper() and matching(name) == meant:
+                        found.add((name, meant))
     return found
 
 
@@ -489,7 +528,10 @@ def _spec_numbers(spec: SkillSpec) -> set[float]:
 def _check_input_constants(facts: SkillFacts) -> list[Finding]:
     """A number written out where the skill should use the value of a capability input: a
     name that means the input given a number that is neither zero, one the specification
-    states, the resource's own limit nor a bound the input's value is held to."""
+    states, the resource's own limit nor a bound the input's value is held to (compared
+    with the input's own attribute, clamped against it with ``min``/``max`` or assigned to
+    it under a test of its value). A number compared with the input itself is never its
+    stand-in: the comparison uses the value the skill was given."""
     ctx = _Context()
     capability, held = facts.capability, facts.input_attributes
     sanctioned = _spec_numbers(facts.spec) | {0.0}
@@ -527,6 +569,8 @@ def _check_input_constants(facts: SkillFacts) -> list[Finding]:
             continue
         if (in_init and name in own_attributes) or name in outputs:
             continue  # a parameter's storage initialised before it is set, or an output
+        if isinstance(statement, ast.Compare) and (name in held or name in own_attributes):
+            continue  # the input's own value compared with a number: a bound it is held to
         words = _tokens(name)
         number = _number(value)
         if abs(number) in sanctioned:
@@ -1711,6 +1755,11 @@ def _check_parameter_use(facts: SkillFacts) -> list[Finding]:
         getters[method.name] = (kind, name, path, getter.decorator, detail, meant)
     uses = _attribute_uses(facts, {*getters, "__init__"})
     reads, idle, checked = uses.reads, uses.idle, uses.checked
+    for method_name, (kind, _, attr, _, _, _) in getters.items():
+        if kind == "skill_parameter" and method_name in reads:
+            # A method that calls the input's own getter (self.get_distance_x()) reads what
+            # it returns: the getter is plain Python, pySkillUp only adds the annotation.
+            reads.add(attr)
     for kind, name, attr, where, detail, meant in getters.values():
         about = f" ({detail})" if detail else ""
         if kind == "skill_parameter" and attr not in reads and attr in idle:

@@ -112,7 +112,37 @@ class Field:
         return base
 
     def check(self, owner: str, value: object) -> object:
-        """``value`` as stored, or :class:`InvalidFieldValue` with rosidl's wording."""
+        """``value`` as stored, or :class:`InvalidFieldValue` with rosidl's wording; the
+        error carries the field (``owner.name``), the type it has and the type of the value
+        given, for the run's finding."""
+        try:
+            return self._check(value)
+        except InvalidFieldValue as error:
+            error.skillwright_data = {  # type: ignore[attr-defined]
+                "field": f"{owner}.{self.name}",
+                "expected": self.type_text(),
+                "given": self._given(value),
+            }
+            raise
+
+    def _given(self, value: object) -> str:
+        """The type of ``value``; for a sequence, its length or its first element that
+        does not fit, with that element's index, type and value."""
+        kind = type(value).__name__
+        if self.array == "none" or isinstance(value, (str, bytes)):
+            return kind
+        try:
+            items = list(value)  # type: ignore[call-overload]
+        except TypeError:
+            return kind
+        for index, item in enumerate(items):
+            try:
+                self._check_one(item)
+            except InvalidFieldValue:
+                return f"{kind} whose element [{index}] is {type(item).__name__} {item!r:.40}"
+        return f"{kind} of {len(items)} elements"
+
+    def _check(self, value: object) -> object:
         if self.array == "none":
             return self._check_one(value)
         if isinstance(value, (str, bytes)) and self.base not in {"uint8", "byte", "char"}:
