@@ -207,9 +207,11 @@ def test_definitions_that_cannot_be_fetched_come_from_the_type_store_or_are_unkn
     assert gripper.notes[-1] == (
         "definition unknown: acme_msgs/msg/Grip is not in the offline type stores (Jazzy, Humble)"
     )
+    # A standard service comes from the ROS 2 interface packages make setup installs.
     parameters = inventory.interface("/driver/get_parameters")
-    assert parameters.definitions == {}
-    assert parameters.notes[-1].startswith("definition unknown: rcl_interfaces/srv/GetParameters")
+    assert sorted(parameters.definitions) == ["request", "response"]
+    assert parameters.definitions["request"].origin == "type_store"
+    assert "names" in _names(parameters.definitions["request"].fields)
     # A nested type that is not installed is expanded from the store, with a note.
     feedback = inventory.interface("/move").definitions["feedback"]
     position = (feedback.fields or [])[0]
