@@ -37,6 +37,7 @@ REPO_ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO_ROOT))  # for tests.fixtures (the tiny model writer), bench_lookup
 
 from bench.bench_lookup import Asked, record_prompts  # noqa: E402
+
 from skillwright.errors import ModelError  # noqa: E402
 from skillwright.llm.base import GenerationOptions  # noqa: E402
 from skillwright.llm.config import LlamaCppModel, Registry, load_registry  # noqa: E402

@@ -291,11 +291,18 @@ def test_generate_each_batches_a_batching_generator(tiny: LlamaCppGenerator) -> 
     assert answers[0].text == streamed(tiny, GREEDY)
 
 
-def test_generate_each_answers_in_turn_beyond_the_batch_width(tiny: LlamaCppGenerator) -> None:
+def test_generate_each_batches_beyond_the_batch_width_in_turn(tiny: LlamaCppGenerator) -> None:
     options = [sampled(seed) for seed in range(5)]
-    answers = generate_each(tiny, QUESTION, options)
+    shown: dict[int, str] = {}
+
+    def sink(index: int, text: str) -> bool:
+        shown[index] = shown.get(index, "") + text
+        return False
+
+    answers = generate_each(tiny, QUESTION, options, on_chunk=sink)
     assert [a.text for a in answers] == [streamed(tiny, option) for option in options]
-    assert {a.finish_reason for a in answers} <= {"length", "stop"}
+    assert len({a.seconds for a in answers[:4]}) == 1  # a batch of 4, then one of 1
+    assert shown == {index: answer.text for index, answer in enumerate(answers) if answer.text}
 
 
 # --- answers in turn (a generator that cannot batch) ------------------------------------------
@@ -379,11 +386,21 @@ class _Wide:
         pass
 
 
-def test_generate_each_batches_within_the_width_and_streams_beyond_it() -> None:
+def test_generate_each_batches_a_batching_generator_in_batches_of_its_width() -> None:
     wide = _Wide()
     assert isinstance(wide, BatchGenerator)
     assert [a.text for a in generate_each(wide, EXECUTE, [GenerationOptions()] * 2)] == ["x", "x"]
     assert wide.batches == [2]
-    beyond = generate_each(wide, EXECUTE, [GenerationOptions()] * 3)
+    beyond = generate_each(wide, EXECUTE, [GenerationOptions()] * 5)
+    assert wide.batches == [2, 2, 2, 1]
+    assert len(beyond) == 5
+    assert wide.inner.prompts == []  # nothing streamed
+
+
+def test_a_cancelled_batch_ends_the_batches() -> None:
+    wide = _Wide()
+    cancel = threading.Event()
+    cancel.set()
+    answers = generate_each(wide, EXECUTE, [GenerationOptions()] * 5, cancel=cancel)
     assert wide.batches == [2]
-    assert [a.text for a in beyond] == [SCRIPT["execute"][0]] * 3
+    assert len(answers) == 2
