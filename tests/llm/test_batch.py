@@ -285,6 +285,24 @@ def test_one_sequence_context_when_models_toml_says_so(
         generator.close()
 
 
+def test_the_room_for_answers_stops_at_the_trained_context(
+    tiny_gguf: Path, tmp_path: Path, cache: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    # The tiny model was trained with 8192 tokens; 8000 + 3 * 100 more cells would pass it.
+    registry = load_registry(
+        write_models_toml(tmp_path / "models.toml", tiny_gguf, context=8000, max_tokens=100)
+    )
+    generator = load_generator(registry, "tiny", cache=cache)
+    assert isinstance(generator, LlamaCppGenerator)
+    try:
+        assert generator.llama.n_ctx() == 8192
+        assert not any("n_ctx_train" in record.getMessage() for record in caplog.records)
+        answers = generator.generate_batch(QUESTION, [GREEDY] * 4)
+        assert [a.completion_tokens for a in answers] == [24] * 4
+    finally:
+        generator.close()
+
+
 def test_generate_each_batches_a_batching_generator(tiny: LlamaCppGenerator) -> None:
     answers = generate_each(tiny, QUESTION, [GREEDY, sampled(1)])
     assert len({answer.seconds for answer in answers}) == 1  # one batch

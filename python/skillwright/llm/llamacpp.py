@@ -968,12 +968,20 @@ def load_llamacpp(
         raise
 
 
-def _context_cells(entry: LlamaCppModel) -> int:
+def _context_cells(entry: LlamaCppModel, trained: int | None) -> int:
     """Tokens the context's KV cache holds: ``context_length`` for the prompt and one answer,
     and ``sampling.max_tokens`` more for each further sequence of a batch, so that a prompt
     that fits one answer also fits ``batch_sequences`` of the default length (the prompt's
-    cells are shared, each answer's are its own)."""
-    return entry.context_length + (entry.batch_sequences - 1) * entry.sampling.max_tokens
+    cells are shared, each answer's are its own).
+
+    Not beyond the context the model was trained with (``trained``) unless ``context_length``
+    itself is: llama.cpp warns of a training-context overflow when a context's cells exceed
+    it, which the extra cells are not (no sequence's positions pass ``context_length``);
+    a batch that does not fit the cells is refused with both numbers."""
+    cells = entry.context_length + (entry.batch_sequences - 1) * entry.sampling.max_tokens
+    if trained is not None and entry.context_length <= trained:
+        cells = min(cells, trained)
+    return cells
 
 
 def _make_context_for_sequences(llama: Llama, sequences: int) -> None:
@@ -1014,7 +1022,7 @@ def _load(
     try:
         llama = Llama(
             model_path=str(model_file.path),
-            n_ctx=_context_cells(entry),
+            n_ctx=_context_cells(entry, model_file.info.context_length),
             n_batch=min(entry.batch_size, entry.context_length),
             n_threads=entry.threads or _generation_threads(),
             # Prompt evaluation is compute-bound: use every core unless told otherwise
