@@ -40,7 +40,11 @@ def test_loaded_model_keeps_the_backend_contract(tiny: LlamaCppGenerator) -> Non
     assert isinstance(tiny, TextGenerator)
     assert tiny.model_id == "tiny"
     assert tiny.context_length == 768
-    assert tiny.llama.n_ctx() == 768  # from models.toml, not llama-cpp-python's default (512)
+    # From models.toml, not llama-cpp-python's default (512): context_length for the prompt and
+    # one answer, and room for the 3 further answers of a batch of batch_sequences (default 4)
+    # answers of max_tokens 32 (llama.cpp rounds the cells up to a multiple of 256).
+    assert 768 + 3 * 32 <= tiny.llama.n_ctx() < 768 + 3 * 32 + 256
+    assert tiny.max_sequences == 4
 
 
 def test_stream_yields_chunks_as_they_are_generated(tiny: LlamaCppGenerator) -> None:

@@ -11,6 +11,7 @@ after another, so the caller never needs to know which it has.
 
 from __future__ import annotations
 
+import functools
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -83,13 +84,15 @@ def generate_each(
     on_chunk: ChunkSink | None = None,
     cancel: threading.Event | None = None,
 ) -> list[BatchAnswer]:
-    """One answer per entry of ``options``: in one batch when ``generator`` batches and the
-    batch fits its width, else each answer streamed in turn (the same answers, one after
-    another)."""
+    """One answer per entry of ``options``, in order: in batches when ``generator`` batches
+    (one batch when they fit its width, else batches of its width one after another, the
+    chunk sink told each answer's index among all ``options``), else each answer streamed in
+    turn (the same answers, one after another). A cancel ends the answers: those not started
+    are left out."""
     if not options:
         return []
-    if isinstance(generator, BatchGenerator) and len(options) <= generator.max_sequences:
-        return generator.generate_batch(prompt, options, on_chunk=on_chunk, cancel=cancel)
+    if isinstance(generator, BatchGenerator) and generator.max_sequences > 0:
+        return _in_batches(generator, prompt, options, on_chunk=on_chunk, cancel=cancel)
     answers = []
     for index, option in enumerate(options):
         started = time.perf_counter()
@@ -116,3 +119,30 @@ def generate_each(
         if cancel is not None and cancel.is_set():
             break
     return answers
+
+
+def _in_batches(
+    generator: BatchGenerator,
+    prompt: Prompt,
+    options: Sequence[GenerationOptions],
+    *,
+    on_chunk: ChunkSink | None,
+    cancel: threading.Event | None,
+) -> list[BatchAnswer]:
+    """``options`` in batches of at most ``generator.max_sequences``."""
+    width = generator.max_sequences
+    answers: list[BatchAnswer] = []
+    for start in range(0, len(options), width):
+        sink = None
+        if on_chunk is not None:
+            sink = functools.partial(_shifted, on_chunk, start)
+        answers += generator.generate_batch(
+            prompt, options[start : start + width], on_chunk=sink, cancel=cancel
+        )
+        if cancel is not None and cancel.is_set():
+            break
+    return answers
+
+
+def _shifted(on_chunk: ChunkSink, offset: int, index: int, text: str) -> bool:
+    return on_chunk(offset + index, text)

@@ -170,6 +170,12 @@ class LlamaCppModel(_ModelBase):
     """Sampling defaults for this model."""
     prompt_lookup: PromptLookup = PromptLookup()
     """Prompt-lookup decoding for greedy answers."""
+    batch_sequences: int = Field(default=4, ge=1, le=64)
+    """The most answers to one prompt decoded together, as sequences of one llama.cpp
+    context that share the prompt's evaluated cache (see :mod:`skillwright.llm.batch`); 1
+    decodes one answer at a time. The context gets room for this many answers of
+    ``sampling.max_tokens`` beside the prompt, in one KV cache all sequences share (up to
+    the context the model was trained with)."""
     source: str | None = None
     """Where to obtain the file (shown when it is missing); skillwright never downloads it."""
     packages: PackagedFile | None = None

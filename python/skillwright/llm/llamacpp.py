@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from skillwright.errors import ContextOverflowError, InvalidArgumentError, ModelError
 from skillwright.llm.base import ChatMessage, GenerationOptions, Prompt, TextStream
+from skillwright.llm.batch import BatchAnswer, BatchFinish, ChunkSink
 from skillwright.llm.config import LlamaCppModel, Registry, cache_dir
 from skillwright.llm.files import (
     ChecksumCache,
@@ -45,6 +46,9 @@ if TYPE_CHECKING:
     from llama_cpp.llama_grammar import LlamaGrammar
 
 __all__ = ["LlamaCppGenerator", "load_llamacpp", "render_chat", "route_native_logs"]
+
+PrefixUse = Literal["off", "memory", "disk", "stored", "evaluated"]
+"""How a prompt's fixed prefix was obtained (see :attr:`TextStream.prefix_cache`)."""
 
 log = logging.getLogger(__name__)
 native_log = logging.getLogger("skillwright.llama_cpp")
@@ -128,7 +132,8 @@ def render_chat(
 
 
 class LlamaCppGenerator:
-    """A GGUF model loaded in this process; implements :class:`~skillwright.llm.base.TextGenerator`.
+    """A GGUF model loaded in this process; implements :class:`~skillwright.llm.base.TextGenerator`
+    and :class:`~skillwright.llm.batch.BatchGenerator`.
 
     One generation runs at a time per model; starting a second stream while one is open raises.
     """
@@ -154,6 +159,11 @@ class LlamaCppGenerator:
         """Where evaluated prefixes are saved, or ``None`` to evaluate them every time."""
         self.model_id = entry.id
         self.context_length = entry.context_length
+        import llama_cpp
+
+        self.max_sequences = int(llama_cpp.llama_n_seq_max(llama.ctx))
+        """The most sequences one :meth:`generate_batch` may decode: what the context was
+        made for (``batch_sequences`` in models.toml)."""
         self._origin = origin
         self._busy = threading.Lock()
         self._closed = False
@@ -263,6 +273,261 @@ class LlamaCppGenerator:
         )
         return stream
 
+    def generate_batch(
+        self,
+        prompt: Prompt,
+        options: Sequence[GenerationOptions],
+        *,
+        on_chunk: ChunkSink | None = None,
+        cancel: threading.Event | None = None,
+    ) -> list[BatchAnswer]:
+        """One answer per entry of ``options``, decoded together; see
+        :class:`~skillwright.llm.batch.BatchGenerator`.
+
+        The prompt is put into the context as for :meth:`stream` (the live context, a kept
+        state or the prefix cache, then the rest evaluated in the same batches) as sequence 0;
+        its cache cells are then shared with sequences 1..N-1 (``llama_memory_seq_cp``: in the
+        unified KV cache the context was made with, a cell belongs to several sequences, so
+        nothing is copied). Each sequence gets the sampler chain :meth:`stream` would build for
+        its options (llama-cpp-python's own, with its temperature and seed: greedy at 0), and
+        its first token is sampled from the prompt's last logits. Every step then decodes the
+        last token of every live sequence in one ``llama_decode`` call, at that sequence's
+        own position, and samples each one's next token from its row of logits. A sequence
+        ends on its own: end of text, a stop string, ``max_tokens``, or ``on_chunk`` returning
+        true; ``cancel`` ends them all (``"cancelled"``, text so far).
+
+        An answer is that of :meth:`stream` with the same options, up to rounding: the
+        weights multiply several tokens at once, and a sequence's attention sums over cells
+        interleaved with the other sequences' (masked) ones, so a near tie between two tokens
+        can fall the other way. Prompt lookup does not apply (every sequence decodes one token
+        per step). Afterwards the context holds the prompt alone, as sequence 0.
+        """
+        options = list(options)
+        if not options:
+            return []
+        if len(options) > self.max_sequences:
+            raise InvalidArgumentError(
+                f"model {self.model_id!r}: {len(options)} answers asked for in one batch, but "
+                f"its context was made for at most {self.max_sequences}; set "
+                f"`batch_sequences = {len(options)}` for {self.model_id!r} in your models.toml "
+                f"(settings from {self._origin}) or ask for fewer"
+            )
+        limits = [option.max_tokens or self.entry.sampling.max_tokens for option in options]
+        prefix, rest = self.prompt_tokens(prompt)
+        used = len(prefix) + len(rest)
+        self._check_batch_fits(used, limits)
+        grammars = [
+            _grammar(option.json_schema) if option.json_schema is not None else None
+            for option in options
+        ]
+        if not self._busy.acquire(blocking=False):
+            raise ModelError(
+                f"model {self.model_id!r} is already generating; finish or close that stream first"
+            )
+        started = time.perf_counter()
+        try:
+            self._check_open()
+            whole = prefix + rest
+            save = all(option.save_prefix for option in options)
+            prepared = self._prepare(prefix, whole, cancel, save=save)
+            sequences = [_Sequence(option.stop) for option in options]
+            how: PrefixUse = "off"
+            reused = 0
+            if prepared is None:
+                for sequence in sequences:
+                    sequence.finish = "cancelled"
+            else:
+                how, reused = prepared
+                self._decode_batch(whole, sequences, options, limits, grammars, on_chunk, cancel)
+        finally:
+            self._busy.release()
+        seconds = round(time.perf_counter() - started, 3)
+        return [
+            BatchAnswer(
+                text="".join(sequence.parts),
+                finish_reason=sequence.finish,
+                prompt_tokens=used,
+                reused_tokens=reused,
+                completion_tokens=sequence.written,
+                seconds=seconds,
+                prefix_cache=how,
+            )
+            for sequence in sequences
+        ]
+
+    def _check_batch_fits(self, used: int, limits: Sequence[int]) -> None:
+        """Raises :class:`ContextOverflowError` when a sequence's positions would run past
+        ``context_length`` or the prompt and all answers past the KV cache's cells."""
+        trained = self.model_file.info.context_length
+        hint = f" (the model was trained with up to {trained})" if trained else ""
+        longest = max(limits)
+        if used + longest > self.context_length:
+            raise ContextOverflowError(
+                f"model {self.model_id!r}: the prompt takes {used} tokens and up to {longest} "
+                f"may be generated, {used + longest} in all, but the context holds "
+                f"{self.context_length}; raise `context_length` of {self.model_id!r} in your "
+                f"models.toml{hint}, lower max_tokens, or shorten the prompt "
+                f"(settings from {self._origin})"
+            )
+        cells = self.llama.n_ctx()
+        if used + sum(limits) > cells:
+            raise ContextOverflowError(
+                f"model {self.model_id!r}: the prompt takes {used} tokens and {len(limits)} "
+                f"answers of up to {longest} tokens may be generated beside it, "
+                f"{used + sum(limits)} in all, but the context has room for {cells}; ask for "
+                f"fewer answers or lower max_tokens, or raise `context_length` (or "
+                f"`sampling.max_tokens`, which sizes the room for answers) of "
+                f"{self.model_id!r} in your models.toml{hint} (settings from {self._origin})"
+            )
+
+    def _decode_batch(
+        self,
+        whole: list[int],
+        sequences: list[_Sequence],
+        options: Sequence[GenerationOptions],
+        limits: Sequence[int],
+        grammars: Sequence[LlamaGrammar | None],
+        on_chunk: ChunkSink | None,
+        cancel: threading.Event | None,
+    ) -> None:
+        """Evaluates the rest of the prompt on sequence 0, shares it with the others and
+        decodes them all together (see :meth:`generate_batch`); leaves the prompt alone in
+        the context."""
+        import llama_cpp
+
+        llama = self.llama
+        memory = llama._ctx.memory
+        for seq in range(1, self.max_sequences):
+            llama_cpp.llama_memory_seq_rm(memory, seq, -1, -1)
+        samplers: list[Any] = []
+        batch = llama_cpp.llama_batch_init(len(sequences), 0, 1)
+        try:
+            if not self._evaluate_prompt(whole, cancel):
+                for sequence in sequences:
+                    sequence.finish = "cancelled"
+                return
+            samplers = self._samplers(options, grammars)
+            for seq in range(1, len(sequences)):
+                llama_cpp.llama_memory_seq_cp(memory, 0, seq, 0, -1)
+            tokens = [sampler.sample(llama._ctx, -1) for sampler in samplers]
+            position = len(whole)
+            while True:
+                stepping = self._take_tokens(sequences, tokens, limits, on_chunk)
+                if not stepping:
+                    break
+                if cancel is not None and cancel.is_set():
+                    for index in stepping:
+                        sequences[index].finish = "cancelled"
+                    break
+                self._decode_step(batch, [(index, tokens[index]) for index in stepping], position)
+                for row, index in enumerate(stepping):
+                    tokens[index] = samplers[index].sample(llama._ctx, row)
+                position += 1
+        finally:
+            for sampler in samplers:
+                sampler.close()
+            llama_cpp.llama_batch_free(batch)
+            # Only the prompt stays, as sequence 0; stream() and the prefix cache see it.
+            for seq in range(1, self.max_sequences):
+                llama_cpp.llama_memory_seq_rm(memory, seq, -1, -1)
+            kept = min(llama.n_tokens, len(whole))
+            llama._ctx.kv_cache_seq_rm(0, kept, -1)
+            llama.n_tokens = kept
+            llama._requires_eval = True
+        self._written += sum(sequence.written for sequence in sequences)
+        if self._lock is not None:
+            self._lock.progress(self._written, at_once=True)
+        if all(sequence.finish != "cancelled" for sequence in sequences):
+            self._kept.keep(PrefixState(tuple(whole), self._state_bytes()))
+
+    def _samplers(
+        self, options: Sequence[GenerationOptions], grammars: Sequence[LlamaGrammar | None]
+    ) -> list[Any]:
+        """One sampler chain per sequence: the one ``Llama.generate`` builds for
+        :meth:`stream` with these options (penalties, grammar, then greedy at temperature 0,
+        else top-k, top-p, min-p, temperature and a distribution seeded with its seed)."""
+        llama = self.llama
+        sampling = self.entry.sampling
+        samplers = []
+        for option, grammar in zip(options, grammars, strict=True):
+            llama.set_seed(sampling.seed if option.seed is None else option.seed)
+            samplers.append(
+                llama._init_sampler(
+                    top_k=sampling.top_k,
+                    top_p=sampling.top_p if option.top_p is None else option.top_p,
+                    min_p=sampling.min_p,
+                    temp=sampling.temperature if option.temperature is None else option.temperature,
+                    repeat_penalty=sampling.repeat_penalty,
+                    grammar=grammar,
+                )
+            )
+        return samplers
+
+    def _take_tokens(
+        self,
+        sequences: Sequence[_Sequence],
+        tokens: Sequence[int],
+        limits: Sequence[int],
+        on_chunk: ChunkSink | None,
+    ) -> list[int]:
+        """Adds each live sequence's newly sampled token to its answer (ending it at the end
+        of text, a stop string, its ``max_tokens`` or the sink's word); returns the indices of
+        the sequences whose token is to be decoded next."""
+        import llama_cpp
+
+        vocab = self.llama._model.vocab
+        stepping = []
+        for index, sequence in enumerate(sequences):
+            if sequence.finish is not None:
+                continue
+            if llama_cpp.llama_vocab_is_eog(vocab, tokens[index]):
+                sequence.end("stop", on_chunk, index)
+                continue
+            sequence.written += 1
+            if self._lock is not None:
+                self._lock.progress(self._written + sum(s.written for s in sequences))
+            if sequence.take(self.llama.detokenize([tokens[index]]), on_chunk, index):
+                continue
+            if sequence.written >= limits[index]:
+                sequence.end("length", on_chunk, index)
+                continue
+            stepping.append(index)
+        return stepping
+
+    def _decode_step(self, batch: Any, rows: Sequence[tuple[int, int]], position: int) -> None:
+        """Decodes one token per (sequence, token) row at ``position``, logits for each, in
+        one ``llama_decode`` call."""
+        import llama_cpp
+
+        batch.n_tokens = len(rows)
+        for row, (seq, token) in enumerate(rows):
+            batch.token[row] = token
+            batch.pos[row] = position
+            batch.n_seq_id[row] = 1
+            batch.seq_id[row][0] = seq
+            batch.logits[row] = True
+        code = llama_cpp.llama_decode(self.llama.ctx, batch)
+        if code != 0:
+            raise ModelError(
+                f"model {self.model_id!r}: llama.cpp could not decode a batch of {len(rows)} "
+                f"sequences (llama_decode returned {code}); ask for fewer answers or lower "
+                "max_tokens"
+            )
+
+    def _evaluate_prompt(self, whole: list[int], cancel: threading.Event | None) -> bool:
+        """Evaluates what the context lacks of ``whole`` (the last token at least, whose
+        logits the first tokens are sampled from) in the batches ``Llama.generate`` uses;
+        false if cancelled."""
+        llama = self.llama
+        start = min(_shared_length(llama.input_ids[: llama.n_tokens], whole), len(whole) - 1)
+        llama._ctx.kv_cache_seq_rm(0, start, -1)
+        llama.n_tokens = start
+        for begin in range(start, len(whole), llama.n_batch):
+            if cancel is not None and cancel.is_set():
+                return False
+            llama.eval(whole[begin : begin + llama.n_batch])
+        return True
+
     def _generate(
         self,
         stream: TextStream,
@@ -283,23 +548,11 @@ class LlamaCppGenerator:
             self._check_open()
             whole = prefix + rest
             llama = self.llama
-            live = _shared_length(llama.input_ids[: llama.n_tokens], whole)
-            kept = self._kept.closest(whole)
-            if kept is not None and kept[1] > live and kept[1] >= len(prefix):
-                self._load_state(kept[0])
-                self._kept.keep(kept[0])  # now the most recently used
-                stream.prefix_cache = "memory"
-                stream.reused_tokens = kept[1]
-            elif prefix:
-                how = self._restore_prefix(prefix, cancel, save=options.save_prefix)
-                if how is None:
-                    stream.finish_reason = "cancelled"
-                    return
-                stream.prefix_cache = how
-                live = max(len(prefix), live) if how == "memory" else len(prefix)
-                stream.reused_tokens = live if how in ("memory", "disk") else 0
-            else:
-                stream.reused_tokens = live
+            prepared = self._prepare(prefix, whole, cancel, save=options.save_prefix)
+            if prepared is None:
+                stream.finish_reason = "cancelled"
+                return
+            stream.prefix_cache, stream.reused_tokens = prepared
             if cancel is not None and cancel.is_set():
                 stream.finish_reason = "cancelled"
                 return
@@ -318,6 +571,33 @@ class LlamaCppGenerator:
                 )
         finally:
             self._busy.release()
+
+    def _prepare(
+        self,
+        prefix: list[int],
+        whole: list[int],
+        cancel: threading.Event | None,
+        *,
+        save: bool,
+    ) -> tuple[PrefixUse, int] | None:
+        """Puts the longest reusable start of ``whole`` into the context: a kept state that
+        shares more of it than the live context does, else the prefix (restored or evaluated);
+        returns how the prefix was obtained and how many leading tokens are reused, or
+        ``None`` if cancelled. The caller evaluates the rest."""
+        llama = self.llama
+        live = _shared_length(llama.input_ids[: llama.n_tokens], whole)
+        kept = self._kept.closest(whole)
+        if kept is not None and kept[1] > live and kept[1] >= len(prefix):
+            self._load_state(kept[0])
+            self._kept.keep(kept[0])  # now the most recently used
+            return "memory", kept[1]
+        if not prefix:
+            return "off", live
+        how = self._restore_prefix(prefix, cancel, save=save)
+        if how is None:
+            return None
+        live = max(len(prefix), live) if how == "memory" else len(prefix)
+        return how, live if how in ("memory", "disk") else 0
 
     def _decode(
         self,
@@ -406,14 +686,17 @@ class LlamaCppGenerator:
     def _cache_context(self) -> str:
         import llama_cpp
 
+        # A context made for several sequences (one KV cache they share) is keyed apart from
+        # a one-sequence context: its saved state is not promised to load into the other.
+        sequences = f";n_seq_max={self.max_sequences}" if self.max_sequences > 1 else ""
         return (
-            f"n_ctx={self.llama.n_ctx()};n_batch={self.llama.n_batch};"
+            f"n_ctx={self.llama.n_ctx()};n_batch={self.llama.n_batch}{sequences};"
             f"llama-cpp-python={llama_cpp.__version__}"
         )
 
     def _restore_prefix(
         self, prefix: list[int], cancel: threading.Event | None, *, save: bool = True
-    ) -> Any:
+    ) -> PrefixUse | None:
         """Puts the prefix's state into the context; returns how, or ``None`` if cancelled.
         A newly evaluated prefix is saved to the disk cache only when ``save``."""
         llama = self.llama
@@ -488,6 +771,39 @@ class LlamaCppGenerator:
         # llama.cpp would crash the process on a freed model; refuse instead.
         if self._closed:
             raise ModelError(f"model {self.model_id!r} was closed; load it again to use it")
+
+
+class _Sequence:
+    """One answer of a batch as it is decoded: its text, tokens and end."""
+
+    def __init__(self, stops: Sequence[str]) -> None:
+        self.parts: list[str] = []
+        self.written = 0
+        self.finish: BatchFinish | None = None
+        self._decoder = codecs.getincrementaldecoder("utf-8")(errors="replace")
+        self._splitter = _StopSplitter(stops)
+
+    def take(self, piece: bytes, on_chunk: ChunkSink | None, index: int) -> bool:
+        """Adds a token's bytes; true when the answer ended (a stop string, or the sink
+        asked to stop it)."""
+        text, stopped = self._splitter.feed(self._decoder.decode(piece))
+        if text and self._show(text, on_chunk, index):
+            self.finish = "stopped"
+            return True
+        if stopped:
+            self.finish = "stop"
+        return stopped
+
+    def end(self, finish: BatchFinish, on_chunk: ChunkSink | None, index: int) -> None:
+        """Ends the answer, passing on the text held back (as :meth:`stream` does)."""
+        self.finish = finish
+        tail, _ = self._splitter.feed(self._decoder.decode(b"", final=True), final=True)
+        if tail and self._show(tail, on_chunk, index):
+            self.finish = "stopped"
+
+    def _show(self, text: str, on_chunk: ChunkSink | None, index: int) -> bool:
+        self.parts.append(text)
+        return on_chunk is not None and on_chunk(index, text)
 
 
 class _StopSplitter:
@@ -652,6 +968,45 @@ def load_llamacpp(
         raise
 
 
+def _context_cells(entry: LlamaCppModel, trained: int | None) -> int:
+    """Tokens the context's KV cache holds: ``context_length`` for the prompt and one answer,
+    and ``sampling.max_tokens`` more for each further sequence of a batch, so that a prompt
+    that fits one answer also fits ``batch_sequences`` of the default length (the prompt's
+    cells are shared, each answer's are its own).
+
+    Not beyond the context the model was trained with (``trained``) unless ``context_length``
+    itself is: llama.cpp warns of a training-context overflow when a context's cells exceed
+    it, which the extra cells are not (no sequence's positions pass ``context_length``);
+    a batch that does not fit the cells is refused with both numbers."""
+    cells = entry.context_length + (entry.batch_sequences - 1) * entry.sampling.max_tokens
+    if trained is not None and entry.context_length <= trained:
+        cells = min(cells, trained)
+    return cells
+
+
+def _make_context_for_sequences(llama: Llama, sequences: int) -> None:
+    """Replaces the context llama-cpp-python made (for one sequence: its ``Llama`` has no
+    parameter for more) with one of the same parameters for ``sequences`` sequences.
+
+    The KV cache is *unified* (``kv_unified``): all sequences share its cells and each
+    sequence may use all of them, so a prompt's cells can belong to every sequence at once
+    (``llama_memory_seq_cp`` adds sequence ids, nothing is copied), and one sequence alone
+    (``stream()``) still has the whole context. Without it llama.cpp splits the cells into
+    ``n_ctx / n_seq_max`` per sequence and copies the prompt into each part. The old context
+    is freed first, so the two KV caches are never held at once.
+    """
+    import contextlib
+
+    from llama_cpp import _internals
+
+    params = llama.context_params
+    params.n_seq_max = sequences
+    params.kv_unified = True
+    llama._ctx.close()  # type: ignore[no-untyped-call]
+    context = _internals.LlamaContext(model=llama._model, params=params, verbose=llama.verbose)
+    llama._ctx = llama._stack.enter_context(contextlib.closing(context))
+
+
 def _load(
     entry: LlamaCppModel,
     registry: Registry,
@@ -667,7 +1022,7 @@ def _load(
     try:
         llama = Llama(
             model_path=str(model_file.path),
-            n_ctx=entry.context_length,
+            n_ctx=_context_cells(entry, model_file.info.context_length),
             n_batch=min(entry.batch_size, entry.context_length),
             n_threads=entry.threads or _generation_threads(),
             # Prompt evaluation is compute-bound: use every core unless told otherwise
@@ -681,6 +1036,16 @@ def _load(
             f"model {entry.id!r}: llama.cpp could not load {model_file.path} ({error}); the file "
             "may be damaged or need a newer llama-cpp-python: copy it again or try another build"
         ) from None
+    if entry.batch_sequences > 1:
+        try:
+            _make_context_for_sequences(llama, entry.batch_sequences)
+        except ValueError as error:
+            llama.close()
+            raise ModelError(
+                f"model {entry.id!r}: llama.cpp could not make a context for "
+                f"{entry.batch_sequences} sequences ({error}); lower `batch_sequences` or "
+                f"`context_length` of {entry.id!r} in {registry.origin}"
+            ) from None
     log.info("model %s loaded in %.2f s", entry.id, time.perf_counter() - started)
     return LlamaCppGenerator(
         entry,
