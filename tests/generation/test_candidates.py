@@ -122,3 +122,16 @@ def test_one_candidate_is_todays_single_greedy_answer() -> None:
     assert authored.candidates == []
     assert all(a.candidate is None for a in authored.attempts)
     assert model.asked == ["starting", "execute", "completing", "stopping", "resetting"]
+
+
+def test_a_candidate_with_a_method_nobody_could_use_loses_to_one_that_wrote_it() -> None:
+    # The skeleton's placeholder has fewer findings than a written execute with an error:
+    # a candidate must not win by leaving its behaviour out.
+    case = _Case()
+    unusable = "        speed = (\n```"
+    model = MethodScript({**GOOD, "execute": [FORGETS_OUTPUT, unusable]})
+    authored = _write(case, model, 2, attempts=1)
+    written, missing = authored.candidates
+    assert missing.unusable == 1
+    assert written.unusable == 0
+    assert written.won

@@ -65,14 +65,16 @@ def candidate_options(
     ]
 
 
-def file_score(judgement: Judgement) -> tuple[int, int, int]:
-    """Lower is better: the static checks' errors, then the run's and the simulation's
-    (counted only where the file got that far), then warnings."""
+def file_score(judgement: Judgement, unusable: int = 0) -> tuple[int, int, int, int]:
+    """Lower is better: the methods whose answer could not be used (the file holds the
+    skeleton's placeholder there, whose few findings say nothing of a behaviour nobody
+    wrote), then the static checks' errors, then the run's and the simulation's (counted only
+    where the file got that far), then warnings."""
     errors = [f for f in judgement.findings if f.severity == "error"]
     static = [f for f in errors if not is_later(f)]
     later = _UNJUDGED if static else len(errors) - len(static)
     warnings = len(judgement.findings) - len(errors)
-    return (len(static), later, warnings)
+    return (unusable, len(static), later, warnings)
 
 
 def _answer_of(method: Method, index: int) -> Attempt | None:
@@ -100,7 +102,7 @@ def choose_candidate(
     judgement with every candidate's verdict."""
     verdicts: list[CandidateVerdict] = []
     by_code: dict[str, int] = {}
-    scores: dict[int, tuple[int, int, int]] = {}
+    scores: dict[int, tuple[int, int, int, int]] = {}
     last: tuple[int, Judgement] | None = None
     for index, (temperature, seed) in enumerate(temperatures):
         picked = {method.name: _answer_of(method, index) for method in writer.methods()}
@@ -120,7 +122,7 @@ def choose_candidate(
             continue
         by_code[code] = index
         judgement = judged(writer, functools.partial(_picked, picked))
-        score = file_score(judgement)
+        score = file_score(judgement, sum(a is None or a.code is None for a in picked.values()))
         scores[index] = score
         last = (index, judgement)
         errors = [f for f in judgement.findings if f.severity == "error"]
@@ -129,9 +131,10 @@ def choose_candidate(
                 index=index,
                 temperature=temperature,
                 seed=seed,
-                errors=score[0],
-                behaviour_errors=None if score[1] == _UNJUDGED else score[1],
-                warnings=score[2],
+                unusable=score[0],
+                errors=score[1],
+                behaviour_errors=None if score[2] == _UNJUDGED else score[2],
+                warnings=score[3],
                 codes=sorted({f.code for f in errors}),
             )
         )

@@ -168,6 +168,11 @@ class CandidateVerdict(BaseModel):
         description="The earlier candidate whose file it assembles to, character for "
         "character (then it was not judged again).",
     )
+    unusable: int = Field(
+        default=0,
+        description="Methods whose answer in it could not be used (cut off, looping, not "
+        "Python): the file holds the skeleton's placeholder there.",
+    )
     errors: int | None = Field(
         default=None, description="Errors the static checks found in its file."
     )
