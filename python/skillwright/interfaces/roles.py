@@ -93,17 +93,16 @@ _MOTION = (
     r"turn",
     r"rotat(e|es|ed|ing)\b",
     r"yaw rate",
-    r"forward",
-    r"backward",
-    r"revers",
+    r"revers(e|es|ed|ing)\b",
     r"strafe",
-    r"sideways",
     r"stop",
     r"halt",
     r"brak",
     r"cmd vel",
 )
-"""A base moves (and stops) by its velocity command: geometry_msgs/Twist on ``cmd_vel``."""
+"""A base moves (and stops) by its velocity command: geometry_msgs/Twist on ``cmd_vel``.
+A direction alone ("forward", "the closest return ahead") asks for no motion; "drive
+forward" does, by its verb."""
 
 _ARM = _cues(r"arm\b", r"manipulator", r"end effector", r"tool", r"tcp\b", r"gripper")
 """Words that ask for an arm's motion without saying by which means."""
@@ -271,6 +270,10 @@ _ROLES: tuple[tuple[frozenset[str], str | None, Role], ...] = (
 )
 
 
+_JOIN = r"(?: (?:the|a|an|its))? ?"
+"""Between the words of an interface's own phrase: together, apart or with an article
+("backup", "back up"; "save the map", "dock the robot")."""
+
 _VAGUE = frozenset({"data", "raw", "state", "states", "status", "info", "value", "values"})
 """Last name parts that say nothing of what an interface does (``/imu/data``)."""
 
@@ -290,7 +293,7 @@ def interface_role(name: str, kind: str, type_name: str, direction: str) -> Role
     A type the table above knows gets its role (a Twist only as a command the skill
     publishes, a reading only as a subscription). Any other interface, and the known ones
     besides, is also asked for by its own words: the phrase its type's class name makes
-    (``BackUp`` by "back up" or "backup", ``SaveMap`` by "save map") the last part of its
+    (``BackUp`` by "back up" or "backup", ``SaveMap`` by "save the map") the last part of its
     name (``/map_saver/save_map`` by "save map") and a node's name of several words before
     it ("map saver"), so that a Nav2 behaviour action is wired
     when a specification says what it does, not because ranking put it in the first ``k``.
@@ -304,7 +307,7 @@ def interface_role(name: str, kind: str, type_name: str, direction: str) -> Role
     # specification names everywhere.
     own += [part for part in parts[:-1] if " " in part]
     phrases = sorted(
-        {r" ?".join(re.escape(w) for w in phrase.split(" ")) for phrase in own if phrase},
+        {_JOIN.join(re.escape(w) for w in phrase.split(" ")) for phrase in own if phrase},
         key=len,
         reverse=True,
     )
