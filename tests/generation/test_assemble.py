@@ -119,7 +119,21 @@ def test_usage_counts_what_the_behaviour_touches_not_the_prefilled_handles() -> 
     stopping = _method("stopping", "        self._stop_base()\n")
     used = usage(skeleton, {"starting": starting, "stopping": stopping})
     assert [i.name for i in used.interfaces] == ["/cmd_vel", "/odom"]
-    assert used.helpers == ("_wait_until", "_stop_base")
+    # The skeleton's own completing brings the base to rest for outLinearVelocity (asserted
+    # 0.0), so the settling helper is used although no written method calls it.
+    assert used.helpers == ("_wait_until", "_stop_base", "_settle_base")
+
+
+def test_usage_counts_the_skeletons_own_rest_lines_not_its_handle_lines() -> None:
+    load = load_capability(SHIPPED_CAPABILITIES / "set-velocity.ttl")
+    spec = load_spec(SHIPPED_CAPABILITIES / "set-velocity.spec.yaml")
+    plain = build_skeleton(load.capability, spec, [CMD_VEL, ODOM])
+    # set-velocity asserts no output: nothing of the skeleton's own counts as use.
+    assert usage(plain, {}).interfaces == ()
+    resting = _skeleton([CMD_VEL, ODOM])
+    used = usage(resting, {})
+    assert [i.name for i in used.interfaces] == ["/cmd_vel", "/odom"]
+    assert used.helpers == ("_wait_until", "_stop_base", "_settle_base")
 
 
 def test_a_left_out_interface_loses_the_handle_lines_the_model_was_prefilled_with() -> None:

@@ -476,47 +476,41 @@ def test_an_input_no_method_reads_is_repaired_in_execute_from_a_copy_of_it(
 _NO_RESET = {**GOOD, "resetting": [STOPPING]}
 
 
+# outDistance is measured; outLinearVelocity the skeleton sets in completing (the capability
+# asserts 0.0), so only outDistance is the model's to forget.
 def test_an_output_never_set_is_repaired_by_completing_its_assignment_after_the_method(
     case: _Case,
 ) -> None:
-    forgets = EXECUTE.replace(
-        "        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x\n", ""
-    )
-    model = MethodScript(
-        {
-            **_NO_RESET,
-            "execute": [forgets, "self.odom_msg.twist.twist.linear.x\n        return\n```"],
-        }
-    )
+    forgets = EXECUTE.replace("        self.out_distance = travelled\n", "")
+    model = MethodScript({**_NO_RESET, "execute": [forgets, "travelled\n        return\n```"]})
     authored = case.write(model)
     assert model.asked.count("execute") == 2
     kept = model.prompts[-1].answer_prefix.removeprefix("```python\n")
     assert kept == (
         "    @execute\n    def execute(self) -> None:\n"
         + forgets.removesuffix("```")
-        + "        self.out_linear_velocity = "
+        + "        self.out_distance = "
     )
-    assert "output outLinearVelocity is never set" in model.prompts[-1].messages[-1].content
+    assert "output outDistance is never set" in model.prompts[-1].messages[-1].content
     assert not [f for f in authored.findings if f.severity == "error"], authored.findings
     assert (
-        "        self.out_distance = travelled\n"
         "        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x\n"
+        "        self.out_distance = travelled\n"
         "        return\n"
     ) in authored.code
 
 
 def test_an_output_is_set_before_the_return_that_ends_the_method(case: _Case) -> None:
-    forgets = EXECUTE.replace(
+    forgets = EXECUTE.replace("        self.out_distance = travelled\n", "").replace(
         "        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x\n",
-        "        return\n",
+        "        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x\n        return\n",
     )
-    model = MethodScript(
-        {**_NO_RESET, "execute": [forgets, "self.odom_msg.twist.twist.linear.x\n```"]}
-    )
+    model = MethodScript({**_NO_RESET, "execute": [forgets, "travelled\n```"]})
     case.write(model)
     kept = model.prompts[-1].answer_prefix
     assert kept.endswith(
-        "        self.out_distance = travelled\n        self.out_linear_velocity = "
+        "        self.out_linear_velocity = self.odom_msg.twist.twist.linear.x\n"
+        "        self.out_distance = "
     )
 
 
@@ -887,7 +881,8 @@ def test_a_worked_examples_helper_copied_into_a_state_is_not_asked_for(case: _Ca
     assert second.chosen
     assert second.problems == [
         "`self._cancel_dock_robot_goal(2.0)`: self._cancel_dock_robot_goal() is not a method of "
-        "this class; the helpers it has are self._stop_base(), self._wait_until()"
+        "this class; the helpers it has are self._settle_base(), self._stop_base(), "
+        "self._wait_until()"
     ]
     assert "_cancel_dock_robot_goal" not in authored.code
     assert not [f for f in authored.findings if f.severity == "error"], authored.findings

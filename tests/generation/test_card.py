@@ -42,7 +42,10 @@ def test_the_card_names_inputs_outputs_limits_handles_and_helpers() -> None:
         "Inputs (set before starting): self.in_distance (float, m), "
         "self.in_linear_velocity (float, m/s)" in lines
     )
-    assert "Outputs: self.out_distance (float, m), self.out_linear_velocity (float, m/s)" in lines
+    assert (
+        "Outputs: self.out_distance (float, m), self.out_linear_velocity (float, m/s; set by "
+        "the skeleton in completing once the base is at rest)" in lines
+    )
     assert "Limits: self.LINEAR_VELOCITY_MAX = 0.8 (m/s)" in lines
     assert (
         "- self.cmd_vel_publisher publishes Twist on /cmd_vel. "

@@ -4,6 +4,8 @@ the signatures the checks read."""
 from __future__ import annotations
 
 import math
+import threading
+import time
 from types import SimpleNamespace
 
 import pytest
@@ -120,3 +122,44 @@ def test_a_name_no_helper_has_is_a_lookup_error() -> None:
     assert "_send_stem_goal" in helper_names()
     with pytest.raises(LookupError, match="no helper _travelled"):
         helper_signature("_travelled")
+
+
+def _odometry(linear_x: float, angular_z: float) -> SimpleNamespace:
+    twist = SimpleNamespace(
+        linear=SimpleNamespace(x=linear_x, y=0.0, z=0.0),
+        angular=SimpleNamespace(x=0.0, y=0.0, z=angular_z),
+    )
+    return SimpleNamespace(twist=SimpleNamespace(twist=twist))
+
+
+def test_settle_base_commands_zero_and_returns_once_odometry_shows_rest() -> None:
+    helpers = SkeletonHelpers()
+    stops: list[int] = []
+    helpers._stop_base = lambda: stops.append(1)  # type: ignore[method-assign]
+    helpers.odometry_msg = _odometry(0.3, 0.0)
+    timer = threading.Timer(0.1, lambda: setattr(helpers, "odometry_msg", _odometry(0.004, 0.01)))
+    timer.start()
+    started = time.monotonic()
+    helpers._settle_base(2.0)
+    assert time.monotonic() - started >= 0.09
+    assert stops == [1]
+    timer.join()
+
+
+@pytest.mark.parametrize("moving", [_odometry(0.02, 0.0), _odometry(0.0, -0.05), None])
+def test_settle_base_raises_naming_the_odometry_when_the_base_never_rests(
+    moving: SimpleNamespace | None,
+) -> None:
+    helpers = SkeletonHelpers()
+    helpers._stop_base = lambda: None  # type: ignore[method-assign]
+    helpers.odometry_msg = moving
+    with pytest.raises(RuntimeError, match=r"no rest of the base on /odometry within 0\.05 s"):
+        helpers._settle_base(0.05)
+
+
+def test_the_settle_helper_is_named_after_the_odometry_it_reads() -> None:
+    lines = helper_lines("_settle_base", {"odometry_msg": "odom_msg", "/odometry": "/odom"})
+    text = "\n".join(lines)
+    assert "self.odom_msg.twist.twist" in text
+    assert '"rest of the base on /odom"' in text
+    assert "odometry_msg" not in text

@@ -763,3 +763,66 @@ def golden_skeletons() -> dict[str, str]:
 @pytest.mark.parametrize("name", sorted(golden_skeletons()))
 def test_the_skeleton_text_is_what_the_prompts_and_the_evaluation_have_seen(name: str) -> None:
     assert golden_skeletons()[name] == (GOLDEN / name).read_text(encoding="utf-8")
+
+
+def test_an_output_asserted_zero_is_set_in_completing_once_the_base_is_at_rest(
+    tmp_path: Path,
+) -> None:
+    # The behaviour drives, forgets to stop and stores a wrong final speed: the skeleton's
+    # completing commands zero, waits for odometry to show rest and reports the 0.0 that
+    # move-forward's capability asserts for outLinearVelocity.
+    report = _run_with_helpers(
+        "move-forward",
+        [CMD_VEL, ODOM],
+        {
+            "starting": "self._wait_until(lambda: self.odom_msg is not None, 2.0, 'odometry')",
+            "execute": """
+                command = Twist()
+                command.linear.x = min(abs(self.in_linear_velocity), self.LINEAR_VELOCITY_MAX)
+                self.cmd_vel_publisher.publish(command)
+                time.sleep(self.in_distance / command.linear.x)
+                self.out_distance = self.in_distance
+                self.out_linear_velocity = 0.56
+            """,
+            "completing": 'self.node.get_logger().info("done")',
+            "stopping": "self._stop_base()",
+            "resetting": "self._stop_base()",
+        },
+        tmp_path,
+    )
+    assert not [f for f in report.findings if f.severity == "error"], report.findings
+    episode = report.trace.episodes[0]
+    assert ("completing", "done") in [(s.name, s.outcome) for s in episode.states]
+    assert episode.outputs["outLinearVelocity"] == 0.0
+
+
+def test_asserted_rest_outputs_go_to_completing_else_to_the_end_of_execute() -> None:
+    capability, spec = shipped("rotate")
+    skeleton = build_skeleton(capability, spec, [CMD_VEL, ODOM])
+    assert skeleton.assured == ["out_angular_velocity"]
+    assert skeleton.prologues["completing"].splitlines()[-2:] == [
+        "        self._settle_base(5.0)",
+        "        self.out_angular_velocity = 0.0",
+    ]
+    assert "execute" not in skeleton.epilogues
+    assert "_settle_base" in skeleton.helpers
+
+    without = spec.model_copy(
+        update={"states": {k: v for k, v in spec.states.items() if k != "completing"}}
+    )
+    skeleton = build_skeleton(capability, without, [CMD_VEL])
+    # Without odometry the base can only be commanded to zero.
+    assert skeleton.epilogues["execute"].splitlines()[-2:] == [
+        "        self._stop_base()",
+        "        self.out_angular_velocity = 0.0",
+    ]
+    assert "_settle_base" not in skeleton.helpers
+
+
+def test_no_velocity_command_no_rest_and_no_assertion_no_rest_lines() -> None:
+    capability, spec = shipped("rotate")
+    assert build_skeleton(capability, spec, [ODOM]).assured == []
+    capability, spec = shipped("set-velocity")  # its outputs are measured, not asserted
+    skeleton = build_skeleton(capability, spec, [CMD_VEL, ODOM])
+    assert skeleton.assured == []
+    assert "completing" not in skeleton.prologues

@@ -156,7 +156,14 @@ def test_hits_far_behind_the_best_are_recorded_and_set_aside(
     assert aside == (["/navigate_to_pose", "/tf"] if min_share else [])
     assert retrieval.min_share == min_share
     code = outcome.skill_path.read_text(encoding="utf-8")
-    assert ("NavigateToPose" in code) is not bool(min_share)
+    # Given with min_share 0, Nav2's action still gets no handle: nothing in move-forward's
+    # specification or capability calls for a navigation goal (generation.wiring). The
+    # pinned /scan keeps its handle all the same.
+    assert "NavigateToPose" not in code
+    not_wired = [
+        n for n in outcome.record.skeleton.notes if n.startswith("retrieved but not wired")
+    ]
+    assert ["/navigate_to_pose" in n for n in not_wired] == ([] if min_share else [True])
     assert all(f'"{name}"' in code for name in ("/scan", "/cmd_vel", "/odom"))
 
 
@@ -658,3 +665,34 @@ def test_cancel_while_waiting_for_the_model_writes_nothing(
         f"({out} is as it was)"
     )
     assert not out.exists()
+
+
+def test_the_model_gets_handles_only_for_what_the_specification_calls_for(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, models_file: Path
+) -> None:
+    # set-velocity's first four hold /imu/data, which no state text, input or output names:
+    # the card lists it as not wired and the skill has no subscription to it.
+    model = MethodScript(dict(SET_VELOCITY), model_id="tiny")
+    use_model(monkeypatch, model)
+    outcome = run_generation(request(tmp_path / "out", models_file=models_file))
+    given = [h.name for h in outcome.record.retrieval.hits if not h.set_aside]
+    assert "/imu/data" in given
+    assert outcome.report.passed, outcome.report.findings
+    card = outcome.record.model.card if outcome.record.model else ""
+    assert "Not wired (nothing in the specification calls for them; no handle): /imu/data" in (
+        card or ""
+    )
+    assert "self.imu_data_msg" not in (card or "")
+    code = outcome.skill_path.read_text(encoding="utf-8")
+    assert "/imu/data" not in code
+    assert any("not wired" in n and "/imu/data" in n for n in outcome.record.skeleton.notes)
+
+
+def test_the_skeleton_sets_the_final_velocity_the_capability_asserts(tmp_path: Path) -> None:
+    # MR-1 rotate asserts outAngularVelocity = 0.0: the skeleton's completing settles the
+    # base on odometry and reports it; Nav2's /spin, retrieved, is not wired.
+    outcome = run_generation(request(tmp_path / "out", stem="rotate", skeleton=True))
+    code = outcome.skill_path.read_text(encoding="utf-8")
+    completing = code[code.index("def completing") : code.index("@stopping")]
+    assert "self._settle_base(5.0)\n        self.out_angular_velocity = 0.0" in completing
+    assert "Spin" not in code

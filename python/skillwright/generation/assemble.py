@@ -101,10 +101,19 @@ def usage(skeleton: Skeleton, methods: Mapping[str, str]) -> Usage:
     """The interfaces and skeleton helpers the written ``methods`` use.
 
     The lines the skeleton prefilled (making handles in ``starting``) do not count as use;
-    an interface a used helper needs (the base's velocity command for ``_stop_base``) does.
+    an interface a used helper needs (the base's velocity command for ``_stop_base``) does,
+    and so do the skeleton's own lines that are behaviour rather than making or releasing
+    handles (bringing the base to rest for an asserted output, at the end of ``execute`` or
+    the start of ``completing``).
     """
     prologue = _statement_keys(skeleton.prologues.get("starting", ""))
     mentioned: set[str] = set()
+    own = [
+        *(code for state, code in skeleton.prologues.items() if state != "starting"),
+        *(code for state, code in skeleton.epilogues.items() if state != "resetting"),
+    ]
+    for code in own:
+        mentioned |= _self_names(ast.parse(textwrap.dedent(code)))
     for text in methods.values():
         method = parse_method(text)
         if method is None:

@@ -7,6 +7,13 @@ resource's limits as the class constants the skeleton defines, and each retrieve
 as the handle the skeleton made for it with its message fields flattened into paths
 (``pose.pose.position.{x,y,z}``). The card is written once per skill and stays in the
 model's context for all of its states.
+
+A retrieved interface nothing calls for (:mod:`~skillwright.generation.wiring`) has no
+handle; the card names it, with its type and no fields, as available but not wired: the
+model (and whoever reads the transcript) sees what retrieval found and that it is left out
+on purpose, and is not shown a goal or message it could fill in. Outputs the skeleton sets
+itself (a velocity the capability asserts zero for, :mod:`~skillwright.generation.assured`)
+are marked, so the model does not set them again.
 """
 
 from __future__ import annotations
@@ -166,10 +173,18 @@ def task_card(
     purpose = _first_sentence(capability.comment)
     if purpose:
         lines.append(purpose)
+    where = "completing" if "completing" in skeleton.prologues else "execute"
     for direction, title in (("input", "Inputs (set before starting)"), ("output", "Outputs")):
         chosen = [p for p in skeleton.parameters if p.direction == direction]
         listed = ", ".join(
-            f"self.{p.attribute} ({p.python_type}{_unit(p.description)})" for p in chosen
+            f"self.{p.attribute} ({p.python_type}{_unit(p.description)}"
+            + (
+                f"; set by the skeleton in {where} once the base is at rest"
+                if p.attribute in skeleton.assured
+                else ""
+            )
+            + ")"
+            for p in chosen
         )
         lines.append(f"{title}: {listed or 'none'}")
     if capability.constraints:
@@ -180,9 +195,20 @@ def task_card(
             "Limits: "
             + ", ".join(f"self.{name} = {value}{_unit_of(c)}" for name, value, c in limits)
         )
-    if interfaces:
+    handled = {ref.name for ref in skeleton.interfaces}
+    wired = [item for item in interfaces if item.ref.name in handled]
+    if wired:
         lines.append("Interfaces (handles made in starting, released in resetting):")
-        lines += [_interface_line(item) for item in interfaces]
+        lines += [_interface_line(item) for item in wired]
+    if skeleton.unwired:
+        lines.append(
+            "Not wired (nothing in the specification calls for them; no handle): "
+            + ", ".join(
+                f"{u.interface.name} ({u.interface.type_name.rsplit('/', 1)[-1]} "
+                f"{u.interface.kind})"
+                for u in skeleton.unwired
+            )
+        )
     summaries = helper_summaries(skeleton.interfaces)
     helpers = [summaries[name] for name in skeleton.helpers if name in summaries]
     if helpers:

@@ -17,7 +17,9 @@ What the copy changes, and nothing else:
   ``Action`` its class and ``/action`` its name; the check of a MoveIt error code (the
   ``if`` on ``MoveItErrorCodes``) is kept only for MoveIt actions, whose results carry one;
 - ``_stop_base`` repeats its ``if`` for every velocity publisher, ``velocity_publisher``
-  standing for the handle and ``Velocity`` for its message class.
+  standing for the handle and ``Velocity`` for its message class;
+- in ``_settle_base`` ``odometry_msg`` is the attribute holding the latest odometry message
+  and ``/odometry`` its topic.
 
 The class body is not formatted by ruff (``fmt: off``): its layout is the skeleton's, which
 the prompts show the model as it is.
@@ -169,6 +171,7 @@ class SkeletonHelpers:
     stem_result_future: _Future[_WrappedResult] | None
     stem_feedback: object
     velocity_publisher: _Publisher | None
+    odometry_msg: Any
 
     # fmt: off
     # rclpy runs a skill's callbacks on its executor while the skill waits; a wait without a
@@ -336,6 +339,23 @@ class SkeletonHelpers:
         """Commands zero velocity, so the base stands still."""
         if self.velocity_publisher is not None:
             self.velocity_publisher.publish(Velocity())
+
+    # A base brakes for a while after a zero command; nav_msgs/Odometry's twist (in the
+    # base's own frame, REP 105) is what says it has stopped: under 1 cm/s and 0.02 rad/s
+    # (about 1 degree a second), what wheel odometry of a base standing still reads.
+    def _settle_base(self, timeout: float) -> None:
+        """Commands zero velocity and waits until odometry shows the base at rest (under
+        0.01 m/s and 0.02 rad/s); raises RuntimeError after ``timeout`` seconds."""
+        self._stop_base()
+
+        def at_rest() -> bool:
+            if self.odometry_msg is None:
+                return False
+            twist = self.odometry_msg.twist.twist
+            moving = math.hypot(twist.linear.x, twist.linear.y)
+            return moving < 0.01 and abs(twist.angular.z) < 0.02
+
+        self._wait_until(at_rest, timeout, "rest of the base on /odometry")
     # fmt: on
 
 
@@ -435,13 +455,14 @@ def _untyped(method: ast.FunctionDef, text: str, first_line: int) -> str:
     return text
 
 
-_NAMED = frozenset({"Action", "velocity_publisher", "Velocity"})
+_NAMED = frozenset({"Action", "velocity_publisher", "Velocity", "odometry_msg"})
 """The template's placeholders that are whole names."""
 
 
 def _substituted(text: str, names: Mapping[str, str]) -> str:
     """``text`` with the template's names (``stem``, ``Action``, ``/action``,
-    ``velocity_publisher``, ``Velocity``) replaced by ``names``' values, in names and strings."""
+    ``velocity_publisher``, ``Velocity``, ``odometry_msg``, ``/odometry``) replaced by
+    ``names``' values, in names and strings."""
     pieces = []
     last = 0
     starts = [0]
@@ -458,6 +479,8 @@ def _substituted(text: str, names: Mapping[str, str]) -> str:
         else:
             if "/action" in names:
                 word = re.sub(r"/action\b", names["/action"], word)
+            if "/odometry" in names:
+                word = re.sub(r"/odometry\b", names["/odometry"], word)
             if "Action" in names:
                 word = re.sub(r"\bAction\b", names["Action"], word)
         if word != token.string:

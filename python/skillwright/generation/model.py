@@ -6,7 +6,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-__all__ = ["InterfaceRef", "Skeleton", "SkeletonParameter"]
+__all__ = ["InterfaceRef", "Skeleton", "SkeletonParameter", "Unwired"]
 
 InterfaceKind = Literal["topic", "service", "action"]
 
@@ -28,6 +28,16 @@ class InterfaceRef(BaseModel):
         "sensor_data (best effort) when they publish best effort, latched (transient local) "
         "when they keep their last message for late subscribers, else default (reliable, 10).",
     )
+
+
+class Unwired(BaseModel):
+    """A given interface nothing in the specification or the capability calls for: the
+    skeleton makes no handle for it (:mod:`skillwright.generation.wiring`)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    interface: InterfaceRef = Field(description="The interface.")
+    reason: str = Field(description="Why it is not wired.")
 
 
 class SkeletonParameter(BaseModel):
@@ -71,6 +81,15 @@ class Skeleton(BaseModel):
     epilogues: dict[str, str] = Field(
         default_factory=dict,
         description="Per state, the skeleton's code at the end of its body (releasing handles).",
+    )
+    unwired: list[Unwired] = Field(
+        default_factory=list,
+        description="Given interfaces without a handle: nothing calls for them.",
+    )
+    assured: list[str] = Field(
+        default_factory=list,
+        description="Output attributes the skeleton sets itself: velocities the capability "
+        "asserts zero for, set once the base is at rest (generation.assured).",
     )
 
 

@@ -14,12 +14,14 @@ import ast
 import json
 import math
 import re
+import textwrap
 from collections.abc import Collection, Sequence
 from typing import TYPE_CHECKING, Literal
 
 from skillwright.capability.model import Capability, Expression, Parameter
+from skillwright.generation.assured import RestOutput, rest_outputs
 from skillwright.generation.helpers import helper_lines
-from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParameter
+from skillwright.generation.model import InterfaceRef, Skeleton, SkeletonParameter, Unwired
 from skillwright.generation.names import attribute_name, class_name, python_import, snake_case
 from skillwright.spec.model import PACKML_STATES, SkillSpec
 
@@ -35,6 +37,7 @@ __all__ = [
     "helper_dependencies",
     "helper_summaries",
     "mint_skill_iri",
+    "rest_lines",
     "skeleton_helpers",
     "topic_role",
     "type_class",
@@ -538,7 +541,19 @@ def skeleton_helpers(
     ]
     if twists:
         helpers["_stop_base"] = helper_lines("_stop_base", repeated=twists)
+    odometry = next((i for i in interfaces if _is_odometry(i)), None)
+    if twists and odometry is not None:
+        names = {"odometry_msg": f"{snake_case(odometry.name)}_msg", "/odometry": odometry.name}
+        helpers["_settle_base"] = helper_lines("_settle_base", names)
     return helpers
+
+
+def _is_odometry(interface: InterfaceRef) -> bool:
+    return interface.role == "subscribe" and interface.type_name in _ODOMETRY
+
+
+_ODOMETRY = frozenset({"nav_msgs/msg/Odometry", "nav_msgs/Odometry"})
+"""nav_msgs/Odometry: the base's pose in the odometry frame and its measured twist."""
 
 
 def helper_dependencies(helpers: Collection[str], offered: dict[str, list[str]]) -> set[str]:
@@ -579,6 +594,13 @@ def helper_summaries(interfaces: Sequence[InterfaceRef]) -> dict[str, str]:
             "MoveGroup.Goal() that plans and executes a motion of link (planning group group) "
             "to the point x, y, z in frame within tolerance metres, any orientation; set "
             "goal.request's other fields on it"
+        )
+    odometry = next((i for i in interfaces if _is_odometry(i)), None)
+    if odometry is not None and any(_is_twist_publisher(i) for i in interfaces):
+        out["_settle_base"] = (
+            "self._settle_base(timeout) commands zero velocity and waits until "
+            f"{odometry.name} shows the base at rest (under 0.01 m/s and 0.02 rad/s), else "
+            "raises RuntimeError"
         )
     if any(i.type_name in _NAVIGATE_TO_POSE for i in interfaces):
         out["_pose_goal"] = (
@@ -725,6 +747,37 @@ def _states(
     return unimplemented
 
 
+_REST_TIMEOUT = 5.0
+"""Seconds a base may take to come to rest after a zero command: braking from a mobile
+base's top speed takes well under one."""
+
+
+def rest_lines(
+    capability: Capability, interfaces: Sequence[InterfaceRef], indent: str = "        "
+) -> tuple[list[RestOutput], list[str]]:
+    """The outputs the skeleton sets for the base's rest (:mod:`~skillwright.generation.
+    assured`) and the lines that do it: the base commanded to zero and, where odometry is
+    read, waited for until it stands still (``_settle_base``), then each output given the
+    value the capability asserts. None without a velocity command: a skill that cannot
+    command the base cannot promise its rest."""
+    outputs = rest_outputs(capability)
+    if not outputs or not any(_is_twist_publisher(i) for i in interfaces):
+        return [], []
+    names = ", ".join(o.name for o in outputs)
+    sources = ", ".join(dict.fromkeys(o.source for o in outputs))
+    settle = any(_is_odometry(i) for i in interfaces)
+    comment = (
+        f"The capability asserts {names} = 0 ({sources}): the motion is over, and the base "
+        "is at rest before the outputs say so."
+    )
+    lines = [
+        *(f"{indent}# {line}" for line in textwrap.wrap(comment, 90 - len(indent))),
+        f"{indent}self._settle_base({_REST_TIMEOUT})" if settle else f"{indent}self._stop_base()",
+        *(f"{indent}self.{o.attribute} = {o.value}" for o in outputs),
+    ]
+    return outputs, lines
+
+
 def build_skeleton(
     capability: Capability,
     spec: SkillSpec,
@@ -732,12 +785,18 @@ def build_skeleton(
     *,
     source_note: str = "",
     helpers: Collection[str] | None = None,
+    unwired: Sequence[Unwired] = (),
 ) -> Skeleton:
     """Writes the skeleton of the skill ``spec`` describes for ``capability``.
 
     ``source_note`` is a line for the module docstring, e.g. which files it came from;
     ``helpers`` limits the skeleton's helper methods to these names (default: every helper
-    the interfaces make useful).
+    the interfaces make useful); ``unwired`` are given interfaces that get no handle
+    (:mod:`~skillwright.generation.wiring`), recorded for the task card and the notes.
+
+    Outputs the capability asserts the base's rest for are set by the skeleton
+    (:func:`rest_lines`) at the start of ``completing``, or at the end of ``execute`` when
+    the specification has no completing state.
     """
     notes: list[str] = []
     if capability.resource is None:
@@ -750,9 +809,10 @@ def build_skeleton(
 
     halting = halting_states(spec, interfaces)
     offered = skeleton_helpers(interfaces, helpers or ())
+    assured, resting = rest_lines(capability, interfaces)
     halting_calls = {
         name
-        for lines in halting.values()
+        for lines in [*halting.values(), resting]
         for name in re.findall(r"self\.(_\w+)\(", "\n".join(lines))
     }
     wanted = None if helpers is None else helper_dependencies({*helpers, *halting_calls}, offered)
@@ -767,6 +827,15 @@ def build_skeleton(
         epilogues["resetting"] = [
             line for interface in interfaces for line in _release_lines(interface, "        ")
         ]
+    if resting and "completing" in spec.states:
+        prologues["completing"] = resting
+    elif resting:
+        epilogues["execute"] = resting
+    if unwired:
+        notes.append(
+            "retrieved but not wired (nothing in the specification or the capability calls "
+            "for them; no handle): " + ", ".join(u.interface.name for u in unwired)
+        )
 
     out = _Writer()
     _module_head(
@@ -777,6 +846,7 @@ def build_skeleton(
         list(helper_code),
         math_needed=any(p.turn == "math.tau" for p in parameters)
         or "_closest_reading" in helper_code
+        or "_settle_base" in helper_code
         or "_yaw" in helper_code
         or "_pose_goal" in helper_code,
     )
@@ -800,4 +870,6 @@ def build_skeleton(
         helpers=list(helper_code),
         prologues={state: "\n".join(lines) for state, lines in prologues.items() if lines},
         epilogues={state: "\n".join(lines) for state, lines in epilogues.items() if lines},
+        unwired=list(unwired),
+        assured=[o.attribute for o in assured],
     )

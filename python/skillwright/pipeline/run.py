@@ -521,8 +521,11 @@ def _generate(
     from skillwright.generation.card import CardInterface
     from skillwright.generation.conversation import PROMPT_VERSION
     from skillwright.generation.skeleton import build_skeleton
+    from skillwright.generation.wiring import wire
 
     entry = registry.generation_model(request.model)
+    wiring = wire(load.capability, spec, [ref for _, ref in chosen], pinned=request.pinned)
+    wired = {ref.name for ref in wiring.wired}
     settings = AuthorSettings(
         attempts=request.attempts,
         max_tokens=entry.sampling.max_tokens,
@@ -548,12 +551,15 @@ def _generate(
             stages.emit(event)
 
     def skeleton_for(refs: Sequence[InterfaceRef], helpers: Collection[str] | None) -> Skeleton:
+        # Only the interfaces the specification or the capability calls for get handles
+        # (generation.wiring); the card lists the others as not wired.
         return build_skeleton(
             load.capability,
             spec,
-            refs,
+            [ref for ref in refs if ref.name in wired],
             source_note=f"Inputs: {request.capability.name}, {request.spec.name}.",
             helpers=helpers,
+            unwired=wiring.unwired,
         )
 
     with stages.stage(
@@ -949,13 +955,42 @@ def run_generation(
         raise stages.interrupted(request.out_dir) from None
 
 
+def _skeleton_stage(
+    request: GenerationRequest,
+    load: CapabilityLoad,
+    spec: SkillSpec,
+    refs: Sequence[InterfaceRef],
+    say: Callable[[str], None],
+) -> Skeleton:
+    """The skeleton of the pipeline's skill: handles only for the interfaces the
+    specification or the capability calls for (:mod:`skillwright.generation.wiring`), the
+    others listed as not wired; ``say`` takes the stage's summary lines."""
+    from skillwright.generation.skeleton import build_skeleton
+    from skillwright.generation.wiring import wire
+
+    wiring = wire(load.capability, spec, refs, pinned=request.pinned)
+    skeleton = build_skeleton(
+        load.capability,
+        spec,
+        wiring.wired,
+        source_note=f"Inputs: {request.capability.name}, {request.spec.name}.",
+        unwired=wiring.unwired,
+    )
+    say(f"{skeleton.class_name}, {len(skeleton.unimplemented)} states to write")
+    if wiring.unwired:
+        say("not wired: " + ", ".join(u.interface.name for u in wiring.unwired))
+    if skeleton.assured:
+        say("outputs set by the skeleton: " + ", ".join(skeleton.assured))
+    return skeleton
+
+
 def _run_stages(
     request: GenerationRequest, stages: _Stages, cancel: threading.Event | None
 ) -> Outcome:
     from skillwright.cancel import interrupts_held
     from skillwright.capability.reader import load_capability
     from skillwright.generation.output import write_outputs
-    from skillwright.generation.skeleton import build_skeleton, unstated_limits
+    from skillwright.generation.skeleton import unstated_limits
     from skillwright.interfaces.load import load_inventory, read_warnings
     from skillwright.spec.loader import load_spec
 
@@ -988,13 +1023,7 @@ def _run_stages(
     hits, method, reranking, chosen_hits, loaded = retrieved
     chosen = _interface_refs(inventory, [h for h in chosen_hits if not h.set_aside])
     with stages.stage("skeleton", "structure, annotations and interface handles") as s:
-        skeleton = build_skeleton(
-            load.capability,
-            spec,
-            [ref for _, ref in chosen],
-            source_note=f"Inputs: {request.capability.name}, {request.spec.name}.",
-        )
-        s.append(f"{skeleton.class_name}, {len(skeleton.unimplemented)} states to write")
+        skeleton = _skeleton_stage(request, load, spec, [ref for _, ref in chosen], s.append)
 
     with tempfile.TemporaryDirectory(prefix="skillwright-behaviour-") as work:
         behaviour = Behaviour(
