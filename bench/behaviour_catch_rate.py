@@ -74,16 +74,23 @@ def _correct(inventory: Any, capabilities: dict[Path, Any], derived: bool) -> in
     return passed
 
 
-def _judge_derived(mutant: Any, path: Path, capability: Any, inventory: Any) -> tuple[bool, bool]:
+def _judge_derived(
+    mutant: Any, path: Path, capability: Any, inventory: Any
+) -> tuple[bool, bool, bool]:
     """Validates a mutant in the scenarios derived from its capability alone; (caught, by its
-    oracle)."""
+    oracle, caught by the nominal derived scenario alone: the one a capability without a
+    file got before the variants)."""
     from skillwright.sim.scenario import derived_set
     from skillwright.sim.validate import validate_skill
 
-    report = validate_skill(path, capability, inventory, scenarios=derived_set(capability))
+    chosen = derived_set(capability)
+    report = validate_skill(path, capability, inventory, scenarios=chosen)
     failed = _failed(report)
     caught = not report.passed
     exact = bool(mutant.caught_by(failed))
+    first = chosen.scenarios[0].name
+    alone = validate_skill(path, capability, inventory, scenarios=chosen, only=[first])
+    nominal = not alone.passed
     where = sorted(
         {
             s.name
@@ -97,22 +104,23 @@ def _judge_derived(mutant: Any, path: Path, capability: Any, inventory: Any) -> 
         f"  {'':50s} {'caught' if caught else 'MISSED':7s}{' (its oracle)' if exact else '':13s} "
         f"derived: {', '.join(where) or '-'}: {', '.join(sorted(failed)) or '-'}"
     )
-    return caught, exact
+    return caught, exact, nominal
 
 
 def _compare(
     kinds: tuple[str, ...],
     rows: dict[str, list[tuple[bool, bool, bool]]],
-    derived_rows: dict[str, list[tuple[bool, bool]]],
+    derived_rows: dict[str, list[tuple[bool, bool, bool]]],
     correct: dict[str, int],
 ) -> None:
-    """The table of mutants caught with the files against derived scenarios only."""
+    """The table of mutants caught with the files against derived scenarios only (all of
+    them, and the nominal one alone)."""
     print()
     print(
         f"{'kind of mistake':26s} {'mutants':>8s} {'files':>7s} {'derived':>8s} "
-        f"{'by its oracle':>14s} {'ratio':>6s}"
+        f"{'by its oracle':>14s} {'nominal':>8s} {'ratio':>6s}"
     )
-    sums = [0, 0, 0, 0]
+    sums = [0, 0, 0, 0, 0]
     for kind in kinds:
         results = rows.get(kind, [])
         found = derived_rows.get(kind, [])
@@ -121,17 +129,22 @@ def _compare(
             sum(r[0] for r in results),
             sum(r[0] for r in found),
             sum(r[1] for r in found),
+            sum(r[2] for r in found),
         ]
         sums = [a + b for a, b in zip(sums, counts, strict=True)]
         ratio = f"{counts[2] / counts[1]:.2f}" if counts[1] else "-"
         print(
-            f"{kind:26s} {counts[0]:8d} {counts[1]:7d} {counts[2]:8d} {counts[3]:14d} {ratio:>6s}"
+            f"{kind:26s} {counts[0]:8d} {counts[1]:7d} {counts[2]:8d} {counts[3]:14d} "
+            f"{counts[4]:8d} {ratio:>6s}"
         )
     ratio = f"{sums[2] / sums[1]:.2f}" if sums[1] else "-"
-    print(f"{'all':26s} {sums[0]:8d} {sums[1]:7d} {sums[2]:8d} {sums[3]:14d} {ratio:>6s}")
+    print(
+        f"{'all':26s} {sums[0]:8d} {sums[1]:7d} {sums[2]:8d} {sums[3]:14d} {sums[4]:8d} {ratio:>6s}"
+    )
     print(
         f"\ncaught with the scenario files: {sums[1]}/{sums[0]}; with derived scenarios only: "
-        f"{sums[2]}/{sums[0]} (ratio derived/files {ratio})"
+        f"{sums[2]}/{sums[0]} (ratio derived/files {ratio}); with the nominal derived scenario "
+        f"alone: {sums[4]}/{sums[0]}"
     )
     if correct:
         print(
@@ -158,7 +171,7 @@ def main() -> None:
             print()
             correct["derived"] = _correct(inventory, capabilities, derived=True)
     rows: dict[str, list[tuple[bool, bool, bool]]] = defaultdict(list)
-    derived_rows: dict[str, list[tuple[bool, bool]]] = defaultdict(list)
+    derived_rows: dict[str, list[tuple[bool, bool, bool]]] = defaultdict(list)
     print("\nbehaviour mutants (tests/sim/mutants.py):")
     with tempfile.TemporaryDirectory() as folder:
         for mutant in MUTANTS:

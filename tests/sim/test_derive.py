@@ -112,10 +112,12 @@ def test_wraps_turns_across_pi_from_a_heading_near_pi(
     wraps = _by_name(mr1_capabilities["rotate"])["wraps"]
     heading = wraps.start.heading
     angle = float(wraps.inputs["inAngle"])
-    assert heading < math.pi < heading + angle
-    assert abs(angle) < math.pi
-    degrees = _by_name(paper_capabilities["rotate"])["wraps"]
-    assert float(degrees.inputs["inDegree"]) == pytest.approx(math.degrees(angle), abs=0.01)
+    # An angle to turn by: past half a turn, across +-pi and then zero.
+    assert heading < math.pi < 2 * math.pi < heading + angle
+    assert math.pi < angle < 2 * math.pi
+    # An angle that may be a target heading stays below half a turn.
+    degrees = float(_by_name(paper_capabilities["rotate"])["wraps"].inputs["inDegree"])
+    assert 90.0 < degrees < 180.0
     # Without an angle there is nothing to wrap.
     assert "wraps" not in _by_name(mr1_capabilities["set-velocity"])
 

@@ -95,7 +95,12 @@ _ELSEWHERE["walled_room"] = StartPose(x=2.0, y=2.0, heading=2.2)
 _WRAP_HEADING = 2.8
 """A start heading near pi [rad]: a turn of :data:`_WRAP_ANGLE` from it crosses +-pi."""
 _WRAP_ANGLE = 3.0
-"""An angle near pi [rad], less than half a turn, so its way round is not ambiguous."""
+"""An angle near pi [rad], less than half a turn: as a target heading its way round is not
+ambiguous."""
+_WRAP_TURN = 3.6
+"""A turn to make just past half a turn [rad]: from :data:`_WRAP_HEADING` it crosses +-pi
+and then zero, and only the measured turn tells it from the shorter one the other way round
+to the same heading (a constraint modulo a full turn holds for both)."""
 _OBSTACLE_FACE = 4.0
 """x of the near face of the corridor's box [m] (``sim/worlds/corridor.xml``)."""
 _SENSE_START = StartPose(x=2.9, y=0.0, heading=0.0)
@@ -377,6 +382,22 @@ def _refusing(capability: Capability, base: dict[str, Scalar]) -> tuple[dict[str
     return {}, ""
 
 
+def _wrapped(
+    capability: Capability, base: dict[str, Scalar], angles: list[_Input]
+) -> dict[str, Scalar]:
+    """The nominal inputs with each angle near pi: an angle its words call a turn to make
+    just past half a turn (:data:`_WRAP_TURN`), unless a precondition bounds it to half a
+    turn; any other angle (perhaps a target heading) just below (:data:`_WRAP_ANGLE`)."""
+    inputs = dict(base)
+    for item in angles:
+        inputs[item.element.name] = _from_radians(_WRAP_ANGLE, item.element)
+    turned = dict(inputs)
+    for item in angles:
+        if _turn_by(item):
+            turned[item.element.name] = _from_radians(_WRAP_TURN, item.element)
+    return inputs if violated_preconditions(capability, turned) else turned
+
+
 def _scaled(capability: Capability, base: dict[str, Scalar], factor: float) -> dict[str, Scalar]:
     """The nominal inputs with every motion magnitude (length, angle, velocity, time, target)
     times ``factor``: a skill that uses a constant for an input can only be told from one
@@ -529,14 +550,22 @@ def derived_scenarios(capability: Capability) -> list[Scenario]:
         )
     angles = [i for i in _inputs(capability) if i.role == "angle"]
     if angles:
-        wrapped = dict(base)
-        for item in angles:
-            wrapped[item.element.name] = _from_radians(_WRAP_ANGLE, item.element)
+        wrapped = _wrapped(capability, base, angles)
+        past = any(
+            _turn_by(i) and abs(_radians(float(wrapped[i.element.name]), i.element)) > math.pi
+            for i in angles
+        )
         add(
             "wraps",
             f"{', '.join(i.element.name for i in angles)} near pi from a heading of "
             f"{_WRAP_HEADING:g} rad: a heading from atan2 jumps from +pi to -pi on the way, "
-            "and a heading in [0, 2 pi) wraps at zero",
+            "and a heading in [0, 2 pi) wraps at zero"
+            + (
+                "; a turn past half a turn, which the other way round would reach the same "
+                "heading by a shorter turn than the one asked for"
+                if past
+                else ""
+            ),
             wrapped,
             start=StartPose(heading=_WRAP_HEADING),
         )
