@@ -194,11 +194,30 @@ class MappingSkill(ROS2Skill):
         if response is None or not response.result:
             raise RuntimeError("the map saver did not save the map")
         self.out_map = map_url + ".yaml"
+        along, across = self._extent(heading)
+        self.out_map_length = along
+        self.out_map_width = across
+
+    def _extent(self, heading: float) -> tuple[float, float]:
+        """Extent of the known cells (not -1) of the map along and across ``heading``: the
+        grid's own width and height only where the heading is along the grid."""
         info = self.map_msg.info
-        size_x = info.width * info.resolution
-        size_y = info.height * info.resolution
-        self.out_map_length = abs(size_x * math.cos(heading)) + abs(size_y * math.sin(heading))
-        self.out_map_width = abs(size_x * math.sin(heading)) + abs(size_y * math.cos(heading))
+        resolution = info.resolution
+        cos_h, sin_h = math.cos(heading), math.sin(heading)
+        low_along = low_across = math.inf
+        high_along = high_across = -math.inf
+        for index, value in enumerate(self.map_msg.data):
+            if value < 0:
+                continue
+            x = info.origin.position.x + (index % info.width + 0.5) * resolution
+            y = info.origin.position.y + (index // info.width + 0.5) * resolution
+            along = x * cos_h + y * sin_h
+            across = -x * sin_h + y * cos_h
+            low_along, high_along = min(low_along, along), max(high_along, along)
+            low_across, high_across = min(low_across, across), max(high_across, across)
+        if low_along > high_along:
+            return 0.0, 0.0
+        return high_along - low_along + resolution, high_across - low_across + resolution
 
     @completing
     def completing(self) -> None:

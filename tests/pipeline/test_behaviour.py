@@ -249,3 +249,36 @@ def test_best_of_n_judges_each_candidate_by_its_run_and_repairs_from_the_winner(
     assert outcome.record.run is not None
     assert outcome.record.run.passed, outcome.record.run.findings
     assert "int(str(" not in outcome.skill_path.read_text(encoding="utf-8")
+
+
+def test_the_stage_budgets_grow_with_the_scenarios_durations(tmp_path: Path) -> None:
+    from skillwright.capability.reader import load_capability
+    from skillwright.interfaces.inventory import Inventory, Resource
+    from skillwright.pipeline.behaviour import Behaviour
+    from tests.conftest import SHIPPED_CAPABILITIES
+
+    capability = load_capability(SHIPPED_CAPABILITIES / "move-forward.ttl").capability
+    far = tmp_path / "far.scenario.yaml"
+    # 8 m at 0.2 m/s: 40 s of driving, a 90 s scenario (twice that and 10 s).
+    far.write_text(
+        f"capability: {capability.iri}\n"
+        "scenarios:\n"
+        "  - name: far\n    inputs: {inDistance: 8.0, inLinearVelocity: 0.2}\n"
+        "  - name: near\n    inputs: {inDistance: 0.5, inLinearVelocity: 0.4}\n",
+        encoding="utf-8",
+    )
+    behaviour = Behaviour(
+        capability,
+        Inventory(resource=Resource(name="mr1")),
+        tmp_path / "skill.py",
+        tmp_path,
+        run_seconds=100.0,
+        sim_seconds=200.0,
+        scenario_file=far,
+    )
+    assert behaviour.default_scenario().duration == 90.0
+    assert behaviour.run_budget(90.0) == pytest.approx(300.0)
+    # A scenario of the default length keeps the budget as given, never less.
+    assert behaviour.run_budget(30.0) == behaviour.run_budget(10.0) == 100.0
+    # 90 + 30 virtual seconds in all: the budget for 120 s of scenarios, as given.
+    assert behaviour.sim_budget() == 200.0

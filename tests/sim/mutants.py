@@ -3,8 +3,8 @@
 Each one plants a behavioural mistake in one of the nine skills of ``capabilities/skills``
 — a wrong sign, an input it ignores, a stop that does not stop, a speed over the limit, a
 drive into the obstacle, an output it makes up, a turn the other way round to the same
-heading — and names the scenario that shows it and
-the oracles meant for that kind of mistake. ``bench/behaviour_catch_rate.py`` runs them
+heading, a pose read in the odometry frame for the map frame — and names the scenario
+that shows it and the oracles meant for that kind of mistake. ``bench/behaviour_catch_rate.py`` runs them
 all and prints the catch rate; ``test_mutants.py`` checks that every edit still applies.
 """
 
@@ -27,6 +27,7 @@ KINDS = (
     "out of its range",
     "keeps invalid readings",
     "the other way round",
+    "the wrong frame",
 )
 
 
@@ -398,6 +399,21 @@ MUTANTS: tuple[BehaviourMutant, ...] = (
         (("self.out_position_x = translation.x", "self.out_position_x = 0.3"),),
         ("output:outPositionX", "constraint:targetXReached"),
     ),
+    # the odometry frame for the map frame: they coincide only where the robot was switched on
+    BehaviourMutant(
+        "rotate",
+        "the wrong frame",
+        "quarter_left",
+        (('MAP_FRAME = "map"', 'MAP_FRAME = "odom"'),),
+        ("constraint:headingTarget", "output:outHeading"),
+    ),
+    BehaviourMutant(
+        "get_position",
+        "the wrong frame",
+        "in_the_room",
+        (('MAP_FRAME = "map"', 'MAP_FRAME = "odom"'),),
+        ("output:outPositionX", "output:outPositionY", "output:outHeading"),
+    ),
     # mapping
     BehaviourMutant(
         "mapping",
@@ -417,7 +433,7 @@ MUTANTS: tuple[BehaviourMutant, ...] = (
         "sweep_the_room",
         (
             (
-                "self.out_map_length = abs(size_x * math.cos(heading)) + abs(size_y * math.sin(heading))",
+                "self.out_map_length = along",
                 "self.out_map_length = self.in_area_length",
             ),
         ),

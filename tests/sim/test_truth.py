@@ -107,3 +107,15 @@ def test_a_pose_in_the_odometry_frame_is_from_where_the_robot_started() -> None:
     sample = Sample(0.0, 2.0, 1.5, math.pi / 2 + 0.25, 0.0, 0.0, 0.0, (0, 0, 0), (0, 0, 0))
     x, y, yaw = truth.in_odometry_frame(sample)
     assert (x, y, yaw) == pytest.approx((0.5, 0.0, 0.25))
+
+
+def test_the_range_toward_a_bearing_comes_from_the_last_scan_that_looks_that_way() -> None:
+    # Two corner scanners, each a half turn: the front one, then the rear one.
+    truth = GroundTruth()
+    truth.sweeps = [
+        Sweep(0.0, -math.pi / 2, math.pi / 4, [1.0, 1.5, 2.0, 2.5]),
+        Sweep(0.05, math.pi / 2, math.pi / 4, [3.0, 3.5, 4.0, 4.5]),
+    ]
+    assert truth.range_toward(0.1, 0.0) == 2.0
+    assert truth.range_toward(0.1, math.pi) == 4.0
+    assert truth.range_toward(0.01, math.pi) is None

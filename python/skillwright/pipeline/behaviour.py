@@ -57,6 +57,11 @@ RUN_WORLD = "kinematic"
 """The runtime's built-in world for the run stage: it moves the base as commanded."""
 
 
+SIM_REFERENCE_SECONDS = 120.0
+"""The virtual seconds of scenarios the simulation budget (``sim_seconds``) is meant for:
+about what a capability's shipped scenario files add up to."""
+
+
 def _digest(code: str) -> str:
     return hashlib.sha256(code.encode("utf-8")).hexdigest()
 
@@ -154,7 +159,9 @@ class Behaviour:
     """Runs and simulates the candidates of one generation, each code once.
 
     ``work_dir`` receives the simulations' plots and traces (the caller removes it);
-    ``run_seconds`` and ``sim_seconds`` bound each run and each simulation in wall time.
+    ``run_seconds`` and ``sim_seconds`` bound each run and each simulation in wall time, for
+    scenarios of the default length; longer scenarios get proportionally more
+    (:meth:`run_budget`, :meth:`sim_budget`).
     """
 
     def __init__(
@@ -213,6 +220,24 @@ class Behaviour:
         """The capability's default scenario."""
         return self.scenarios().scenarios[0]
 
+    def run_budget(self, duration: float) -> float:
+        """The wall seconds a run of a scenario of ``duration`` virtual seconds gets:
+        :attr:`run_seconds` per :data:`~skillwright.sim.derive.DEFAULT_DURATION` of them,
+        never less than :attr:`run_seconds`. A scenario's duration grows with its inputs
+        (distance / speed, angle / rate, its times:
+        :func:`~skillwright.sim.derive.derived_duration`), and a skill that must drive 4 m at
+        0.4 m/s is not to be cut off as if it had 1 m."""
+        from skillwright.sim.derive import DEFAULT_DURATION
+
+        return self.run_seconds * max(1.0, duration / DEFAULT_DURATION)
+
+    def sim_budget(self) -> float:
+        """The wall seconds a simulation in every scenario gets: :attr:`sim_seconds` per
+        :data:`SIM_REFERENCE_SECONDS` virtual seconds of the scenarios' durations together,
+        never less than :attr:`sim_seconds` (see :meth:`run_budget`)."""
+        total = sum(s.duration for s in self.scenarios().scenarios)
+        return self.sim_seconds * max(1.0, total / SIM_REFERENCE_SECONDS)
+
     def _cancelled(self) -> bool:
         return self.cancel is not None and self.cancel.is_set()
 
@@ -226,11 +251,13 @@ class Behaviour:
         from skillwright.sim.validate import runtime_scenario
 
         started = time.perf_counter()
-        budget = _Budget(self.run_seconds, self.cancel)
+        default = self.default_scenario()
+        seconds = self.run_budget(default.duration)
+        budget = _Budget(seconds, self.cancel)
         try:
-            scenario = runtime_scenario(self.default_scenario())
+            scenario = runtime_scenario(default)
             deadlines = scenario.deadlines.model_copy(
-                update={"run": min(scenario.deadlines.run, self.run_seconds)}
+                update={"run": min(scenario.deadlines.run, seconds)}
             )
             scenario = scenario.model_copy(update={"world": RUN_WORLD, "deadlines": deadlines})
             with budget.running() as cancel:
@@ -260,7 +287,7 @@ class Behaviour:
             result = RunResult(
                 None,
                 time.perf_counter() - started,
-                f"stopped after its budget of {self.run_seconds:.0f} s",
+                f"stopped after its budget of {seconds:.0f} s",
             )
         except SandboxUnavailableError:
             raise
@@ -278,7 +305,8 @@ class Behaviour:
         from skillwright.sim.validate import validate_skill
 
         started = time.perf_counter()
-        budget = _Budget(self.sim_seconds, self.cancel)
+        seconds = self.sim_budget()
+        budget = _Budget(seconds, self.cancel)
         try:
             with budget.running() as cancel:
                 report = validate_skill(
@@ -298,7 +326,7 @@ class Behaviour:
             result = SimResult(
                 None,
                 time.perf_counter() - started,
-                f"stopped after its budget of {self.sim_seconds:.0f} s",
+                f"stopped after its budget of {seconds:.0f} s",
             )
         except SandboxUnavailableError:
             raise

@@ -41,10 +41,14 @@ __all__ = [
     "ScenarioFile",
     "ScenarioSet",
     "StartPose",
+    "default_input",
     "default_scenario",
+    "derived_set",
     "infer_quantity",
+    "limit_for_unit",
     "load_scenario_file",
     "scenarios_for",
+    "surroundings",
 ]
 
 QUANTITIES: dict[str, str] = {
@@ -236,7 +240,7 @@ def infer_quantity(
     return None
 
 
-def _default_input(element: DataElement, parameter: Parameter, capability: Capability) -> Scalar:
+def default_input(element: DataElement, parameter: Parameter, capability: Capability) -> Scalar:
     """A sensible value for an input the scenario does not give."""
     if element.value is not None:
         return element.value
@@ -247,12 +251,17 @@ def _default_input(element: DataElement, parameter: Parameter, capability: Capab
         return ""
     unit = (element.unit or "").strip()
     name = element.name.lower()
-    limit = _limit_for_unit(capability, unit)
+    limit = limit_for_unit(capability, unit)
     value = {
         "m": 0.5 if ("obstacle" in name or "min" in name) else 1.0,
         "m/s": 0.3,
         "rad": 1.5708,
         "rad/s": 0.5,
+        # The same quarter turn and rate in degrees.
+        "deg": 90.0,
+        "°": 90.0,
+        "degree": 90.0,
+        "deg/s": 30.0,
         "s": 3.0,
     }.get(unit, 1.0)
     if limit is not None:
@@ -260,7 +269,9 @@ def _default_input(element: DataElement, parameter: Parameter, capability: Capab
     return int(value) if kind == "Integer" else value
 
 
-def _limit_for_unit(capability: Capability, unit: str) -> float | None:
+def limit_for_unit(capability: Capability, unit: str) -> float | None:
+    """The resource's stated maximum for quantities of ``unit`` (a Requirement with ``<=`` or
+    ``<`` and a number, as ``linearVelocity <= 0.8 m/s``), else ``None``."""
     if capability.resource is None:
         return None
     for prop in capability.resource.properties:
@@ -282,16 +293,16 @@ def default_scenario(capability: Capability) -> Scenario:
     inputs: dict[str, Scalar] = {}
     for parameter in capability.inputs:
         for element in parameter.components:
-            inputs[element.name] = _default_input(element, parameter, capability)
+            inputs[element.name] = default_input(element, parameter, capability)
     return Scenario(
         name="derived",
         description=f"derived from the capability model of {capability.name}",
-        world="walled_room" if _surroundings(capability) else "open_floor",
+        world="walled_room" if surroundings(capability) else "open_floor",
         inputs=inputs,
     )
 
 
-def _surroundings(capability: Capability) -> bool:
+def surroundings(capability: Capability) -> bool:
     """Whether the capability senses or maps what is around the robot (on the open floor
     its scan returns nothing: the paper's get-distance-to-nearest-object rightly raised "no
     object detected" there, and the scenario blamed it)."""
@@ -311,7 +322,7 @@ def _complete(scenario: Scenario, capability: Capability, notes: list[str]) -> S
     for parameter in capability.inputs:
         for element in parameter.components:
             if element.name not in inputs:
-                inputs[element.name] = _default_input(element, parameter, capability)
+                inputs[element.name] = default_input(element, parameter, capability)
                 notes.append(
                     f"scenario {scenario.name}: input {element.name} not given; "
                     f"{inputs[element.name]!r} derived from its type and unit"
@@ -329,7 +340,18 @@ def _complete(scenario: Scenario, capability: Capability, notes: list[str]) -> S
                     f"scenario {scenario.name}: nothing the simulator measures fits output "
                     f"{element.name}; bind it under ground_truth to check it"
                 )
-    return scenario.model_copy(update={"inputs": inputs, "ground_truth": ground_truth})
+    update: dict[str, Any] = {"inputs": inputs, "ground_truth": ground_truth}
+    if "duration" not in scenario.model_fields_set:
+        from skillwright.sim.derive import DEFAULT_DURATION, derived_duration
+
+        duration = derived_duration(capability, inputs, scenario.start)
+        if duration > DEFAULT_DURATION:
+            notes.append(
+                f"scenario {scenario.name}: no duration given; {duration:g} s derived from its "
+                "inputs (twice what distance / speed, angle / rate and its times need, plus 10 s)"
+            )
+        update["duration"] = duration
+    return scenario.model_copy(update=update)
 
 
 # ------------------------------------------------------------------ reading files
@@ -488,7 +510,8 @@ def _check_runtime(path: Path, text: str, at: tuple[Any, ...], scenario: Scenari
 
 def scenarios_for(capability: Capability, scenario_file: Path | None = None) -> ScenarioSet:
     """The scenarios to validate a skill of ``capability`` in: those of ``scenario_file``,
-    else those of the shipped file for the capability, else one derived from the model."""
+    else those of the shipped file for the capability, else those derived from the model
+    (:func:`skillwright.sim.derive.derived_scenarios`)."""
     notes: list[str] = []
     candidates = [scenario_file] if scenario_file is not None else scenario_files()
     for path in candidates:
@@ -505,10 +528,22 @@ def scenarios_for(capability: Capability, scenario_file: Path | None = None) -> 
         return ScenarioSet(
             source=str(path), folder=str(path.parent), scenarios=scenarios, notes=notes
         )
+    return derived_set(capability)
+
+
+def derived_set(capability: Capability) -> ScenarioSet:
+    """The scenarios derived from the capability model alone
+    (:func:`skillwright.sim.derive.derived_scenarios`), completed and with notes."""
+    from skillwright.sim.derive import derived_scenarios
+
+    notes: list[str] = []
+    derived = derived_scenarios(capability)
     notes.append(
-        f"no scenario file for {capability.iri}; one scenario derived from the capability model "
-        "(the walled room for a capability that senses or maps its surroundings, else the "
-        "open floor; inputs from the parameters' units)"
+        f"no scenario file for {capability.iri}; {len(derived)} scenario(s) derived from the "
+        f"capability model ({', '.join(s.name for s in derived)}: the walled room for a "
+        "capability that senses or maps its surroundings, else the open floor; inputs from "
+        "the parameters' units, varied by sign, wrap-around, start pose, limits, "
+        "preconditions and obstacles where the model allows; deadlines from the inputs)"
     )
-    scenario = _complete(default_scenario(capability), capability, notes)
-    return ScenarioSet(source=f"derived from {capability.name}", scenarios=[scenario], notes=notes)
+    scenarios = [_complete(s, capability, notes) for s in derived]
+    return ScenarioSet(source=f"derived from {capability.name}", scenarios=scenarios, notes=notes)

@@ -268,13 +268,18 @@ class GroundTruth:
 
     def range_toward(self, t: float, bearing: float) -> float | None:
         """The range without noise along ``bearing`` (lidar frame, radians) in the last scan
-        at or before ``t``; ``None`` before the first scan or outside the lidar's view."""
+        at or before ``t`` that looks that way; ``None`` before the first scan or outside
+        every scan's view. A robot with several scanners (corner scanners, each seeing its
+        own side) publishes one ``LaserScan`` per scanner, and the nearest return of its view
+        (:meth:`nearest_at`) may lie in another scanner's scan than the last one."""
         found = None
         for sweep in self.sweeps:
             if sweep.t > t + 1e-9:
                 break
-            found = sweep
-        return None if found is None else found.toward(bearing)
+            toward = sweep.toward(bearing)
+            if toward is not None:
+                found = toward
+        return found
 
     def clearance(self, t0: float, t1: float) -> tuple[float, float] | None:
         """The smallest nearest-obstacle range of the scans between two times, and when."""
