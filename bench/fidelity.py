@@ -115,7 +115,9 @@ def judge(path: Path, stem: str, pool: ChildPool) -> tuple[dict[str, str], list[
     verdict["interfaces"] = (
         "N" if _errors(grounding) and len(_errors(grounding)) > 1 else "P" if grounding else "F"
     )
-    scenarios = scenarios_for(model)
+    from skillwright.sim.bindings import bind_interfaces
+
+    scenarios = scenarios_for(model, localised=bind_interfaces(inventory).has_localisation)
     first = scenarios.scenarios[0]
     run = run_skill(
         path,

@@ -259,3 +259,19 @@ def test_an_angle_its_words_call_a_turn_is_bound_to_the_measured_turn(
     # "the degree of any angle" may be a target heading: not bound.
     for scenario in derived_scenarios(paper_capabilities["rotate"]):
         assert "inDegree" not in scenario.ground_truth
+
+
+def test_without_a_map_frame_poses_are_judged_where_odometry_and_map_coincide(
+    mr1_capabilities: dict[str, Capability],
+) -> None:
+    # A robot without localisation knows its pose only from odometry, which starts where it
+    # starts: away from the origin no skill could report the map pose the simulator measures.
+    for name in ("get-position", "rotate"):
+        scenarios = {s.name: s for s in derived_scenarios(mr1_capabilities[name], localised=False)}
+        for scenario in scenarios.values():
+            assert (scenario.start.x, scenario.start.y, scenario.start.heading) == (0, 0, 0)
+        assert "elsewhere" in scenarios
+    rotate = {s.name: s for s in derived_scenarios(mr1_capabilities["rotate"], localised=False)}
+    nominal = _by_name(mr1_capabilities["rotate"])["derived"].inputs["inAngle"]
+    assert rotate["elsewhere"].inputs["inAngle"] != nominal
+    assert float(rotate["wraps"].inputs["inAngle"]) > math.pi

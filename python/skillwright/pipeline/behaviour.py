@@ -211,9 +211,13 @@ class Behaviour:
         """The capability's scenarios (those of :attr:`scenario_file` when given); the first is
         the default one both stages use."""
         if self._scenarios is None:
+            from skillwright.sim.bindings import bind_interfaces
             from skillwright.sim.scenario import scenarios_for
 
-            self._scenarios = scenarios_for(self.capability, self.scenario_file)
+            localised = bind_interfaces(self.inventory).has_localisation
+            self._scenarios = scenarios_for(
+                self.capability, self.scenario_file, localised=localised
+            )
         return self._scenarios
 
     def default_scenario(self) -> Scenario:

@@ -222,7 +222,10 @@ def validate(
         capability_file, capability_iri=capability_iri, ontologies=ontology_files
     ).capability
     inventory = discover_path(source)
-    chosen = scenarios_for(capability, scenario_file)
+    from skillwright.sim.bindings import bind_interfaces
+
+    localised = bind_interfaces(inventory).has_localisation
+    chosen = scenarios_for(capability, scenario_file, localised=localised)
     unknown = [name for name in only if name not in {s.name for s in chosen.scenarios}]
     if unknown:
         from skillwright.errors import InvalidArgumentError

@@ -487,11 +487,16 @@ def _moves(capability: Capability) -> bool:
     )
 
 
-def derived_scenarios(capability: Capability) -> list[Scenario]:
+def derived_scenarios(capability: Capability, *, localised: bool = True) -> list[Scenario]:
     """The scenarios to validate a skill of ``capability`` in when no file gives them: the
     nominal one, then each variant of the module's rules the model gives something to vary
     for (2 to 6 in all). Every scenario's description says what it checks and why; each has
-    its own seed and a deadline from its inputs (:func:`derived_duration`)."""
+    its own seed and a deadline from its inputs (:func:`derived_duration`).
+
+    ``localised`` says whether the robot has a map frame (a localiser or SLAM). Without one
+    the odometry frame is the only one it can know, while the simulator measures poses and
+    headings in the world (map) frame: ``elsewhere`` and ``wraps`` then start at the origin,
+    where the two coincide (``elsewhere`` keeps its other magnitudes)."""
     world = "walled_room" if surroundings(capability) else "open_floor"
     base = nominal_inputs(capability)
     made: list[Scenario] = []
@@ -567,10 +572,18 @@ def derived_scenarios(capability: Capability) -> list[Scenario]:
                 else ""
             ),
             wrapped,
-            start=StartPose(heading=_WRAP_HEADING),
+            start=StartPose(heading=_WRAP_HEADING if localised else 0.0),
         )
     elsewhere = _ELSEWHERE.get(world)
-    if elsewhere is not None and not _arm(capability):
+    if elsewhere is not None and not _arm(capability) and not localised:
+        add(
+            "elsewhere",
+            "at the origin (the robot has no map frame, so only there does the pose it can "
+            f"know from odometry equal the map's) with {_OTHER_MAGNITUDE:g} times the nominal "
+            "inputs, so an input replaced by a constant shows",
+            _scaled(capability, base, _OTHER_MAGNITUDE),
+        )
+    elif elsewhere is not None and not _arm(capability):
         add(
             "elsewhere",
             f"start at ({elsewhere.x:g}, {elsewhere.y:g}) m facing {elsewhere.heading:g} rad: "

@@ -508,10 +508,13 @@ def _check_runtime(path: Path, text: str, at: tuple[Any, ...], scenario: Scenari
         raise FileFormatError(f"{_where(path, text, location)}: {first['msg']}") from None
 
 
-def scenarios_for(capability: Capability, scenario_file: Path | None = None) -> ScenarioSet:
+def scenarios_for(
+    capability: Capability, scenario_file: Path | None = None, *, localised: bool = True
+) -> ScenarioSet:
     """The scenarios to validate a skill of ``capability`` in: those of ``scenario_file``,
     else those of the shipped file for the capability, else those derived from the model
-    (:func:`skillwright.sim.derive.derived_scenarios`)."""
+    (:func:`skillwright.sim.derive.derived_scenarios`; ``localised``: whether the robot has
+    a map frame)."""
     notes: list[str] = []
     candidates = [scenario_file] if scenario_file is not None else scenario_files()
     for path in candidates:
@@ -528,16 +531,16 @@ def scenarios_for(capability: Capability, scenario_file: Path | None = None) -> 
         return ScenarioSet(
             source=str(path), folder=str(path.parent), scenarios=scenarios, notes=notes
         )
-    return derived_set(capability)
+    return derived_set(capability, localised=localised)
 
 
-def derived_set(capability: Capability) -> ScenarioSet:
+def derived_set(capability: Capability, *, localised: bool = True) -> ScenarioSet:
     """The scenarios derived from the capability model alone
     (:func:`skillwright.sim.derive.derived_scenarios`), completed and with notes."""
     from skillwright.sim.derive import derived_scenarios
 
     notes: list[str] = []
-    derived = derived_scenarios(capability)
+    derived = derived_scenarios(capability, localised=localised)
     notes.append(
         f"no scenario file for {capability.iri}; {len(derived)} scenario(s) derived from the "
         f"capability model ({', '.join(s.name for s in derived)}: the walled room for a "

@@ -450,9 +450,11 @@ def validate_skill(
     pool.warm()
     findings: list[Finding] = []
     try:
-        chosen = scenarios or scenarios_for(capability, scenario_file)
-        selected = [s for s in chosen.scenarios if not only or s.name in only]
         bindings = bind_interfaces(inventory)
+        chosen = scenarios or scenarios_for(
+            capability, scenario_file, localised=bindings.has_localisation
+        )
+        selected = [s for s in chosen.scenarios if not only or s.name in only]
         try:
             text = source if source is not None else skill.read_text(encoding="utf-8")
             info = read_skill(text, str(skill))
