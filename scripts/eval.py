@@ -223,7 +223,8 @@ def run(pair: Pair, out: Path, attempts: int, model: str | None, candidates: int
     if record.model is not None:
         answers = [a for a in record.model.attempts if a.finish != "fixed"]
         row.answers = len(answers)
-        row.repairs = sum(a.number > 1 for a in answers)
+        # A best-of-N first round's candidates are answers, not repairs.
+        row.repairs = sum(a.number > 1 and a.candidate is None for a in answers)
         row.fixes = len(record.model.attempts) - len(answers)
         row.tokens = record.model.completion_tokens or 0
         row.hit_limit = sum(a.finish == "length" for a in record.model.attempts)

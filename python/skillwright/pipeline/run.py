@@ -586,7 +586,7 @@ def _generate(
         prompt_tokens = max((a.prompt_tokens or 0 for a in authored.attempts), default=0)
         stages.emit(GenerationStats(prompt_tokens or None, written, rate, seconds))
         answers = [a for a in authored.attempts if a.finish != "fixed"]
-        repairs = sum(a.number > 1 for a in answers)
+        repairs = sum(a.number > 1 and a.candidate is None for a in answers)
         fixes = len(authored.attempts) - len(answers)
         summary.append(
             f"{len(answers)} answers ({repairs} repairs), {written} tokens"
