@@ -242,7 +242,11 @@ def _last_motion(
                 and len(node.args) == 1
             ):
                 calls.append((handle, node, _is_stop(node.args[0])))
-            elif (called := self_method(node)) in methods and _stops_only(methods[called], handles):
+            elif (
+                (called := self_method(node)) is not None
+                and called in methods
+                and _stops_only(methods[called], handles)
+            ):
                 calls.append(("", node, True))
     if not calls:
         return None
