@@ -93,13 +93,16 @@ def _asks(model: MethodScript, method: str) -> list[str]:
     ]
 
 
+RAISES_IN_COMPLETING = """        percent = int(str(self.out_linear_velocity))
+        self.node.get_logger().info(f"measured {percent} m/s")
+```"""
+"""A completing that passes the static checks and raises ValueError when it runs."""
+
+
 def test_a_method_that_fails_at_run_time_gets_a_run_finding_and_is_repaired(
     tmp_path: Path, models_file: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    failing = """        percent = int(str(self.out_linear_velocity))
-        self.node.get_logger().info(f"measured {percent} m/s")
-```"""
-    answers = {**SET_VELOCITY, "completing": [failing, *SET_VELOCITY["completing"]]}
+    answers = {**SET_VELOCITY, "completing": [RAISES_IN_COMPLETING, *SET_VELOCITY["completing"]]}
     model = MethodScript(answers, model_id="tiny")
     use_model(monkeypatch, model)
     outcome = run_generation(
@@ -227,10 +230,7 @@ def test_best_of_n_judges_each_candidate_by_its_run_and_repairs_from_the_winner(
 ) -> None:
     # The greedy candidate's completing raises at run time, the sampled one does not: only
     # running tells them apart (both pass the static checks).
-    failing = """        percent = int(str(self.out_linear_velocity))
-        self.node.get_logger().info(f"measured {percent} m/s")
-```"""
-    answers = {**SET_VELOCITY, "completing": [failing, *SET_VELOCITY["completing"]]}
+    answers = {**SET_VELOCITY, "completing": [RAISES_IN_COMPLETING, *SET_VELOCITY["completing"]]}
     model = MethodScript(answers, model_id="tiny")
     use_model(monkeypatch, model)
     outcome = run_generation(
